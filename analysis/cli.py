@@ -1,0 +1,70 @@
+"""The ``attneave`` command line.
+
+Each command lives in its own module under :mod:`analysis.commands`, which
+defines ``add_parser(subparsers)`` and ``run(args) -> int``. Heavy imports
+happen inside ``run`` so that ``attneave --help`` stays fast.
+
+Exit status: 0 on success, 1 when a batch finished but some items failed,
+2 on bad input (one line on stderr, no traceback), 130 on Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from stimuli.errors import InputError
+
+COMMANDS = (
+    "surprisal",
+    "curve",
+    "figures",
+    "spline",
+    "generate",
+    "extract",
+    "analyze",
+    "simulate",
+    "power",
+)
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line and exit 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def build_parser():
+    parser = _Parser(
+        prog="attneave",
+        description="Information along shape contours: stimuli, surprisal, QIC splines, analysis.",
+    )
+    from stimuli import __version__
+
+    parser.add_argument("--version", action="version", version=f"attneave {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
+    for name in COMMANDS:
+        module = importlib.import_module(f"analysis.commands.{name}")
+        p = module.add_parser(sub)
+        p.set_defaults(func=module.run)
+    return parser
+
+
+def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        status = args.func(args)
+    except InputError as exc:
+        print(f"attneave {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print(f"attneave {args.command}: interrupted", file=sys.stderr)
+        return 130
+    return int(status or 0)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
