@@ -1,3 +1,26 @@
-"""attneave.stimuli: shapes, curvature and the information they carry."""
+"""attneave.stimuli: shapes, curvature and the information they carry.
+
+Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down,
+pixel centres at integer coordinates). See DESIGN.md for every convention.
+"""
 
 __version__ = "0.1.0"
+
+from .contour import Contour, turning_angles  # noqa: E402
+from .errors import InputError  # noqa: E402
+from .information import (  # noqa: E402
+    find_peaks,
+    surprisal,
+    surprisal_paper,
+    surprisal_vonmises,
+)
+
+__all__ = [
+    "Contour",
+    "InputError",
+    "find_peaks",
+    "surprisal",
+    "surprisal_paper",
+    "surprisal_vonmises",
+    "turning_angles",
+]

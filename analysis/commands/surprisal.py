@@ -1,11 +1,43 @@
-"""`attneave surprisal` (not yet implemented)."""
+"""``attneave surprisal``: curvature and surprisal at n equally spaced points."""
+
+from __future__ import annotations
 
 
 def add_parser(sub):
-    return sub.add_parser("surprisal", help="(not yet implemented)")
+    p = sub.add_parser(
+        "surprisal",
+        help="curvature and surprisal along a contour",
+        description=(
+            "Resample a contour (CSV with columns x, y in image pixels, y down) at n equally "
+            "spaced points from its first point and write, per point: i, s, t, x, y, "
+            "turning_angle, curvature, surprisal, peak. Curvature is positive on convex parts. "
+            "With --model paper, surprisal = -ln A - b*ds^2*cos(turning_angle - 2*pi/n) "
+            "(eq. 5; eq. 4 with --open), ds = L/n."
+        ),
+    )
+    p.add_argument("contour", metavar="CONTOUR.csv")
+    p.add_argument("-o", "--output", required=True, metavar="OUT.csv")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("-n", type=int, default=None, help="number of equally spaced points (default 100)")
+    g.add_argument("--spacing", type=float, default=None, metavar="PX", help="spacing in pixels instead of -n")
+    p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
+    p.add_argument("--A", type=float, default=0.25, help="A' of the paper's form (default 0.25)")
+    p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
+    p.add_argument("--open", action="store_true", help="the contour is open (eq. 4, mean turn 0)")
+    p.add_argument("--bits", action="store_true", help="surprisal in bits instead of nats")
+    p.add_argument("--prominence", type=float, default=None, help="peak prominence (default 5%% of the range)")
+    return p
 
 
 def run(args):
-    from stimuli.errors import InputError
+    from stimuli.contour import Contour
+    from stimuli.information import surprisal
+    from stimuli.io import write_table
 
-    raise InputError("'surprisal' is not implemented yet")
+    c = Contour.from_csv(args.contour, closed=not args.open)
+    r = surprisal(
+        c, n=args.n, spacing=args.spacing, model=args.model, A=args.A, b=args.b, bits=args.bits,
+        prominence=args.prominence,
+    )
+    write_table(r.table(), args.output, float_format="%.17g")
+    return 0
