@@ -162,18 +162,22 @@ class Contour:
             raise InputError(f"{where}points must be numbers") from None
         if p.ndim != 2 or p.shape[1] != 2:
             raise InputError(f"{where}points must have shape (N, 2), got {p.shape}")
-        bad = ~np.isfinite(p).all(axis=1)
-        if bad.any():
+        if not np.isfinite(p).all():
+            bad = ~np.isfinite(p).all(axis=1)
             raise InputError(f"{where}point {int(np.flatnonzero(bad)[0])} is not finite: {p[bad][0].tolist()}")
         # consecutive duplicates carry no direction; drop them (and a repeated end point)
-        if len(p) > 1:
-            keep = np.ones(len(p), bool)
-            keep[1:] = np.any(p[1:] != p[:-1], axis=1)
-            p = p[keep]
-            if self.closed and len(p) > 1 and np.all(p[-1] == p[0]):
-                p = p[:-1]
-        if len(p) < 3 or len(np.unique(p, axis=0)) < 3:
-            raise InputError(f"{where}a contour needs at least 3 distinct points, got {len(np.unique(p, axis=0)) if len(p) else 0}")
+        p = np.ascontiguousarray(p)
+        z = p.view(np.complex128).ravel()  # one complex per point: cheap row comparisons
+        if len(z) > 1:
+            keep = np.ones(len(z), bool)
+            np.not_equal(z[1:], z[:-1], out=keep[1:])
+            if not keep.all():
+                p, z = p[keep], z[keep]
+            if self.closed and len(z) > 1 and z[-1] == z[0]:
+                p, z = p[:-1], z[:-1]
+        distinct = _count_distinct_upto3(z)
+        if distinct < 3:
+            raise InputError(f"{where}a contour needs at least 3 distinct points, got {distinct}")
         if self.closed and orient and _shoelace(p) > 0:
             # y down: a positive shoelace sum is clockwise on the screen
             p = np.concatenate([p[:1], p[:0:-1]])
@@ -182,6 +186,15 @@ class Contour:
         self._cum = None
         if simple:
             self.require_simple()
+
+    @classmethod
+    def _trusted(cls, points, closed, name=None):
+        """A contour from points already known to be valid and oriented (no checks)."""
+        self = object.__new__(cls)
+        p = np.array(points, dtype=float)
+        p.setflags(write=False)
+        self._points, self.closed, self.name, self._cum = p, bool(closed), name, None
+        return self
 
     # ------------------------------------------------------------------ basics
     @property
@@ -314,7 +327,8 @@ class Contour:
             t = np.arange(n) / n
         else:
             t = np.linspace(0.0, 1.0, n)
-        return Contour(self.point_at(t), self.closed, orient=False, name=self.name)
+        # equal arc steps of a valid contour are distinct: no need to re-validate
+        return Contour._trusted(self.point_at(t), self.closed, name=self.name)
 
     def _resolve_n(self, n, spacing):
         if (n is None) == (spacing is None):
@@ -510,6 +524,17 @@ class Contour:
         from .io import write_table
 
         write_table({"x": self._points[:, 0], "y": self._points[:, 1]}, path)
+
+
+def _count_distinct_upto3(z):
+    """min(3, number of distinct points), points as complex numbers; O(N), no sort."""
+    if len(z) == 0:
+        return 0
+    other = z != z[0]
+    if not other.any():
+        return 1
+    second = z[np.argmax(other)]
+    return 3 if np.any(other & (z != second)) else 2
 
 
 def _shoelace(p):

@@ -1,0 +1,139 @@
+"""The information model: surprisal on shapes whose answer is known."""
+
+import numpy as np
+import pytest
+
+from stimuli import Contour, InputError, find_peaks, surprisal, surprisal_paper, surprisal_vonmises
+from stimuli.information import surprisal_from_points
+
+MODELS = ["paper", "vonmises"]
+
+
+def ellipse(a=150.0, b=60.0, n=3000, cx=256.0, cy=256.0):
+    th = 2 * np.pi * np.arange(n) / n
+    return np.c_[cx + a * np.cos(th), cy + b * np.sin(th)]
+
+
+def dented(n=1440, phase=0.0):
+    """A circle of radius 100 with a smooth inward dent centred at angle 0."""
+    th = phase + 2 * np.pi * np.arange(n) / n
+    d = np.angle(np.exp(1j * th))
+    r = 100 - 25 * np.exp(-(d**2) / (2 * 0.12**2))
+    return np.c_[200 + r * np.cos(th), 200 + r * np.sin(th)]
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_circle_surprisal_constant(model):
+    th = 2 * np.pi * np.arange(4000) / 4000
+    c = Contour(np.c_[256 + 100 * np.cos(th), 256 + 100 * np.sin(th)])
+    r = surprisal(c, n=80, model=model)
+    assert np.ptp(r.surprisal) < 1e-9 * max(1, abs(r.surprisal).max())
+    assert len(r.peaks) == 0
+    assert np.all(r.curvature > 0)
+    assert r.curvature == pytest.approx(np.full(80, 0.01), rel=0.005)
+
+
+@pytest.mark.parametrize("model", MODELS)
+@pytest.mark.parametrize("transform", ["none", "reverse", "mirror", "roll"])
+def test_ellipse_peaks_at_major_axis_ends(model, transform):
+    p = ellipse()
+    if transform == "reverse":
+        p = p[::-1]
+    elif transform == "mirror":
+        p = np.c_[p[:, 0], 512 - p[:, 1]]
+    elif transform == "roll":
+        p = np.roll(p, 777, axis=0)
+    r = surprisal(Contour(p), n=120, model=model)
+    top2 = r.contour.points[np.argsort(r.surprisal)[-2:]]
+    cy = 256.0
+    ends = np.array([[256 - 150, cy], [256 + 150, cy]])
+    for e in ends:
+        assert np.min(np.hypot(*(top2 - e).T)) < 150 * 2 * np.pi / 120  # within one sample
+    assert len(r.peaks) == 2
+    assert np.allclose(np.sort(r.contour.points[r.peaks, 0]), [106, 406], atol=8)
+
+
+@pytest.mark.parametrize("model", MODELS)
+@pytest.mark.parametrize("order", ["ccw", "cw", "mirror", "roll"])
+def test_dent_is_concave_and_most_informative(model, order):
+    p = dented()
+    if order == "cw":
+        p = p[::-1]
+    elif order == "mirror":
+        p = np.c_[p[:, 0], 400 - p[:, 1]]
+    elif order == "roll":
+        p = np.roll(p, 500, axis=0)
+    r = surprisal(Contour(p), n=144, model=model)
+    pts = r.contour.points
+    dent = np.argmin(np.hypot(*(pts - [275, 200]).T))
+    assert r.curvature[dent] < 0
+    far = np.hypot(*(pts - [200, 200]).T) > 99
+    assert np.all(r.curvature[far] > 0)
+    assert np.argmax(r.surprisal) == dent
+    assert r.peaks[0] == dent
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_concave_more_informative_than_convex_at_equal_magnitude(model):
+    a = np.array([0.05, 0.3, 1.0, 2.0])
+    n = 50
+    if model == "paper":
+        conc = surprisal_paper(-a, ds=3.0, n=n)
+        conv = surprisal_paper(a, ds=3.0, n=n)
+    else:
+        conc = surprisal_vonmises(-a, n=n)
+        conv = surprisal_vonmises(a, n=n)
+    assert np.all(conc > conv)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_square_corners_finite_and_top(model):
+    sq = Contour([[10, 10], [10, 110], [110, 110], [110, 10]])
+    r = surprisal(sq, n=40, model=model)
+    assert np.all(np.isfinite(r.surprisal))
+    top4 = r.contour.points[np.argsort(r.surprisal)[-4:]]
+    corners = {(10, 10), (10, 110), (110, 110), (110, 10)}
+    assert {tuple(np.round(p).astype(int)) for p in top4} == corners
+    assert len(r.peaks) == 4
+
+
+def test_paper_form_formula_and_bits():
+    a = np.linspace(-np.pi, np.pi, 13)
+    u = surprisal_paper(a, ds=10, n=10, A=0.25, b=2)
+    assert np.allclose(u, -np.log(0.25) - 2 * 100 * np.cos(a - 2 * np.pi / 10), rtol=0, atol=1e-12)
+    assert np.allclose(surprisal_paper(a, 10, 10, bits=True), surprisal_paper(a, 10, 10) / np.log(2))
+    u4 = surprisal_paper(a, ds=2, n=10, closed=False)
+    assert np.allclose(u4, -np.log(0.25) - 4 * np.cos(a))
+
+
+def test_vonmises_is_a_normalised_density():
+    for b in (0.5, 4.0, 50.0):
+        x = np.linspace(-np.pi, np.pi, 20001)[:-1]
+        p = np.exp(-surprisal_vonmises(x, n=12, b=b))
+        assert p.sum() * (2 * np.pi / len(x)) == pytest.approx(1.0, rel=1e-9)
+        # its mode is the mean turn of a closed 12-gon
+        assert x[np.argmax(p)] == pytest.approx(2 * np.pi / 12, abs=1e-3)
+
+
+def test_fast_path_matches_full_path():
+    r = surprisal(Contour(ellipse(n=3000)), n=512)
+    fast = surprisal_from_points(r.contour.points)
+    # same points and turning angles; the fast path takes ds from the resampled chords
+    ds = r.contour.perimeter / 512
+    assert np.allclose(fast, surprisal_paper(r.turning_angle, ds, 512), rtol=0, atol=1e-9)
+
+
+def test_find_peaks_circular_and_ranked():
+    u = np.array([5.0, 1, 1, 3, 1, 1, 4, 1])
+    idx, prom = find_peaks(u, closed=True)
+    assert idx.tolist() == [0, 6, 3]
+    idx_open, _ = find_peaks(u, closed=False)
+    assert idx_open.tolist() == [0, 6, 3]
+    assert find_peaks(np.ones(10))[0].size == 0
+
+
+def test_bad_parameters():
+    with pytest.raises(InputError):
+        surprisal_paper(0.1, ds=1, n=10, A=0)
+    with pytest.raises(InputError):
+        surprisal(ellipse(n=100), model="bayes")
