@@ -77,12 +77,37 @@ _FAMILIES = {
 }
 
 
+def _epilog():
+    lines = ["families and their parameters:"]
+    for name, (help_, _desc, options, srange) in _FAMILIES.items():
+        flags = " ".join(
+            f"{flag} {flag.lstrip('-').replace('-', '_').upper()}" if kw.get("required")
+            else f"[{flag} {flag.lstrip('-').replace('-', '_').upper()}]"
+            for flag, kw in options
+        )
+        rng = {
+            "s": "--s-start S0 --s-end S1" if name == "pseudospiral" else "[--s-start S0] --s-end S1",
+            "s-optional": "[--s-start S0] --s-end S1",
+            "theta": "",
+        }[srange]
+        lines.append(f"  {name:<14s}{help_}")
+        lines.append(" " * 16 + " ".join(f"{flags} {rng} [--points K] -o OUT.csv".split()))
+    return "\n".join(lines)
+
+
 def add_parser(sub):
+    import argparse
+    import textwrap
+
     p = sub.add_parser(
         "curve",
         help="a curve from its natural equation (clothoid, pseudospiral, lac, superspiral, constant-info)",
-        description="Write a curve given by its natural equation as a CSV table. " + _COMMON_DESC
-        + " Run 'attneave curve FAMILY --help' for the parameters of each family.",
+        description=textwrap.fill(
+            "Write a curve given by its natural equation as a CSV table. " + _COMMON_DESC
+            + " Run 'attneave curve FAMILY --help' for the details of each family.", 79
+        ),
+        epilog=_epilog(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     fam = p.add_subparsers(dest="family", required=True, metavar="FAMILY", parser_class=type(p))
     for name, (help_, desc, options, srange) in _FAMILIES.items():
