@@ -1,11 +1,27 @@
-"""`attneave figures` (not yet implemented)."""
+"""``attneave figures``: the seed paper's Figs. 1-6 (and companions) as PNGs."""
+
+from __future__ import annotations
 
 
 def add_parser(sub):
-    return sub.add_parser("figures", help="(not yet implemented)")
+    p = sub.add_parser(
+        "figures",
+        help="the paper's Figs. 1-6 as PNG files, with a note of what each shows",
+        description=(
+            "Write the seed paper's Figs. 1-6 into DIR: eq. 5 with A' = 1/4, L = 100, n = 10, "
+            "b = 1/2, 1, 2 over curvature k in [-1, 1] (Fig. 1) and along k = exp(s) (Fig. 2), "
+            "k = 1/(1 - s) with its cusp at s = 1 (Fig. 3) and k = 2*pi/(n*s) (Fig. 4); eq. 7's "
+            "curvature for C = 0, +-0.01, +-0.02, +-0.03, n = 10 (Figs. 5-6). Also the constant u "
+            "along eq. 7, a gallery of the curve families, and figures.md describing each file."
+        ),
+    )
+    p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory (created if missing)")
+    return p
 
 
 def run(args):
-    from stimuli.errors import InputError
+    from analysis.figures import make_figures
 
-    raise InputError("'figures' is not implemented yet")
+    for path in make_figures(args.output):
+        print(path)
+    return 0
