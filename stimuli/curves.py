@@ -242,7 +242,8 @@ def integrate_natural(
     atol = rtol * length if atol is None else float(atol)
     max_step = length / 64 if max_step is None else float(max_step)
 
-    kappa = np.asarray(curvature_fn(grid), dtype=float)
+    with np.errstate(all="ignore"):  # non-finite values are reported below
+        kappa = np.asarray(curvature_fn(grid), dtype=float)
     if kappa.shape != grid.shape:
         kappa = np.broadcast_to(kappa, grid.shape).astype(float)
     if not np.all(np.isfinite(kappa)):
@@ -441,8 +442,9 @@ def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=
 
 
 def _lac_base_log(u, lam, alpha):
-    """``ln(lam*alpha*u + 1)`` accurately for small arguments."""
-    return np.log1p(lam * alpha * np.asarray(u, dtype=float))
+    """``ln(lam*alpha*u + 1)`` accurately for small arguments (-inf where the base is 0)."""
+    with np.errstate(divide="ignore"):
+        return np.log1p(lam * alpha * np.asarray(u, dtype=float))
 
 
 def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None, rtol=_RTOL):
@@ -514,8 +516,7 @@ def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None
             with np.errstate(divide="ignore"):
                 return np.exp(q * _lac_base_log(u, lam, alpha))
 
-        with np.errstate(divide="ignore"):
-            L0 = float(_lac_base_log(s0, lam, alpha))
+        L0 = float(_lac_base_log(s0, lam, alpha))
         if alpha == 1:
 
             def theta(u):
