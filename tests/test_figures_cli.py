@@ -1,0 +1,153 @@
+"""``attneave curve`` and ``attneave figures`` through the command-line entry point."""
+
+import numpy as np
+import pandas as pd
+import pytest
+from scipy.special import fresnel
+
+from analysis.cli import main
+
+COLUMNS = ["s", "x", "y", "theta", "curvature"]
+
+
+def test_curve_clothoid_matches_fresnel(tmp_path):
+    out = tmp_path / "c.csv"
+    # kappa = pi*s from 0: (x, y) = (C(s), S(s))
+    assert main(["curve", "clothoid", "--c", str(np.pi), "--s-end", "2", "--points", "41", "-o", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert list(df.columns) == COLUMNS and len(df) == 41
+    S, C = fresnel(df["s"].to_numpy())
+    assert np.max(np.abs(df["x"] - C)) < 1e-9 and np.max(np.abs(df["y"] - S)) < 1e-9
+    assert np.allclose(df["theta"], np.pi * df["s"] ** 2 / 2, atol=1e-12)
+    assert not list(tmp_path.glob(".*tmp"))  # the atomic write left no temporary file
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["clothoid", "--k0", "0.5", "--c", "-1", "--s-start", "-1", "--s-end", "3"],
+        ["pseudospiral", "--a", "0.3", "--m", "1", "--s-start", "0.5", "--s-end", "4"],
+        ["lac", "--alpha", "0", "--lam", "-0.5", "--s-end", "3"],
+        ["superspiral", "--a", "1", "--b", "1", "--c", "2", "--theta-end", "6"],
+        ["constant-info", "--C", "-0.02", "--s-end", "5"],
+    ],
+)
+def test_curve_every_family(tmp_path, argv):
+    out = tmp_path / "c.csv"
+    assert main(["curve", *argv, "--points", "51", "-o", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert list(df.columns) == COLUMNS and len(df) == 51
+    assert np.all(np.isfinite(df.to_numpy()))
+    assert (df["x"][0], df["y"][0], df["theta"][0]) == (0.0, 0.0, 0.0)
+    assert np.all(np.diff(df["s"]) > 0)
+
+
+def test_curve_constant_info_domain_start(tmp_path):
+    out = tmp_path / "c.csv"
+    assert main(["curve", "constant-info", "--C", "0.03", "--n", "10", "--s-end", "5", "-o", str(out)]) == 0
+    df = pd.read_csv(out)
+    assert np.isclose(df["s"][0], np.sqrt(0.03) * 10)
+    assert np.isclose(df["curvature"][0], 2 * np.pi / (np.sqrt(0.03) * 10))  # arccos(1) = 0
+
+
+@pytest.mark.parametrize(
+    "argv, words",
+    [
+        (["constant-info", "--C", "0.03", "--s-start", "1", "--s-end", "5"], "outside the domain of eq. 7"),
+        (["lac", "--alpha", "1", "--lam", "-1", "--s-end", "2"], "domain of eq. 9"),
+        (["pseudospiral", "--a", "1", "--m", "1", "--s-start", "0", "--s-end", "1"], "s > 0"),
+        (["superspiral", "--a", "1", "--b", "2", "--c", "1", "--theta-end", "1"], "c > b > 0"),
+        (["clothoid", "--c", "nan", "--s-end", "1"], "finite"),
+        (["clothoid", "--c", "1", "--s-start", "2", "--s-end", "1"], "s_end must be greater"),
+    ],
+)
+def test_curve_bad_input_exit_2(tmp_path, capsys, argv, words):
+    out = tmp_path / "c.csv"
+    assert main(["curve", *argv, "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("attneave curve: error:") and words in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
+def test_curve_usage_errors_exit_2(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["curve", "clothoid", "--s-end", "1", "-o", str(tmp_path / "c.csv")])  # --c missing
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit) as exc:
+        main(["curve", "spiral", "-o", str(tmp_path / "c.csv")])  # unknown family
+    assert exc.value.code == 2
+    assert "Traceback" not in capsys.readouterr().err
+
+
+def test_curve_missing_output_directory(tmp_path, capsys):
+    assert main(["curve", "clothoid", "--c", "1", "--s-end", "1", "-o", str(tmp_path / "no" / "c.csv")]) == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_curve_help_documents_every_family(capsys):
+    with pytest.raises(SystemExit):
+        main(["curve", "--help"])
+    text = capsys.readouterr().out
+    for words in ("clothoid", "--k0", "pseudospiral", "--m", "lac", "--alpha", "--lam", "superspiral",
+                  "--theta-end", "constant-info", "--C", "y-UP"):
+        assert words in text
+
+
+PAPER_FIGURES = [
+    "fig1_u_vs_curvature.png",
+    "fig2_u_exp_curvature.png",
+    "fig3_u_cusp.png",
+    "fig4_u_log_spiral.png",
+    "fig5_eq7_curvature_pos.png",
+    "fig6_eq7_curvature_neg.png",
+]
+
+
+def test_figures_writes_paper_figures(tmp_path, capsys):
+    import matplotlib.image as mpimg
+
+    out = tmp_path / "figs"
+    assert main(["figures", "-o", str(out)]) == 0
+    for name in PAPER_FIGURES:
+        path = out / name
+        assert path.exists(), name
+        img = mpimg.imread(path)
+        assert img.ndim == 3 and img.shape[0] >= 300 and img.shape[1] >= 500
+        rgb = img[..., :3].reshape(-1, 3)
+        # not blank: many colours, and some of the plot's ink (dark pixels)
+        assert len(np.unique(np.round(rgb * 255).astype(np.uint8), axis=0)) > 50
+        assert (rgb.sum(axis=1) < 1.0).mean() > 0.002
+    note = (out / "figures.md").read_text()
+    for name in PAPER_FIGURES:
+        assert name in note
+    for words in ("Fig. 1.", "Fig. 3.", "cusp", "Fig. 5.", "Fig. 6.", "A' = 1/4"):
+        assert words in note
+    printed = capsys.readouterr().out.split()
+    assert str(out / "figures.md") in printed
+
+
+def test_make_figures_hook(tmp_path):
+    from analysis import figures
+
+    def extra(outdir):
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots()
+        ax.plot([0, 1], [0, 1])
+        return [(figures.save_png(fig, outdir / "fig10.png"), "Fig. 10 analogue.")]
+
+    files = figures.make_figures(tmp_path / "f", makers=[figures.fig5, extra])
+    assert [p.name for p in files] == ["fig5_eq7_curvature_pos.png", "fig10.png", "figures.md"]
+    assert "Fig. 10 analogue." in (tmp_path / "f" / "figures.md").read_text()
+    assert figures.fig1 in figures.FIGURE_MAKERS
+
+
+def test_figures_bad_output(tmp_path, capsys):
+    f = tmp_path / "file"
+    f.write_text("x")
+    assert main(["figures", "-o", str(f)]) == 2
+    assert "not a directory" in capsys.readouterr().err
