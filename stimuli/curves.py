@@ -357,7 +357,9 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     # phase pi*t0**2/2; this estimate is ~100x pessimistic (measured).
     err = _EPS * np.max(t * t) * np.sqrt(np.pi / abs(c))
     if err > 1e-10 * max(1.0, grid[-1] - s0):
-        curve = integrate_natural(lambda u: k0 + c * u, s=grid, theta_fn=lambda u: k0 * (u - s0) + 0.5 * c * (u - s0) * (u + s0))
+        curve = integrate_natural(
+            lambda u: k0 + c * u, s=grid, theta_fn=lambda u: k0 * (u - s0) + 0.5 * c * (u - s0) * (u + s0)
+        )
         return _family(curve, "clothoid", k0=k0, c=c)
 
     sgn = np.sign(c)

@@ -124,7 +124,9 @@ def add_parser(sub):
             )
             fp.add_argument("--s-end", type=float, required=True, help="last arc length")
         elif srange == "s-optional":
-            fp.add_argument("--s-start", type=float, default=None, help="first arc length (default: start of the domain)")
+            fp.add_argument(
+                "--s-start", type=float, default=None, help="first arc length (default: start of the domain)"
+            )
             fp.add_argument("--s-end", type=float, required=True, help="last arc length")
         fp.add_argument("--points", type=int, default=201, metavar="K", help="number of points (default 201)")
     return p
