@@ -219,13 +219,14 @@ def integrate_natural(
 
     Notes
     -----
-    Accuracy, verified in ``tests/test_curves.py`` and when writing this
-    module: with the default tolerances the positions agree with Fresnel
-    integrals (clothoids of up to ~60 radians of turning) to about
-    ``1e-13 * length`` and the tangent angle of eq. 7 curves with
-    high-accuracy quadrature of ``kappa`` to about 1e-12, including the
-    square-root singularity of ``d kappa / d s`` at the edge of eq. 7's
-    domain. Errors grow roughly linearly with the total turning.
+    Accuracy, verified in ``tests/test_curves.py`` (1e-9 asserted) and
+    measured when writing this module: with the default tolerances the
+    positions of ``kappa = pi*s`` agree with the Fresnel integrals to
+    2.4e-13 over s in [0, 5] (39 rad of turning), 4.8e-13 over [0, 10] and
+    9.2e-13 over [0, 20] (628 rad); the tangent angle of eq. 7 curves
+    (C = +-0.03, s from the domain edge to 5) agrees with adaptive
+    quadrature of ``kappa`` to 2.6e-12, despite the square-root
+    singularity of ``d kappa / d s`` at the edge of the domain.
 
     Examples
     --------
