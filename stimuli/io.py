@@ -45,7 +45,7 @@ def atomic_write(path, mode="w", **kwargs):
             fh.flush()
             os.fsync(fh.fileno())
         # mkstemp makes the file private (0600); give it the mode a plain open() would
-        os.chmod(tmp, 0o666 & ~_umask())
+        os.chmod(tmp, 0o666 & ~_UMASK)
         os.replace(tmp, path)
     except BaseException:
         with contextlib.suppress(FileNotFoundError):
@@ -53,10 +53,14 @@ def atomic_write(path, mode="w", **kwargs):
         raise
 
 
-def _umask():
-    mask = os.umask(0)
+def _read_umask():
+    # os.umask can only be read by setting it; do it once, at import, not in threads
+    mask = os.umask(0o022)
     os.umask(mask)
     return mask
+
+
+_UMASK = _read_umask()
 
 
 def write_table(table, path, float_format="%.10g"):
