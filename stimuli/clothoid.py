@@ -30,6 +30,7 @@ References
 
 from __future__ import annotations
 
+import bisect
 from math import factorial
 
 import numpy as np
@@ -65,15 +66,15 @@ def wrap_angle(angle):
 
 
 def _terms_needed(x, nmax, tol=1e-17):
-    """Smallest n with x**n / n! < tol for the largest x, capped at nmax."""
+    """Smallest n with x**n / n! < tol (the first omitted term of a series
+    in x), capped at nmax."""
     if x <= 0.0:
         return 1
-    term = 1.0
-    for n in range(1, nmax + 1):
-        term *= x / n
-        if term < tol:
-            return n
-    return nmax
+    return min(bisect.bisect_right(_TERM_THRESHOLDS, x) + 1, nmax)
+
+
+# x**n / n! < 1e-17  <=>  x < (1e-17 n!)**(1/n); increasing in n
+_TERM_THRESHOLDS = [(1e-17 * factorial(n)) ** (1.0 / n) for n in range(1, 80)]
 
 
 def _series_table():
@@ -117,34 +118,33 @@ def _moments_fresnel(a, b, nk):
 
 
 def _moments_series(a, b, nk):
-    """I_k(a, b) for small |a| and |b|: double power series."""
-    na = _terms_needed(0.5 * float(np.max(np.abs(a))), _NA_MAX)
-    nb = _terms_needed(float(np.max(np.abs(b))), _NB_MAX)
-    apow = _powers(a, na)
-    bpow = _powers(b, nb)
-    coef = _SERIES_FLAT[(na, nb, nk)] if (na, nb, nk) in _SERIES_FLAT else _series_flat(na, nb, nk)
-    # (M, na) @ (na, nk*nb) -> (M, nk, nb), then contract with b**j
-    T = (apow @ coef).reshape(a.size, nk, nb)
-    return np.einsum("mkj,mj->km", T, bpow)
+    """I_k(a, b) for small |a| and |b|: double power series
+    sum_{n,j} a**n b**j C_k[n, j] as one matrix product."""
+    m = a.size
+    na = _terms_needed(0.5 * float(np.abs(a).max()), _NA_MAX)
+    nb = _terms_needed(float(np.abs(b).max()), _NB_MAX)
+    pw = _powers(np.concatenate((a, b)), max(na, nb))
+    W = (pw[:na, None, :m] * pw[:nb, m:][None]).reshape(na * nb, m)
+    key = (na, nb, nk)
+    coef = _SERIES_FLAT.get(key)
+    if coef is None:
+        c = _SERIES[:nk, :na, :nb].reshape(nk, na * nb)
+        coef = _SERIES_FLAT[key] = np.ascontiguousarray(np.concatenate((c.real, c.imag)))
+    R = coef @ W
+    return R[:nk] + 1j * R[nk:]
 
 
 def _powers(x, n):
-    """x[:, None] ** arange(n), by repeated products (pow() is slow)."""
-    out = np.empty((x.size, n))
-    out[:, 0] = 1.0
+    """x[None, :] ** arange(n)[:, None] by repeated products (pow() is slow)."""
+    out = np.empty((n, x.size))
+    out[0] = 1.0
     if n > 1:
-        out[:, 1:] = x[:, None]
-        np.cumprod(out[:, 1:], axis=1, out=out[:, 1:])
+        out[1:] = x
+        np.multiply.accumulate(out[1:], axis=0, out=out[1:])
     return out
 
 
 _SERIES_FLAT = {}
-
-
-def _series_flat(na, nb, nk):
-    coef = np.ascontiguousarray(np.transpose(_SERIES[:nk, :na, :nb], (1, 0, 2)).reshape(na, nk * nb))
-    _SERIES_FLAT[(na, nb, nk)] = coef
-    return coef
 
 
 def _moments_recurrence(a, b, nk):
@@ -252,50 +252,50 @@ def _segment_state(phi0, phi1, A, r, derivatives=True):
     """Everything about a family of segments at a (not necessarily solved) A.
 
     ``phi0``, ``phi1``: end angles relative to the chord; ``r``: chord
-    lengths. Returns a dict with G (the closure residual Y0), L, k0, k1
-    (curvature at start and end) and, with `derivatives`, the partial
-    derivatives of G, k0, k1 with respect to A, theta0 and theta1 (an
-    increase of a node's tangent angle raises phi at that end).
+    lengths. Returns a dict with ``G`` (the closure residual Y0), ``X0``,
+    ``L``, ``k0``, ``k1`` (curvature at start and end) and, with
+    `derivatives`, ``G_A``, ``G_0``, ``G_1`` (partial derivatives of G with
+    respect to A and the two end angles) and, for q in k0, k1, L, the
+    derivatives along the closure constraint (A eliminated by the implicit
+    function theorem): ``q_t0``, ``q_t1`` with respect to the start and end
+    tangent angle, and ``q_r``, the first-order change that brings G to zero
+    at fixed angles. At a solved A (G = 0) the ``q_t*`` are the derivatives
+    of the G1 Hermite solution.
     """
     delta = phi1 - phi0
-    I = _moments(2.0 * A, delta - A, 3 if derivatives else 1) * np.exp(1j * phi0)
+    N0 = delta - A
+    N1 = delta + A
+    I = _moments(2.0 * A, N0, 3 if derivatives else 1) * np.exp(1j * phi0)
     X0, Y0 = I[0].real, I[0].imag
     L = r / X0
-    k0 = (delta - A) / L
-    k1 = (delta + A) / L
+    k0 = N0 / L
+    k1 = N1 / L
     st = {"G": Y0, "X0": X0, "L": L, "k0": k0, "k1": k1}
     if not derivatives:
         return st
     X1, Y1, X2, Y2 = I[1].real, I[1].imag, I[2].real, I[2].imag
-    # d/dA, d/dtheta0, d/dtheta1 of (a, b, c) = (2A, delta - A, phi0) are
-    # (2, -1, 0), (0, -1, 1), (0, 1, 0)
-    st["G_A"] = X2 - X1
-    st["G_0"] = X0 - X1
-    st["G_1"] = X1
-    dX = {"A": Y1 - Y2, "0": Y1 - Y0, "1": -Y1}
-    dnum0 = {"A": -1.0, "0": -1.0, "1": 1.0}
-    dnum1 = {"A": 1.0, "0": -1.0, "1": 1.0}
-    for v in ("A", "0", "1"):
-        rel = dX[v] / X0  # -dL/L
-        st["k0_" + v] = dnum0[v] / L + k0 * rel
-        st["k1_" + v] = dnum1[v] / L + k1 * rel
-        st["L_" + v] = -L * rel
-    return st
-
-
-def _reduce(st):
-    """Eliminate A through the closure equation (implicit function theorem).
-
-    Adds k0_t0, k0_t1, k1_t0, k1_t1, L_t0, L_t1 (total derivatives along
-    G = const) and k0_r, k1_r, L_r (first-order change that brings G to 0
-    at fixed angles).
-    """
-    inv = 1.0 / st["G_A"]
-    for q in ("k0", "k1", "L"):
-        qa = st[q + "_A"] * inv
-        st[q + "_t0"] = st[q + "_0"] - qa * st["G_0"]
-        st[q + "_t1"] = st[q + "_1"] - qa * st["G_1"]
-        st[q + "_r"] = -qa * st["G"]
+    # (a, b, c) = (2A, delta - A, phi0) move by (2, -1, 0) per unit of A,
+    # (0, -1, 1) per unit of theta0 and (0, 1, 0) per unit of theta1;
+    # dX0/d(a, b, c) = -(Y2/2, Y1, Y0) and dY0/d(a, b, c) = (X2/2, X1, X0)
+    gA = X2 - X1
+    g0 = X0 - X1
+    st["G_A"], st["G_0"], st["G_1"] = gA, g0, X1
+    ia = -1.0 / gA
+    a0, a1, ar = g0 * ia, X1 * ia, Y0 * ia  # dA along G = const (and to G = 0)
+    Yd = Y1 - Y2  # dX0/dA
+    dX0 = (Y1 - Y0) + Yd * a0
+    dX1 = Yd * a1 - Y1
+    dXr = Yd * ar
+    Xr = X0 / r
+    k0x, k1x = N0 / r, N1 / r
+    st["k0_t0"] = k0x * dX0 - (1.0 + a0) * Xr
+    st["k0_t1"] = k0x * dX1 + (1.0 - a1) * Xr
+    st["k0_r"] = k0x * dXr - ar * Xr
+    st["k1_t0"] = k1x * dX0 - (1.0 - a0) * Xr
+    st["k1_t1"] = k1x * dX1 + (1.0 + a1) * Xr
+    st["k1_r"] = k1x * dXr + ar * Xr
+    mL = -L / X0
+    st["L_t0"], st["L_t1"], st["L_r"] = mL * dX0, mL * dX1, mL * dXr
     return st
 
 
@@ -390,7 +390,6 @@ def g1_hermite(x0, y0, theta0, x1, y1, theta1, tol=1e-14, max_iter=20, derivativ
         "k": st["k0"], "dk": 2.0 * A / L**2, "L": L, "k1": st["k1"], "A": A,
     }
     if derivatives:
-        _reduce(st)
         out.update(
             dk0_dtheta0=st["k0_t0"], dk0_dtheta1=st["k0_t1"],
             dk1_dtheta0=st["k1_t0"], dk1_dtheta1=st["k1_t1"],

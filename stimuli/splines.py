@@ -48,7 +48,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .clothoid import _reduce, _segment_state, clothoid_points, guess_A, wrap_angle
+from .clothoid import _segment_state, clothoid_points, guess_A, wrap_angle
 from .curve_metrics import SampledCurve, curve_metrics
 from .errors import InputError
 
@@ -94,8 +94,8 @@ def _as_points(points, closed, what="points"):
     need = 3 if closed else 2
     if len(P) < need:
         raise InputError(f"{what}: a {'closed' if closed else 'open'} spline needs at least {need} points, got {len(P)}")
-    nxt = np.roll(P, -1, axis=0) if closed else P[1:]
-    same = np.all(nxt == P[: len(nxt)], axis=1)
+    nxt = np.concatenate((P[1:], P[:1])) if closed else P[1:]
+    same = (nxt == P[: len(nxt)]).all(axis=1)
     if same.any():
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % len(P)
@@ -109,7 +109,7 @@ def _geometric_sign(P, closed, y_down):
     project's geometric curvature sign."""
     if closed:
         x, y = P[:, 0], P[:, 1]
-        area2 = float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+        area2 = float(x[:-1] @ y[1:] - x[1:] @ y[:-1] + x[-1] * y[0] - x[0] * y[-1])
         if area2 != 0.0:
             # a traversal whose signed area is positive in these coordinates
             # turns positively at its convex points, in any handedness
@@ -126,22 +126,22 @@ def _initial_angles(phi, r, closed, t_start=None, t_end=None):
     circle through each point and its two neighbours; natural ends get the
     small-angle clothoid with zero end curvature (phi0 = -phi1/2)."""
     m = phi.size
+    if closed:
+        phip = np.concatenate((phi[-1:], phi[:-1]))
+        rp = np.concatenate((r[-1:], r[:-1]))
+        t = wrap_angle(phi - phip)
+        # inscribed angle: lies between 0 and the turn t, so no wrapping
+        beta = np.arctan2(rp * np.sin(t), r + rp * np.cos(t))
+        p0 = beta - t
+        p1 = np.concatenate((beta[1:], beta[:1]))
+        return p0, p1
     p0 = np.zeros(m)
     p1 = np.zeros(m)
-    if closed:
-        phip, rp = np.roll(phi, 1), np.roll(r, 1)
-        t = wrap_angle(phi - phip)
-        beta = np.arctan2(rp * np.sin(t), r + rp * np.cos(t))
-        theta = phip + beta
-        p0 = wrap_angle(theta - phi)
-        p1 = wrap_angle(np.roll(theta, -1) - phi)
-        return p0, p1
     if m > 1:
         t = wrap_angle(phi[1:] - phi[:-1])
         beta = np.arctan2(r[:-1] * np.sin(t), r[1:] + r[:-1] * np.cos(t))
-        theta = phi[:-1] + beta  # interior nodes 1..m-1
-        p1[:-1] = wrap_angle(theta - phi[:-1])
-        p0[1:] = wrap_angle(theta - phi[1:])
+        p1[:-1] = beta
+        p0[1:] = beta - t
     if t_start is not None:
         p0[0] = wrap_angle(t_start - phi[0])
     if t_end is not None:
@@ -239,15 +239,14 @@ def _newton(p0i, p1i, r, closed, free_start, free_end, tol, max_iter):
 
     def state(d, A):
         st = _segment_state(p0i + d[:m], p1i + d[nxt], A, r)
-        if not (np.min(st["X0"]) > 0 and np.isfinite(st["L"]).all()):
+        if not (st["X0"].min() > 0 and np.isfinite(st["L"]).all()):
             return None, None, np.inf
         F = _residual(st, closed, free_start, free_end, prev)
         return st, F, float(F @ F + st["G"] @ st["G"])
 
     def residuals(st, F):
-        kmax = max(-np.min(st["k0"]), np.max(st["k0"]), -np.min(st["k1"]), np.max(st["k1"]))
-        G = st["G"]
-        return float(kmax), float(np.max(np.abs(F))), float(max(-np.min(G), np.max(G)))
+        kmax = max(np.abs(st["k0"]).max(), np.abs(st["k1"]).max())
+        return float(kmax), float(np.abs(F).max()), float(np.abs(st["G"]).max())
 
     st, F, merit = state(d, A)
     if st is None:
@@ -259,7 +258,6 @@ def _newton(p0i, p1i, r, closed, free_start, free_end, tol, max_iter):
             break
         if it >= max_iter:
             break
-        _reduce(st)
         sub, diag, sup, rhs = _linear_system(st, F, closed, free_start, free_end, prev)
         dd = _solve_tridiagonal(sub, diag, sup, rhs, closed)
         if not np.all(np.isfinite(dd)):
@@ -496,7 +494,8 @@ def qic_spline(points, closed=True, *, end_tangents=(None, None), corners=(), to
     size = float(np.max(np.ptp(P, axis=0))) or 1.0
     for idx, pclosed, t0, t1 in pieces:
         Q = P[idx]
-        D = (np.roll(Q, -1, axis=0) - Q) if pclosed else np.diff(Q, axis=0)
+        Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
+        D = Qn - Q[: len(Qn)]
         r = np.hypot(D[:, 0], D[:, 1])
         h = float(np.mean(r))
         rn = r / h
@@ -513,21 +512,20 @@ def qic_spline(points, closed=True, *, end_tangents=(None, None), corners=(), to
                 "out of order or too sparse for a smooth curve"
             )
         nseg = r.size
-        nxt = np.roll(np.arange(d.size), -1) if pclosed else np.arange(1, d.size)
+        nxt = np.r_[1 : d.size, 0] if pclosed else np.arange(1, d.size)
         p0 = p0i + d[:nseg]
         p1 = p1i + d[nxt]
         L = st["L"] * h
         k0 = st["k0"] / h
         dk = (st["k1"] - st["k0"]) / st["L"] / h**2
-        # closure check in pixels: where does each segment actually end?
-        xe, ye, _, _ = clothoid_points(Q[:nseg, 0], Q[:nseg, 1], phi + p0, k0, dk, L)
-        end = np.roll(Q, -1, axis=0)[:nseg] if pclosed else Q[1:]
-        worst_close = max(worst_close, float(np.max(np.hypot(xe - end[:, 0], ye - end[:, 1]))) / size)
+        # each segment ends at r (1, G / X0) in its chord frame: the miss is
+        # r |G| / X0 (the tests check it independently by sampling)
+        worst_close = max(worst_close, float(np.abs(r * st["G"] / st["X0"]).max()) / size)
         worst_g2 = max(worst_g2, g2)
         # loops: range of theta(tau) = p0 + (delta - A) tau + A tau^2 on [0, 1]
         delta = p1 - p0
-        tv = np.where(A != 0, -(delta - A) / np.where(A != 0, 2 * A, 1.0), -1.0)
-        tv = np.clip(tv, 0.0, 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tv = np.clip(np.where(A != 0, (A - delta) / (2 * A), 0.0), 0.0, 1.0)
         th_v = (delta - A) * tv + A * tv * tv
         hi = np.maximum(np.maximum(0.0, delta), th_v)
         lo = np.minimum(np.minimum(0.0, delta), th_v)
