@@ -1,11 +1,83 @@
-"""`attneave analyze` (not yet implemented)."""
+"""``attneave analyze``: participants' clicks against the information predicted along contours."""
+
+from __future__ import annotations
 
 
 def add_parser(sub):
-    return sub.add_parser("analyze", help="(not yet implemented)")
+    p = sub.add_parser(
+        "analyze",
+        help="test clicks on contours against predicted surprisal",
+        description=(
+            "Map every click of CLICKS.csv (columns participant, stimulus_id, x, y; others kept) to the "
+            "nearest point of its stimulus's contour in the stimulus set DIR (manifest.csv + contours/*.csv; "
+            "images optional), and test whether clicks favour high-surprisal points: ML fit of "
+            "p(j) ~ exp(beta*z_j) over n equally spaced points (z = standardised surprisal) with rivals, "
+            "per-participant effects tested across participants, Spearman correlation of click density "
+            "with surprisal against circular shifts, peak hit rate, AUC, concave vs convex share. "
+            "Writes OUT/clicks.csv (every row, with excluded and reason), per_stimulus.csv, "
+            "per_participant.csv, models.csv, summary.json, figures/ and report.html; OUT appears "
+            "complete or not at all."
+        ),
+    )
+    p.add_argument("clicks", metavar="CLICKS.csv")
+    p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT", help="output directory (must not exist or be empty)")
+    p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
+    p.add_argument("--model", choices=("paper", "vonmises"), default="paper", help="surprisal model (default paper)")
+    p.add_argument("--coords", choices=("image", "centered"), default="image",
+                   help="image: pixels, origin top-left, y down (default); centered: PsychoPy 'pix', "
+                        "origin at the image centre, y up")
+    p.add_argument("--scale", type=float, default=1.0, help="shown image size / image size (default 1)")
+    p.add_argument("--columns", default=None, metavar="MAP",
+                   help="column names, e.g. participant=subj,stimulus_id=stim,x=mouse_x,y=mouse_y")
+    p.add_argument("--tolerance", type=float, default=None, metavar="PX",
+                   help="exclude clicks farther than PX from the contour (default 5%% of the image diagonal)")
+    p.add_argument("--bandwidth", type=float, default=None, metavar="PX",
+                   help="click-density kernel sd in px of arc length (default 2%% of the perimeter)")
+    p.add_argument("--peak-tolerance", type=float, default=None, metavar="PX",
+                   help="arc length within which a click hits a peak (default 2%% of the perimeter)")
+    p.add_argument("--permutations", type=int, default=1000, metavar="K",
+                   help="circular shifts per stimulus for the correlation null (default 1000)")
+    p.add_argument("--grid", type=int, default=1024, metavar="M",
+                   help="positions along the contour for density and correlation (default 1024)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the null of the mean correlation (default 0)")
+    p.add_argument("--no-figures", action="store_true", help="skip the figures (report.html keeps the tables)")
+    p.add_argument("--force", action="store_true", help="replace OUT if it exists")
+    return p
 
 
 def run(args):
-    from stimuli.errors import InputError
+    import sys
 
-    raise InputError("'analyze' is not implemented yet")
+    from analysis.clicks import read_clicks
+    from analysis.report import analyze, check_output_dir, write_analysis
+    from analysis.stimulus_set import read_stimulus_set
+
+    # everything that can be wrong with the inputs is found before anything is written
+    clicks = read_clicks(args.clicks, columns=args.columns)
+    check_output_dir(args.output, args.force)
+    stimset = read_stimulus_set(args.stimuli)
+    res = analyze(
+        clicks, stimset, n=args.n, model=args.model, coords=args.coords, scale=args.scale,
+        tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
+        permutations=args.permutations, grid=args.grid, seed=args.seed,
+    )
+    write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
+                   inputs=dict(clicks=args.clicks, stimuli=args.stimuli))
+    s = res.summary
+    g = s["group"]
+
+    def f(v):
+        return "n/a" if v is None else f"{v:.4g}"
+
+    reasons = ", ".join(f"{k} {v}" for k, v in s["exclusions"].items() if v)
+    print(
+        f"{s['n_clicks']} clicks, {s['n_used']} used, {s['n_excluded']} excluded"
+        + (f" ({reasons})" if reasons else "")
+        + f"; beta_hat = {f(s['beta_hat'])} [{f(s['beta_ci'][0])}, {f(s['beta_ci'][1])}]"
+        + f"; group t({g['df']}) = {f(g['statistic'])}, p = {f(g['p_value'])}; wrote {args.output}",
+        file=sys.stdout,
+    )
+    for w in s["warnings"]:
+        print(f"attneave analyze: warning: {w}", file=sys.stderr)
+    return 0

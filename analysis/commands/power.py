@@ -1,11 +1,66 @@
-"""`attneave power` (not yet implemented)."""
+"""``attneave power``: how many participants detect a given beta, by simulation."""
+
+from __future__ import annotations
+
+
+def _int_list(text):
+    import argparse
+
+    try:
+        out = [int(v) for v in str(text).split(",") if v.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected whole numbers separated by commas, got {text!r}") from None
+    if not out:
+        raise argparse.ArgumentTypeError("expected at least one number")
+    return out
 
 
 def add_parser(sub):
-    return sub.add_parser("power", help="(not yet implemented)")
+    p = sub.add_parser(
+        "power",
+        help="power of the group test for a given beta, by simulation",
+        description=(
+            "Simulate experiments with observers who follow the information model with weight beta "
+            "(see 'attneave simulate') on the stimulus set DIR, analyse each as 'attneave analyze' does "
+            "(two-sided one-sample t-test across participants of per-participant mean z) and report, for "
+            "each number of participants, the share of experiments with p < alpha, and the smallest "
+            "number reaching the target power."
+        ),
+    )
+    p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
+    p.add_argument("--beta", type=float, required=True, metavar="B", help="effect to detect")
+    p.add_argument("--participants", type=_int_list, default=[4, 6, 8, 12, 16, 24, 32], metavar="P1,P2,...",
+                   help="numbers of participants (default 4,6,8,12,16,24,32)")
+    p.add_argument("--clicks", type=int, default=10, metavar="K", help="clicks per participant per stimulus (default 10)")
+    p.add_argument("--simulations", type=int, default=200, metavar="R", help="experiments per design (default 200)")
+    p.add_argument("--alpha", type=float, default=0.05)
+    p.add_argument("--target", type=float, default=0.8, help="power wanted (default 0.8)")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--noise", type=float, default=0.0, metavar="PX", help="click noise sd in px (default 0; >0 is slower)")
+    p.add_argument("--beta-sd", type=float, default=0.0, metavar="SD", help="between-participant sd of beta")
+    p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
+    p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
+    p.add_argument("-o", "--output", default=None, metavar="OUT.csv", help="also write the table")
+    return p
 
 
 def run(args):
-    from stimuli.errors import InputError
+    from analysis.mapping import predict
+    from analysis.observers import power
+    from analysis.stimulus_set import read_stimulus_set
+    from stimuli.io import write_table
 
-    raise InputError("'power' is not implemented yet")
+    stimset = read_stimulus_set(args.stimuli)
+    pred = predict(stimset, n=args.n, model=args.model)
+    table, info = power(pred, args.beta, participants=args.participants, clicks=args.clicks,
+                        simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
+                        beta_sd=args.beta_sd, target=args.target)
+    if args.output:
+        write_table(table, args.output)
+    print(f"beta = {info['beta']:g}, {info['stimuli']} stimuli x {info['clicks']} clicks, alpha = {info['alpha']:g}, "
+          f"{info['simulations']} simulations per design")
+    print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
+    req = info["required_participants"]
+    print(f"participants for power >= {info['target']:g}: "
+          + (str(req) if req is not None else f"more than {max(args.participants)}"))
+    return 0

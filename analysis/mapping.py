@@ -1,0 +1,268 @@
+"""Mapping clicks to contours: predictions per stimulus and the nearest contour point per click.
+
+For each stimulus the contour is resampled at ``n`` equally spaced points
+from its first point (:func:`stimuli.information.surprisal`); curvature and
+surprisal are known there. A click is projected onto the contour itself (the
+polyline of the file, not the resampled one) to get its arc position ``t``
+and its distance; its curvature, surprisal and z are those of the nearest of
+the n points, ``j = round(n * t) mod n`` -- the point whose arc of length
+``1/n`` contains the click, which is the unit of the choice model in
+:mod:`analysis.stats`.
+
+Exclusion
+---------
+No row is dropped. A row is excluded, with the first reason that applies,
+in this order:
+
+``missing_coordinate``
+    x or y empty or NA-like.
+``non_numeric_coordinate``
+    x or y text that is not a number, or infinite.
+``unknown_stimulus``
+    The stimulus id is not in the stimulus set (or is empty).
+``missing_participant``
+    The participant is empty.
+``outside_image``
+    The click (in image pixels) lies outside the image,
+    ``[-0.5, W - 0.5] x [-0.5, H - 0.5]``.
+``far_from_contour``
+    The click lies farther from the contour than the tolerance: by default
+    5% of the image diagonal (36 px on a 512 x 512 image), or a fixed number
+    of pixels (``tolerance``). People aim at the contour; a click that far
+    away is a slip or a click on something else.
+
+Excluded rows that have coordinates and a known stimulus still get their
+mapping (t, distance, ...), so one can see where they were.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from stimuli.errors import InputError
+from stimuli.information import MODELS, surprisal
+
+from .clicks import parse_coordinates, to_image_coords
+from .stats import midrank_percentile, point_index, standardize
+
+__all__ = [
+    "REASONS",
+    "DEFAULT_TOLERANCE_FRACTION",
+    "PREDICTORS",
+    "StimulusPrediction",
+    "predict",
+    "map_clicks",
+]
+
+REASONS = (
+    "missing_coordinate",
+    "non_numeric_coordinate",
+    "unknown_stimulus",
+    "missing_participant",
+    "outside_image",
+    "far_from_contour",
+)
+DEFAULT_TOLERANCE_FRACTION = 0.05
+#: Predictors fitted by the choice model (the tested model's is also under 'surprisal').
+PREDICTORS = ("paper", "vonmises", "abs_curvature")
+# turning angles below this (radians) count as straight, neither concave nor convex
+_FLAT = 1e-9
+
+
+@dataclass
+class StimulusPrediction:
+    """What the information model predicts along one stimulus's contour.
+
+    Attributes
+    ----------
+    stimulus_id : str
+    contour : Contour
+        The contour as read (image pixels, y down, counter-clockwise on screen).
+    width, height : int
+        Image size in pixels.
+    result : SurprisalResult
+        Surprisal at the n resampled points, with every resolved parameter.
+    predictors : dict of str -> (n,) ndarray
+        Raw values of each predictor in :data:`PREDICTORS` at the n points,
+        and under ``'surprisal'`` those of the model under test.
+    z : dict of str -> (n,) ndarray
+        The same, standardised over the n points.
+    sign : (n,) ndarray of int
+        +1 convex, -1 concave, 0 straight, at each point.
+    """
+
+    stimulus_id: str
+    contour: object
+    width: int
+    height: int
+    result: object
+    predictors: dict = field(default_factory=dict)
+    z: dict = field(default_factory=dict)
+    sign: np.ndarray = None
+
+    @property
+    def n(self):
+        return len(self.result.s)
+
+    @property
+    def perimeter(self):
+        return float(self.result.params["length"])
+
+    @property
+    def peak_t(self):
+        """Arc positions of the predicted surprisal peaks."""
+        return np.asarray(self.result.peaks, dtype=float) / self.n
+
+
+def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None):
+    """Predictions for every stimulus of a set.
+
+    Parameters
+    ----------
+    stimset : StimulusSet
+    n : int
+        Number of equally spaced points per contour (recorded; peak values
+        and z depend on it).
+    model : {'paper', 'vonmises'}
+        The surprisal model under test; the other form is fitted as a rival.
+    A, b, prominence
+        Passed to :func:`stimuli.information.surprisal` for `model`.
+
+    Returns
+    -------
+    dict of str -> StimulusPrediction
+
+    Notes
+    -----
+    After standardisation the paper's form and the von Mises form give the
+    same z: both are a constant minus a positive multiple of
+    ``cos(a - 2*pi/n)``. They are both fitted so that the comparison shows
+    it; ``abs_curvature`` (|turning angle| / ds) differs from them in that a
+    concave turn and a convex turn of the same size are equal.
+    """
+    if model not in MODELS:
+        raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
+    if not (isinstance(n, (int, np.integer)) and n >= 3):
+        raise InputError(f"-n must be a whole number >= 3, got {n!r}")
+    out = {}
+    for sid in stimset.ids:
+        c = stimset.contours[sid]
+        r = surprisal(c, n=n, model=model, A=A, b=b, prominence=prominence)
+        other = "vonmises" if model == "paper" else "paper"
+        # the rival form at its own default concentration; its z does not depend on b > 0
+        u_other = surprisal(c, n=n, model=other).surprisal
+        raw = {
+            "surprisal": np.asarray(r.surprisal, dtype=float),
+            model: np.asarray(r.surprisal, dtype=float),
+            other: np.asarray(u_other, dtype=float),
+            "abs_curvature": np.abs(np.asarray(r.curvature, dtype=float)),
+        }
+        a = np.asarray(r.turning_angle, dtype=float)
+        sign = np.where(a > _FLAT, 1, np.where(a < -_FLAT, -1, 0))
+        w, h = stimset.sizes[sid]
+        out[sid] = StimulusPrediction(
+            sid, c, w, h, r, raw, {k: standardize(v) for k, v in raw.items()}, sign
+        )
+    return out
+
+
+def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
+    """Map every click to its stimulus's contour and flag the ones to exclude.
+
+    Parameters
+    ----------
+    clicks : pandas.DataFrame
+        With columns ``participant, stimulus_id, x, y`` (text or numbers),
+        as from :func:`analysis.clicks.read_clicks`; other columns are kept.
+    predictions : dict of str -> StimulusPrediction
+        From :func:`predict`.
+    coords : {'image', 'centered'}
+        Coordinate system of x, y (see :mod:`analysis.clicks`).
+    scale : float
+        Shown size / image size.
+    tolerance : float, optional
+        Largest distance (px) from the contour for a click to be used.
+        Default: 5% of the image diagonal of its stimulus.
+
+    Returns
+    -------
+    pandas.DataFrame
+        The input columns (an input column whose name the mapping uses is
+        kept as ``input_<name>``) followed by: ``x_image, y_image`` (image
+        pixels, y down), ``nearest_x, nearest_y``, ``distance`` (px), ``t``
+        (arc position in [0, 1) from the contour's first point,
+        counter-clockwise on screen), ``point`` (index of the nearest of the n
+        points), ``curvature`` (1/px, positive convex), ``surprisal``, ``z``,
+        ``surprisal_percentile`` (0-100, among the stimulus's n points),
+        ``concave`` (1/0), ``excluded`` (bool) and ``reason`` ('' if used).
+    """
+    import pandas as pd
+
+    if tolerance is not None and not (np.isfinite(tolerance) and tolerance > 0):
+        raise InputError(f"--tolerance must be a positive number of pixels, got {tolerance!r}")
+    new_cols = (
+        "x_image", "y_image", "nearest_x", "nearest_y", "distance", "t", "point", "curvature",
+        "surprisal", "z", "surprisal_percentile", "concave", "excluded", "reason",
+    )
+    df = clicks.copy()
+    df = df.rename(columns={c: f"input_{c}" for c in new_cols if c in df.columns})
+    N = len(df)
+    x, px = _parse(df["x"])
+    y, py = _parse(df["y"])
+    reason = np.where(px != "", px, py).astype(object)
+    sid = df["stimulus_id"].astype(str).str.strip().to_numpy()
+    part = df["participant"].astype(str).str.strip().to_numpy()
+    known = np.array([s in predictions for s in sid], dtype=bool)
+    reason[(reason == "") & ~known] = "unknown_stimulus"
+    reason[(reason == "") & ((part == "") | (part.astype(str) == "nan"))] = "missing_participant"
+
+    cols = {c: np.full(N, np.nan) for c in new_cols if c not in ("excluded", "reason")}
+    cols["point"] = np.full(N, -1, dtype=np.int64)
+    cols["concave"] = np.zeros(N, dtype=np.int64)
+    coords_ok = (px == "") & (py == "") & known
+    ok_idx = np.flatnonzero(coords_ok)
+    groups = pd.Series(ok_idx).groupby(sid[ok_idx]).indices if len(ok_idx) else {}
+    for s, rel in groups.items():
+        rows = ok_idx[rel]
+        pr = predictions[s]
+        xi, yi = to_image_coords(x[rows], y[rows], pr.width, pr.height, coords, scale)
+        outside = (xi < -0.5) | (xi > pr.width - 0.5) | (yi < -0.5) | (yi > pr.height - 0.5)
+        nearest, t, dist = pr.contour.project(np.column_stack([xi, yi]))
+        j = point_index(t, pr.n)
+        tol = tolerance if tolerance is not None else DEFAULT_TOLERANCE_FRACTION * np.hypot(pr.width, pr.height)
+        u = pr.predictors["surprisal"]
+        cols["x_image"][rows], cols["y_image"][rows] = xi, yi
+        cols["nearest_x"][rows], cols["nearest_y"][rows] = nearest[:, 0], nearest[:, 1]
+        cols["distance"][rows] = dist
+        cols["t"][rows] = t
+        cols["point"][rows] = j
+        cols["curvature"][rows] = pr.result.curvature[j]
+        cols["surprisal"][rows] = u[j]
+        cols["z"][rows] = pr.z["surprisal"][j]
+        cols["surprisal_percentile"][rows] = midrank_percentile(u[j], u)
+        cols["concave"][rows] = (pr.sign[j] < 0).astype(np.int64)
+        r = reason[rows]
+        r[(r == "") & outside] = "outside_image"
+        r[(r == "") & (dist > tol)] = "far_from_contour"
+        reason[rows] = r
+    for k, v in cols.items():
+        df[k] = v
+    df["excluded"] = reason != ""
+    df["reason"] = reason.astype(str)
+    return df
+
+
+def _parse(col):
+    """Coordinates from a text or numeric column -> (values, problem)."""
+    import pandas as pd
+
+    if pd.api.types.is_numeric_dtype(col):
+        v = col.to_numpy(dtype=float).copy()
+        problem = np.full(len(v), "", dtype=object)
+        problem[np.isnan(v)] = "missing_coordinate"
+        problem[np.isinf(v)] = "non_numeric_coordinate"
+        v[~np.isfinite(v)] = np.nan
+        return v, problem
+    return parse_coordinates(col.to_numpy())

@@ -1,0 +1,273 @@
+"""Simulated observers and power analysis.
+
+A simulated observer clicks on a stimulus by the choice model of
+:mod:`analysis.stats`: point j of the stimulus's n equally spaced points is
+chosen with probability ``exp(beta_p * z_j) / sum_i exp(beta_p * z_i)``, z
+being the standardised surprisal; the click is then placed uniformly on that
+point's arc (``t = (j + U(-1/2, 1/2)) / n``, so it maps back to point j) on
+the contour as read, and displaced by isotropic Gaussian noise of sd
+``noise`` pixels (the observer's motor and aiming error). ``beta_p`` is the
+group's ``beta`` plus, optionally, a participant's own deviation with sd
+``beta_sd``.
+
+Randomness comes only from :class:`numpy.random.Generator`: participant p
+draws from the p-th child of ``numpy.random.SeedSequence(seed)``, so the
+clicks of the first participants do not change when more are simulated.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from stimuli.errors import InputError
+
+from .clicks import from_image_coords
+from .stats import group_test
+
+__all__ = ["simulate", "simulate_indices", "power"]
+
+
+def _check(participants, clicks, noise, beta, beta_sd):
+    if not (isinstance(participants, (int, np.integer)) and participants >= 1):
+        raise InputError(f"--participants must be a whole number >= 1, got {participants!r}")
+    if not (isinstance(clicks, (int, np.integer)) and clicks >= 1):
+        raise InputError(f"--clicks must be a whole number >= 1, got {clicks!r}")
+    if not (np.isfinite(noise) and noise >= 0):
+        raise InputError(f"--noise must be a number of pixels >= 0, got {noise!r}")
+    if not np.isfinite(beta):
+        raise InputError(f"--beta must be a finite number, got {beta!r}")
+    if not (np.isfinite(beta_sd) and beta_sd >= 0):
+        raise InputError(f"--beta-sd must be >= 0, got {beta_sd!r}")
+
+
+def _cdf_rows(Z, beta):
+    """Stacked cumulative choice probabilities: row s lives in (s, s+1]."""
+    x = beta * Z
+    w = np.exp(x - x.max(axis=1, keepdims=True))
+    cdf = np.cumsum(w, axis=1)
+    cdf /= cdf[:, -1:]
+    cdf[:, -1] = 1.0
+    return (cdf + np.arange(len(Z))[:, None]).ravel()
+
+
+def _draw(rng, Z, beta, clicks):
+    """Point indices (S, clicks) for one observer, by inverse CDF in one search."""
+    S, n = Z.shape
+    flat = _cdf_rows(Z, beta)
+    u = rng.random((S, clicks)) + np.arange(S)[:, None]
+    j = np.searchsorted(flat, u, side="right") - (np.arange(S) * n)[:, None]
+    return np.clip(j, 0, n - 1)
+
+
+def simulate_indices(Z, participants, clicks, beta, seed, beta_sd=0.0):
+    """Chosen point indices for simulated observers (no geometry, no noise).
+
+    Parameters
+    ----------
+    Z : (S, n) array_like
+        Standardised surprisal of each stimulus at its n points.
+    participants, clicks : int
+        Observers, and clicks per observer per stimulus.
+    beta : float
+        Weight of z in the choice model.
+    seed : int or numpy.random.SeedSequence
+    beta_sd : float
+        Between-observer sd of beta.
+
+    Returns
+    -------
+    j : (P, S, K) ndarray of int
+    betas : (P,) ndarray
+        Each observer's beta.
+    rngs : list of numpy.random.Generator
+        Each observer's generator, after the draws (for further draws).
+    """
+    _check(participants, clicks, 0.0, beta, beta_sd)
+    Z = np.asarray(Z, dtype=float)
+    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    rngs = [np.random.Generator(np.random.PCG64(c)) for c in ss.spawn(participants)]
+    betas = np.empty(participants)
+    out = np.empty((participants, Z.shape[0], clicks), dtype=np.int64)
+    for p, rng in enumerate(rngs):
+        betas[p] = beta + (beta_sd * rng.standard_normal() if beta_sd > 0 else 0.0)
+        out[p] = _draw(rng, Z, betas[p], clicks)
+    return out, betas, rngs
+
+
+def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0.0, coords="image", scale=1.0):
+    """Clicks of simulated observers on every stimulus of a set.
+
+    Parameters
+    ----------
+    predictions : dict of str -> StimulusPrediction
+        From :func:`analysis.mapping.predict` (it fixes n and the model).
+    participants : int
+        Number of observers.
+    clicks : int
+        Clicks per observer per stimulus.
+    beta : float
+        Weight of standardised surprisal (0: clicks uniform along the contour).
+    seed : int
+        Seed of the :class:`numpy.random.SeedSequence`.
+    noise : float
+        sd in pixels of isotropic Gaussian displacement of each click.
+    beta_sd : float
+        Between-observer sd of beta.
+    coords : {'image', 'centered'}, scale : float
+        Coordinate system of the written x, y (see :mod:`analysis.clicks`).
+
+    Returns
+    -------
+    clicks : pandas.DataFrame
+        Columns ``participant, stimulus_id, trial, x, y, true_t, true_point,
+        participant_beta``; x, y in `coords` (image pixels, y down, by
+        default). Rows by participant, then stimulus (set order), then trial.
+    params : dict
+        Every resolved parameter.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from analysis.stimulus_set import StimulusSet
+    >>> from analysis.mapping import predict
+    >>> from stimuli import Contour
+    >>> th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    >>> c = Contour(np.c_[100 + 60 * np.cos(th), 100 + 30 * np.sin(th)])
+    >>> s = StimulusSet(".", None, ["e"], {"e": c}, {"e": (200, 200)})
+    >>> df, params = simulate(predict(s, n=50), participants=2, clicks=3, beta=1.0, seed=1)
+    >>> len(df), params["n"]
+    (6, 50)
+    """
+    import pandas as pd
+
+    _check(participants, clicks, noise, beta, beta_sd)
+    ids = list(predictions)
+    if not ids:
+        raise InputError("the stimulus set is empty")
+    first = predictions[ids[0]]
+    n = first.n
+    Z = np.stack([predictions[s].z["surprisal"] for s in ids])
+    j, betas, rngs = simulate_indices(Z, participants, clicks, beta, seed, beta_sd)
+    P, S, K = j.shape
+    offset = np.empty((P, S, K))
+    disp = np.zeros((P, S, K, 2))
+    for p, rng in enumerate(rngs):
+        offset[p] = rng.random((S, K)) - 0.5
+        if noise > 0:
+            disp[p] = noise * rng.standard_normal((S, K, 2))
+    t = np.mod((j + offset) / n, 1.0)
+    xy = np.empty((P, S, K, 2))
+    for s, sid in enumerate(ids):
+        pr = predictions[sid]
+        pts = pr.contour.point_at(t[:, s, :].ravel()).reshape(P, K, 2)
+        x, y = from_image_coords(pts[..., 0] + disp[:, s, :, 0], pts[..., 1] + disp[:, s, :, 1],
+                                 pr.width, pr.height, coords, scale)
+        xy[:, s, :, 0], xy[:, s, :, 1] = x, y
+    width = max(3, len(str(P)))
+    df = pd.DataFrame(
+        {
+            "participant": np.repeat([f"P{p + 1:0{width}d}" for p in range(P)], S * K),
+            "stimulus_id": np.tile(np.repeat(ids, K), P),
+            "trial": np.tile(np.arange(1, K + 1), P * S),
+            "x": xy[..., 0].ravel(),
+            "y": xy[..., 1].ravel(),
+            "true_t": t.ravel(),
+            "true_point": j.ravel(),
+            "participant_beta": np.repeat(betas, S * K),
+        }
+    )
+    params = dict(
+        participants=int(P), clicks=int(K), stimuli=int(S), beta=float(beta), beta_sd=float(beta_sd),
+        noise=float(noise), seed=int(seed) if not isinstance(seed, np.random.SeedSequence) else str(seed.entropy),
+        n=int(n), model=first.result.params["model"], coords=coords, scale=float(scale),
+    )
+    return df, params
+
+
+def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulations=200, alpha=0.05, seed=0,
+          noise=0.0, beta_sd=0.0, target=0.8):
+    """Power of the group test to detect `beta`, by simulation.
+
+    For each simulated experiment the largest number of observers is drawn
+    once and the smaller designs use its first observers (common random
+    numbers, so the power curve is smooth in the number of participants).
+    The test is the one `attneave analyze` reports: a two-sided one-sample
+    t-test across participants of each participant's mean z at the clicks
+    (see :mod:`analysis.stats`).
+
+    Without noise a click maps back to the point it was drawn at, so the
+    simulation works on point indices alone; with noise every click is
+    placed, displaced, and mapped back to the contour as in `analyze`
+    (clicks farther than the default tolerance are excluded, as there).
+
+    Parameters
+    ----------
+    predictions : dict of str -> StimulusPrediction
+    beta : float
+        Effect to detect.
+    participants : sequence of int
+        Numbers of participants to evaluate.
+    clicks : int
+        Clicks per participant per stimulus.
+    simulations : int
+        Simulated experiments per design.
+    alpha : float
+        Significance level.
+    seed : int
+    noise, beta_sd : float
+        As in :func:`simulate`.
+    target : float
+        Power wanted; the smallest design reaching it is reported.
+
+    Returns
+    -------
+    table : pandas.DataFrame
+        ``participants, power, mc_se`` (Monte Carlo standard error),
+        ``mean_effect`` (mean over experiments of the mean participant effect).
+    info : dict
+        Every parameter and ``required_participants`` (None if no design in
+        `participants` reaches `target`).
+    """
+    import pandas as pd
+
+    from .mapping import map_clicks
+
+    participants = sorted({int(p) for p in participants})
+    if not participants or participants[0] < 2:
+        raise InputError(f"--participants needs numbers >= 2 (a t-test needs two), got {participants}")
+    if not (isinstance(simulations, (int, np.integer)) and simulations >= 1):
+        raise InputError(f"--simulations must be a whole number >= 1, got {simulations!r}")
+    if not 0 < alpha < 1:
+        raise InputError(f"--alpha must be in (0, 1), got {alpha!r}")
+    _check(participants[-1], clicks, noise, beta, beta_sd)
+    ids = list(predictions)
+    Z = np.stack([predictions[s].z["surprisal"] for s in ids])
+    Pmax = participants[-1]
+    sig = np.zeros((len(participants), simulations), bool)
+    eff = np.zeros((len(participants), simulations))
+    for r, child in enumerate(np.random.SeedSequence(seed).spawn(simulations)):
+        if noise == 0:
+            j, _, _ = simulate_indices(Z, Pmax, clicks, beta, child, beta_sd)
+            per_p = Z[np.arange(len(ids))[None, :, None], j].mean(axis=(1, 2))
+        else:
+            df, _ = simulate(predictions, Pmax, clicks, beta, child, noise=noise, beta_sd=beta_sd)
+            m = map_clicks(df, predictions)
+            used = m[~m["excluded"]]
+            per_p = used.groupby("participant", sort=True)["z"].mean().reindex(sorted(df["participant"].unique())).to_numpy()
+        for i, P in enumerate(participants):
+            res = group_test(per_p[:P])
+            sig[i, r] = np.isfinite(res["p_value"]) and res["p_value"] < alpha
+            eff[i, r] = np.nanmean(per_p[:P])
+    pw = sig.mean(axis=1)
+    table = pd.DataFrame(
+        dict(participants=participants, power=pw, mc_se=np.sqrt(pw * (1 - pw) / simulations), mean_effect=eff.mean(axis=1))
+    )
+    reach = [p for p, w in zip(participants, pw) if w >= target]
+    info = dict(
+        beta=float(beta), beta_sd=float(beta_sd), clicks=int(clicks), stimuli=len(ids), simulations=int(simulations),
+        alpha=float(alpha), seed=int(seed), noise=float(noise), target=float(target),
+        n=int(predictions[ids[0]].n), model=predictions[ids[0]].result.params["model"],
+        test="two-sided one-sample t-test of per-participant mean z",
+        required_participants=reach[0] if reach else None,
+    )
+    return table, info

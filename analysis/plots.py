@@ -1,0 +1,204 @@
+"""Figures of an analysis (PNG bytes; matplotlib's object API, no pyplot state).
+
+* :func:`stimulus_page`: for each stimulus, the image (when its file exists)
+  with the contour coloured by surprisal (yellow high, purple low), the
+  predicted peaks, the used clicks (black) and the excluded ones that have
+  coordinates (red crosses); beside it, the click density along the contour
+  and the standardised surprisal z against arc position t.
+* :func:`group_figure`: each participant's effect (mean z at their clicks)
+  with the group mean and its interval; the click rate against z (observed
+  and predicted by the fitted model, relative to uniform clicking); and the
+  log-likelihood gain of each model over uniform clicking.
+
+Images are drawn in image pixels with y down (``extent`` from -0.5 to
+W - 0.5, pixel centres at integers), as the clicks are.
+"""
+
+from __future__ import annotations
+
+import io
+
+import numpy as np
+
+__all__ = ["stimulus_page", "group_figure", "all_figures", "to_png"]
+
+
+def _figure(w, h, dpi=80):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(w, h), dpi=dpi, layout="constrained")
+
+
+def to_png(fig):
+    """Render a figure to PNG bytes (no timestamp, so reruns give the same bytes)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", metadata={"Software": None})
+    return buf.getvalue()
+
+
+def _read_image(path):
+    if path is None:
+        return None
+    try:
+        import cv2
+
+        im = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE)
+    except Exception:  # an unreadable image only loses the background of a figure
+        return None
+    return im
+
+
+def _shape_panel(ax, analysis, sid):
+    from matplotlib.collections import LineCollection
+
+    pr = analysis.predictions[sid]
+    W, H = pr.width, pr.height
+    im = _read_image(analysis.stimset.images.get(sid)) if analysis.stimset is not None else None
+    if im is not None:
+        ax.imshow(im, cmap="gray", vmin=0, vmax=255, extent=(-0.5, W - 0.5, H - 0.5, -0.5), alpha=0.35,
+                  interpolation="nearest")
+    p = pr.result.contour.points
+    u = pr.predictors["surprisal"]
+    seg = np.stack([p, np.roll(p, -1, axis=0)], axis=1)
+    lc = LineCollection(seg, cmap="viridis", linewidths=2.5)
+    lc.set_array(0.5 * (u + np.roll(u, -1)))
+    ax.add_collection(lc)
+    peaks = pr.result.peaks
+    if len(peaks):
+        ax.plot(p[peaks, 0], p[peaks, 1], "o", mfc="none", mec="tab:red", ms=7, mew=1.2)
+    c = analysis.clicks
+    mine = c["stimulus_id"].astype(str).str.strip() == sid
+    used = mine & ~c["excluded"]
+    bad = mine & c["excluded"] & np.isfinite(c["x_image"].to_numpy())
+    ax.plot(c.loc[used, "x_image"], c.loc[used, "y_image"], ".", color="k", ms=3, alpha=0.6)
+    ax.plot(c.loc[bad, "x_image"], c.loc[bad, "y_image"], "x", color="tab:red", ms=4)
+    ax.set_xlim(-0.5, W - 0.5)
+    ax.set_ylim(H - 0.5, -0.5)
+    ax.set_aspect("equal")
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title(f"{sid}  ({int(used.sum())} clicks)", fontsize=9)
+
+
+def _profile_panel(ax, analysis, i, sid):
+    prof = analysis.profiles
+    row = analysis.per_stimulus.iloc[i]
+    t = prof["t"]
+    ax.plot(t, prof["z"][i], color="tab:orange", lw=1.2, label="z (surprisal)")
+    ax.set_xlim(0, 1)
+    ax.set_xlabel("t (arc position)", fontsize=8)
+    ax.set_ylabel("z", fontsize=8, color="tab:orange")
+    ax.tick_params(labelsize=7)
+    ax2 = ax.twinx()
+    d = prof["density"][i]
+    if np.isfinite(d).all():
+        ax2.plot(t, d, color="tab:blue", lw=1.2)
+        ax2.set_ylim(bottom=0)
+    ax2.set_ylabel("click density", fontsize=8, color="tab:blue")
+    ax2.tick_params(labelsize=7)
+    c = analysis.clicks
+    used = (c["stimulus_id"].astype(str).str.strip() == sid) & ~c["excluded"]
+    tc = c.loc[used, "t"].to_numpy()
+    lo = ax.get_ylim()[0]
+    ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=6, alpha=0.4)
+    rho, p = row["spearman_rho"], row["spearman_p"]
+    txt = f"rho = {rho:.2f}, p = {p:.3g}" if np.isfinite(rho) else "rho n/a"
+    ax.set_title(txt, fontsize=8)
+
+
+def stimulus_page(analysis, ids, per_row=2):
+    """One page of stimuli: shape with clicks, and density/surprisal profile."""
+    rows = int(np.ceil(len(ids) / per_row))
+    fig = _figure(4.2 * 2 * per_row, 3.3 * rows)
+    axes = fig.subplots(rows, 2 * per_row, squeeze=False, width_ratios=[1, 1.3] * per_row)
+    index = {s: i for i, s in enumerate(analysis.profiles["ids"])}
+    for k in range(rows * per_row):
+        a_shape, a_prof = axes[k // per_row, 2 * (k % per_row)], axes[k // per_row, 2 * (k % per_row) + 1]
+        if k >= len(ids):
+            a_shape.set_axis_off()
+            a_prof.set_axis_off()
+            continue
+        sid = ids[k]
+        _shape_panel(a_shape, analysis, sid)
+        _profile_panel(a_prof, analysis, index[sid], sid)
+    return fig
+
+
+def _calibration(analysis, bins=8):
+    """Relative click rate per z bin: observed and predicted at beta_hat."""
+    ids = analysis.profiles["ids"]
+    Z = np.stack([analysis.predictions[s].z["surprisal"] for s in ids])
+    c = analysis.clicks
+    used = c[~c["excluded"]]
+    sidx = used["stimulus_id"].map({s: i for i, s in enumerate(ids)}).to_numpy().astype(int)
+    if len(sidx) == 0:
+        return None
+    M = np.bincount(sidx, minlength=len(ids)).astype(float)
+    zc = Z[M > 0].ravel()
+    if np.ptp(zc) == 0:
+        return None
+    edges = np.unique(np.quantile(zc, np.linspace(0, 1, bins + 1)))
+    if len(edges) < 3:
+        return None
+    nb = len(edges) - 1
+    which = np.clip(np.searchsorted(edges, Z, side="right") - 1, 0, nb - 1)
+    n = Z.shape[1]
+    beta = analysis.summary["beta_hat"] or 0.0
+    w = np.exp(beta * Z - (beta * Z).max(axis=1, keepdims=True))
+    p = w / w.sum(axis=1, keepdims=True)
+    N = M.sum()
+    uni = np.array([(M[:, None] * (which == b)).sum() / n / N for b in range(nb)])
+    pred = np.array([(M[:, None] * p * (which == b)).sum() / N for b in range(nb)])
+    zcl = Z[sidx, used["point"].to_numpy().astype(int)]
+    wc = np.clip(np.searchsorted(edges, zcl, side="right") - 1, 0, nb - 1)
+    obs = np.bincount(wc, minlength=nb) / N
+    centre = np.array([Z[(which == b) & (M[:, None] > 0)].mean() for b in range(nb)])
+    return centre, obs / uni, pred / uni
+
+
+def group_figure(analysis):
+    """Participants' effects, click rate against z, and model comparison."""
+    fig = _figure(15, 4.6)
+    ax1, ax2, ax3 = fig.subplots(1, 3)
+    pp = analysis.per_participant
+    g = analysis.summary["group"]
+    v = pp["mean_z"].to_numpy()
+    order = np.argsort(np.where(np.isfinite(v), v, -np.inf))
+    ax1.axhline(0, color="0.5", lw=1)
+    ax1.plot(np.arange(len(v)), v[order], "o", color="tab:blue", ms=4)
+    if g["mean"] is not None:
+        ax1.axhline(g["mean"], color="tab:red", lw=1.5)
+        if g["ci_low"] is not None:
+            ax1.axhspan(g["ci_low"], g["ci_high"], color="tab:red", alpha=0.15)
+    ax1.set_xlabel("participant (sorted)")
+    ax1.set_ylabel("mean z at clicks")
+    p = g["p_value"]
+    ax1.set_title(f"group: t({g['df']}) = {g['statistic'] if g['statistic'] is None else round(g['statistic'], 2)}, "
+                  f"p = {p if p is None else f'{p:.2g}'}", fontsize=10)
+    cal = _calibration(analysis)
+    if cal is not None:
+        centre, obs, pred = cal
+        ax2.axhline(1, color="0.5", lw=1, label="uniform")
+        ax2.plot(centre, obs, "o", color="k", label="observed")
+        ax2.plot(centre, pred, "-", color="tab:red", label=f"model, beta = {analysis.summary['beta_hat']:.2f}")
+        ax2.set_yscale("log")
+        ax2.legend(fontsize=8)
+    ax2.set_xlabel("z (standardised surprisal), bin mean")
+    ax2.set_ylabel("click rate / uniform rate")
+    ax2.set_title("clicks against predicted information", fontsize=10)
+    m = analysis.models
+    ll0 = float(m.loc[m["model"] == "uniform", "loglik"].iloc[0])
+    gain = m["loglik"].to_numpy() - ll0
+    ax3.barh(m["model"], gain, color=["tab:red" if k else "tab:gray" for k in m["tested"]])
+    ax3.set_xlabel("log-likelihood gain over uniform (nats)")
+    ax3.set_title("model comparison", fontsize=10)
+    return fig
+
+
+def all_figures(analysis, per_page=6):
+    """Every figure of the report as ``(file name, PNG bytes)``, group figure first."""
+    out = [("group.png", to_png(group_figure(analysis)))]
+    ids = list(analysis.profiles["ids"])
+    for k in range(0, len(ids), per_page):
+        out.append((f"stimuli_{k // per_page + 1:03d}.png", to_png(stimulus_page(analysis, ids[k:k + per_page]))))
+    return out
