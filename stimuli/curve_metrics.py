@@ -72,15 +72,29 @@ class SampledCurve:
         }
 
 
-def segment_slices(segment):
-    """Slices of consecutive samples sharing a segment label, in order."""
+def _blocks(segment):
+    """Start and stop indices of runs of equal segment labels."""
     segment = np.asarray(segment)
     if segment.size == 0:
-        return []
-    cut = np.flatnonzero(np.diff(segment) != 0) + 1
-    starts = np.r_[0, cut]
-    stops = np.r_[cut, segment.size]
+        e = np.zeros(0, dtype=int)
+        return e, e
+    cut = np.flatnonzero(segment[1:] != segment[:-1]) + 1
+    return np.r_[0, cut], np.r_[cut, segment.size]
+
+
+def segment_slices(segment):
+    """Slices of consecutive samples sharing a segment label, in order."""
+    starts, stops = _blocks(segment)
     return [slice(a, b) for a, b in zip(starts, stops)]
+
+
+def _within(segment):
+    """For each consecutive pair of samples: its block index and whether
+    both samples lie in the same block."""
+    segment = np.asarray(segment)
+    inside = segment[1:] == segment[:-1]
+    block = np.cumsum(np.r_[0, ~inside])  # block index of each sample
+    return block, inside
 
 
 def interior_extrema(curvature, segment, rtol=1e-9):
@@ -96,13 +110,16 @@ def interior_extrema(curvature, segment, rtol=1e-9):
         One count per segment, in order of appearance.
     """
     k = np.asarray(curvature, dtype=float)
-    tol = rtol * (np.max(np.abs(k)) if k.size else 0.0)
-    counts = []
-    for sl in segment_slices(segment):
-        d = np.diff(k[sl])
-        d = d[np.abs(d) > tol]
-        counts.append(int(np.count_nonzero(np.sign(d[1:]) != np.sign(d[:-1]))))
-    return np.asarray(counts, dtype=int)
+    if k.size == 0:
+        return np.zeros(0, dtype=int)
+    block, inside = _within(segment)
+    tol = rtol * np.max(np.abs(k))
+    d = np.diff(k)
+    keep = inside & (np.abs(d) > tol)
+    sg = np.sign(d[keep])
+    bl = block[:-1][keep]
+    change = (sg[1:] != sg[:-1]) & (bl[1:] == bl[:-1])
+    return np.bincount(bl[1:][change], minlength=int(block[-1]) + 1).astype(int)
 
 
 def join_jumps(curvature, segment, closed=True, breaks=()):
@@ -111,13 +128,20 @@ def join_jumps(curvature, segment, closed=True, breaks=()):
     The joins into segments listed in `breaks` (G0 corners) are skipped.
     """
     k = np.asarray(curvature, dtype=float)
-    sls = segment_slices(segment)
-    labels = [int(np.asarray(segment)[sl.start]) for sl in sls]
-    pairs = list(zip(sls[:-1], sls[1:], labels[1:]))
-    if closed and len(sls) > 1:
-        pairs.append((sls[-1], sls[0], labels[0]))
-    breaks = set(int(b) for b in breaks)
-    return np.asarray([abs(k[a.stop - 1] - k[b.start]) for a, b, lab in pairs if lab not in breaks])
+    seg = np.asarray(segment)
+    starts, stops = _blocks(seg)
+    if starts.size < 2:
+        return np.zeros(0)
+    last = k[stops - 1]
+    first = k[starts]
+    jumps = np.abs(last[:-1] - first[1:])
+    into = seg[starts[1:]]
+    if closed:
+        jumps = np.r_[jumps, abs(last[-1] - first[0])]
+        into = np.r_[into, seg[starts[0]]]
+    if len(breaks):
+        jumps = jumps[~np.isin(into, np.asarray(breaks, dtype=int))]
+    return jumps
 
 
 def g2_error(curvature, segment, closed=True, breaks=()):
@@ -135,27 +159,31 @@ def bending_energy(s, curvature, segment):
     within each segment."""
     s = np.asarray(s, dtype=float)
     k2 = np.asarray(curvature, dtype=float) ** 2
-    total = 0.0
-    for sl in segment_slices(segment):
-        total += float(np.sum(0.5 * (k2[sl][1:] + k2[sl][:-1]) * np.diff(s[sl])))
-    return total
+    if k2.size < 2:
+        return 0.0
+    _, inside = _within(segment)
+    return float(np.sum((0.5 * (k2[1:] + k2[:-1]) * np.diff(s))[inside]))
 
 
 def segment_turning(s, curvature, segment, theta=None):
     """Range (max - min) of the tangent angle within each segment, radians.
 
-    From `theta` when given, otherwise by integrating the curvature.
+    From `theta` when given (unwrapped), otherwise by integrating the
+    curvature (trapezoid rule).
     """
-    s = np.asarray(s, dtype=float)
     k = np.asarray(curvature, dtype=float)
-    out = []
-    for sl in segment_slices(segment):
-        if theta is not None:
-            th = np.unwrap(np.asarray(theta, dtype=float)[sl])
-        else:
-            th = np.r_[0.0, np.cumsum(0.5 * (k[sl][1:] + k[sl][:-1]) * np.diff(s[sl]))]
-        out.append(float(np.ptp(th)) if th.size else 0.0)
-    return np.asarray(out)
+    if k.size == 0:
+        return np.zeros(0)
+    starts, _ = _blocks(segment)
+    _, inside = _within(segment)
+    if theta is not None:
+        th = np.asarray(theta, dtype=float)
+        # unwrapping across a join only shifts the next block by a constant
+        th = np.unwrap(th)
+    else:
+        inc = 0.5 * (k[1:] + k[:-1]) * np.diff(np.asarray(s, dtype=float))
+        th = np.r_[0.0, np.cumsum(np.where(inside, inc, 0.0))]
+    return np.maximum.reduceat(th, starts) - np.minimum.reduceat(th, starts)
 
 
 def curve_metrics(curve, rtol=1e-9):
