@@ -1,0 +1,106 @@
+"""``attneave spline``: output format, summary, methods and bad input."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from analysis.cli import main
+
+
+def _write_points(path, P):
+    pd.DataFrame({"x": P[:, 0], "y": P[:, 1]}).to_csv(path, index=False)
+
+
+@pytest.fixture()
+def blob(tmp_path):
+    t = np.linspace(0, 2 * np.pi, 14, endpoint=False)
+    rad = 60 * (1 + 0.25 * np.cos(3 * t))
+    P = np.c_[200 + rad * np.cos(t), 200 - rad * np.sin(t)]  # counter-clockwise on screen
+    path = tmp_path / "pts.csv"
+    _write_points(path, P)
+    return path, P
+
+
+def test_qic_output_and_summary(blob, tmp_path):
+    path, P = blob
+    out, summ = tmp_path / "out.csv", tmp_path / "sum.json"
+    assert main(["spline", str(path), "-o", str(out), "--summary", str(summ), "--samples", "9"]) == 0
+    df = pd.read_csv(out)
+    assert list(df.columns) == ["s", "x", "y", "curvature", "segment"]
+    assert len(df) == 14 * 9
+    # each segment starts on its input point and ends on the next one
+    for i, g in df.groupby("segment"):
+        assert len(g) == 9
+        np.testing.assert_allclose(g[["x", "y"]].iloc[0], P[i], atol=1e-9)
+        np.testing.assert_allclose(g[["x", "y"]].iloc[-1], P[(i + 1) % 14], atol=1e-9)
+    assert np.all(np.diff(df["s"]) >= 0)
+    # convex blob stored counter-clockwise on screen: positive curvature at
+    # the outermost points (t = 0: the rightmost point)
+    assert df["curvature"].iloc[0] > 0
+    s = json.loads(summ.read_text())
+    for key in ("method", "n_points", "closed", "g2_error", "interior_extrema", "loops", "iterations", "seconds"):
+        assert key in s
+    assert s["method"] == "qic" and s["n_points"] == 14 and s["closed"] is True
+    assert s["g2_error"] < 1e-10 and s["interior_extrema"] == 0 and s["loops"] == 0
+    assert s["iterations"] >= 1
+
+
+def test_polynomial_methods_report_extrema(blob, tmp_path):
+    path, _ = blob
+    counts = {}
+    for method in ("cubic", "poly2", "poly4", "poly5"):
+        summ = tmp_path / f"{method}.json"
+        assert main(["spline", str(path), "-o", str(tmp_path / f"{method}.csv"), "--method", method,
+                     "--summary", str(summ)]) == 0
+        s = json.loads(summ.read_text())
+        assert s["method"] == method and s["iterations"] == 0
+        counts[method] = s["interior_extrema"]
+    # the three-lobed blob: polynomial splines put extrema between points
+    assert counts["cubic"] > 0 and counts["poly5"] > 0
+
+
+def test_open_curve(tmp_path):
+    x = np.linspace(0, 100, 7)
+    path = tmp_path / "open.csv"
+    _write_points(path, np.c_[x, 50 + 10 * np.sin(x / 20)])
+    out = tmp_path / "o.csv"
+    assert main(["spline", str(path), "-o", str(out), "--open", "--samples", "4"]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 6 * 4 and sorted(df["segment"].unique()) == list(range(6))
+    assert abs(df["curvature"].iloc[0]) < 1e-12 and abs(df["curvature"].iloc[-1]) < 1e-12
+    assert main(["spline", str(path), "-o", str(out), "--open", "--method", "cubic-natural"]) == 0
+
+
+@pytest.mark.parametrize("content, needle", [
+    ("x,z\n1,2\n3,4\n5,6\n", "missing column"),
+    ("x,y\n1,2\n3,nan\n5,6\n", "line 3"),
+    ("x,y\n1,2\n3,4\n3,4\n5,1\n", "lines 3 and 4"),
+    ("x,y\n1,2\n3,4\n5,1\n1,2\n", "repeats the first point"),
+    ("x,y\n1,2\n3,4\n", "at least 3"),
+])
+def test_bad_input_exits_2(tmp_path, capsys, content, needle):
+    path = tmp_path / "bad.csv"
+    path.write_text(content)
+    out = tmp_path / "o.csv"
+    assert main(["spline", str(path), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert needle in err and str(path) in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_non_convergence_is_a_clean_error(tmp_path, capsys):
+    # points in random order: either a curve with its loops reported or one
+    # clean line and exit 2, never a traceback
+    rng = np.random.default_rng(4)
+    for trial in range(6):
+        path = tmp_path / f"r{trial}.csv"
+        _write_points(path, rng.uniform(0, 100, (25, 2)))
+        summ = tmp_path / f"r{trial}.json"
+        rc = main(["spline", str(path), "-o", str(tmp_path / f"r{trial}.csv"), "--summary", str(summ)])
+        err = capsys.readouterr().err
+        if rc == 0:
+            assert "loops" in json.loads(summ.read_text())
+        else:
+            assert rc == 2 and "did not converge" in err and len(err.strip().splitlines()) == 1
