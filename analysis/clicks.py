@@ -147,10 +147,13 @@ def read_clicks(path, columns=None):
         raise InputError(f"{path}: empty file (expected a header with {', '.join(CANONICAL)})") from None
     except (pd.errors.ParserError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV file ({str(exc).splitlines()[0]})") from None
+    header = _header(path)
+    seen = set()
+    for c in header:
+        if c in seen:
+            raise InputError(f"{path}: column {c!r} appears twice in the header")
+        seen.add(c)
     df.columns = [str(c).strip() for c in df.columns]
-    dup = df.columns[df.columns.duplicated()].tolist()
-    if dup:
-        raise InputError(f"{path}: column {dup[0]!r} appears twice in the header")
     absent = [f"{v} (for {k})" for k, v in mapping.items() if v not in df.columns]
     if absent:
         raise InputError(f"{path}: --columns names column(s) not in the file: {', '.join(absent)}; found {', '.join(df.columns)}")
@@ -174,6 +177,15 @@ def read_clicks(path, columns=None):
     return df
 
 
+def _header(path):
+    """Header names as written (pandas renames duplicates to 'x.1')."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8", errors="replace") as fh:
+        row = next(csv.reader(fh), [])
+    return [c.strip() for c in row]
+
+
 def parse_coordinates(values):
     """Parse a text column of coordinates.
 
@@ -193,7 +205,7 @@ def parse_coordinates(values):
     import pandas as pd
 
     s = pd.Series(values, dtype=object).astype(str).str.strip()
-    num = pd.to_numeric(s, errors="coerce").to_numpy(dtype=float)
+    num = pd.to_numeric(s, errors="coerce").to_numpy(dtype=float, copy=True)
     missing = s.str.lower().isin(MISSING_TOKENS).to_numpy()
     bad = ~np.isfinite(num) & ~missing
     problem = np.full(len(s), "", dtype=object)

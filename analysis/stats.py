@@ -363,10 +363,24 @@ def shift_indices(m, permutations):
     return np.unique(np.rint(np.arange(1, permutations + 1) * m / (permutations + 1)).astype(np.int64))
 
 
+def _quantise(x, digits=9):
+    """Round each row to `digits` decimals of its largest magnitude.
+
+    Values that differ only by floating-point noise (a density's far tails,
+    which an FFT leaves at +-1e-17 instead of 0; a prediction interpolated
+    from equal values) become ties, so ranks do not depend on rounding.
+    """
+    scale = np.nanmax(np.abs(x), axis=1, keepdims=True)
+    scale = np.where(scale > 0, scale, 1.0)
+    return np.round(x / scale, digits)
+
+
 def circular_spearman(density, prediction, shifts):
     """Spearman correlation of two circular profiles and its circular-shift null.
 
-    Spearman's rho is Pearson's correlation of the ranks. Shifting the
+    Spearman's rho is Pearson's correlation of the ranks (average ranks for
+    ties; values equal to 9 digits of the row's largest magnitude are ties).
+    Shifting the
     prediction circularly permutes its ranks without changing their mean or
     spread, so the correlations of all m shifts are one circular
     cross-correlation of the centred ranks, computed by FFT.
@@ -389,8 +403,8 @@ def circular_spearman(density, prediction, shifts):
         One-sided p-value for a positive correlation,
         ``(1 + #{null >= rho}) / (1 + K)`` (NaN without shifts).
     """
-    d = np.atleast_2d(np.asarray(density, dtype=float))
-    u = np.atleast_2d(np.asarray(prediction, dtype=float))
+    d = _quantise(np.atleast_2d(np.asarray(density, dtype=float)))
+    u = _quantise(np.atleast_2d(np.asarray(prediction, dtype=float)))
     m = d.shape[1]
     rd = scipy.stats.rankdata(d, axis=1)
     ru = scipy.stats.rankdata(u, axis=1)
