@@ -202,15 +202,29 @@ class _ShapeParams(_Params):
     draw: Literal["silhouette", "outline"] = Field("silhouette", description="filled shape or its outline")
 
 
-def _listify(v):
-    if v is None or isinstance(v, (list, tuple)):
-        return v
-    return [v]
-
-
 PosInt = Annotated[int, Field(ge=1)]
-NonNeg = Annotated[float, Field(ge=0)]
+NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+def _one_or_list(item_type):
+    """Before-validator: a lone value becomes a one-element list.
+
+    The lone value is checked here against `item_type` so that its error is
+    reported at the key itself (``amplitude: must be >= 0``), not at an
+    index the user never wrote.
+    """
+    from pydantic import TypeAdapter
+
+    adapter = TypeAdapter(item_type)
+
+    def convert(v):
+        if v is None or isinstance(v, (list, tuple)):
+            return v
+        adapter.validate_python(v)
+        return [v]
+
+    return BeforeValidator(convert)
 
 
 class AttneavePolygonParams(_ShapeParams):
@@ -244,11 +258,11 @@ class RadialFrequencyParams(_ShapeParams):
     """Radial-frequency pattern; see :func:`stimuli.generators.radial_frequency`."""
 
     r0: float = Field(100.0, gt=0, allow_inf_nan=False, description="mean radius (px when placement is native)")
-    frequency: Annotated[list[PosInt], BeforeValidator(_listify), Field(min_length=1)] = Field(
+    frequency: Annotated[list[PosInt], _one_or_list(PosInt), Field(min_length=1)] = Field(
         default_factory=lambda: [5], description="radial frequencies (one or a list)")
-    amplitude: Annotated[list[NonNeg], BeforeValidator(_listify), Field(min_length=1)] = Field(
+    amplitude: Annotated[list[NonNeg], _one_or_list(NonNeg), Field(min_length=1)] = Field(
         default_factory=lambda: [0.1], description="amplitudes, one per frequency")
-    phase: Annotated[Optional[list[Finite]], BeforeValidator(_listify)] = Field(
+    phase: Annotated[Optional[list[Finite]], _one_or_list(Finite)] = Field(
         None, description="phases in radians, one per frequency; null draws them")
     n: int = Field(1024, ge=8, le=1_000_000)
 
