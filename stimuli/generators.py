@@ -137,20 +137,31 @@ def _method1_attempt(rng, n_points, grid, min_angle, max_angle):
     except QhullError:
         return None
     ring = [int(i) for i in hull.vertices]
+    # joining a point (inside the hull) into a side only narrows the angle at
+    # a hull vertex, so a hull spike below the limit can never be mended
+    if _vertex_angles(pts[ring]).min() < min_angle:
+        return None
     rest = np.setdiff1d(np.arange(n_points), ring)
     # A&A join the remaining points one at a time, in the (random) order of
     # the random-number table, each into a side chosen at random; a side whose
-    # new lines would cross another line is passed over for another one.
+    # new lines would cross another line is passed over for another one. So
+    # is a side whose joining would put the new vertex's angle, or the angle
+    # at either end of the side, outside the limits (an end already outside
+    # them may stay so: a later join may still mend it; the final check
+    # decides).
     for q in rng.permutation(rest):
         q = int(q)
         for side in rng.permutation(len(ring)):
-            cand = ring[: side + 1] + [q] + ring[side + 1 :]
-            p = pts[cand]
-            j = side + 1  # position of q in the candidate
-            ang = _vertex_angles(p[[j - 1, j, (j + 1) % len(cand)]])[1]
-            if not (min_angle <= ang <= max_angle):
+            m = len(ring)
+            a, b = ring[side], ring[(side + 1) % m]
+            before = _vertex_angles(pts[[ring[side - 1], a, b, ring[(side + 2) % m]]])[1:3]
+            after = _vertex_angles(pts[[ring[side - 1], a, q, b, ring[(side + 2) % m]]])[1:4]
+            ok_after = (after >= min_angle) & (after <= max_angle)
+            ok_before = (before >= min_angle) & (before <= max_angle)
+            if not ok_after[1] or (ok_before[0] and not ok_after[0]) or (ok_before[1] and not ok_after[2]):
                 continue
-            if _ring_is_simple(p):
+            cand = ring[: side + 1] + [q] + ring[side + 1 :]
+            if _ring_is_simple(pts[cand]):
                 ring = cand
                 break
         else:

@@ -141,7 +141,8 @@ def test_dots_on_an_ellipse_sit_at_the_ends_of_the_major_axis():
 def test_guided_recipe_items_and_drawing():
     canvas = recipes.Canvas(256, 256, 20)
     kinds = ["base", "cat", "peaks", "troughs", "dots", "dots_troughs"]
-    items = recipes.make("guided", 3, canvas=canvas, kinds=kinds, k=8, n_fragments=3, fraction=0.3)
+    items = recipes.make("guided", 4, canvas=canvas, kinds=kinds, k=8, n_fragments=3, fraction=0.3,
+                         min_separation=10.0)
     assert [i.suffix for i in items] == kinds
     assert [i.parent_suffix for i in items] == [None] + ["base"] * 5
     base = items[0].contour
@@ -152,7 +153,11 @@ def test_guided_recipe_items_and_drawing():
     assert len(peaks.draw["polylines"]) == len(troughs.draw["polylines"]) == 3
     style = recipes.Style(line_width=2.0, dot_radius=3.0)
     imgs = {it.suffix: 1 - recipes.draw_item(it, style, canvas) for it in items}
-    # dots: exact discs, eight of them, apart
+    # dots: exact discs, eight of them, apart (the renderer is exact for
+    # discs that do not overlap)
+    pts = items[4].draw["points"]
+    d = np.hypot(*(pts[:, None] - pts[None]).transpose(2, 0, 1))
+    assert len(pts) == 8 and d[np.triu_indices(8, 1)].min() > 6.0
     assert imgs["dots"].sum() == pytest.approx(8 * np.pi * 9, rel=1e-9)
     # fragments with flat caps: about length x width of ink (joins at corners add a little)
     vis = peaks.params["guided"]["visible_length"]
