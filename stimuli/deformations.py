@@ -458,7 +458,11 @@ def deform(contour, rng, mode="edge", displacement=10.0, position=0.5, width=Non
             **extra,
         )
         return Deformation(base, concave, convex, int(index), params)
-    raise InputError(
-        f"deformation: no place on this contour for a {mode} change of {d:g} px ({reason}); "
-        f"try another displacement{' or width' if mode == 'bump' else ''}"
-    )
+    hint = {
+        "edge": "try a smaller displacement",
+        "vertex": "try a larger displacement (a vertex flips sign only if it is less than that from its "
+                  "neighbours' chord) or mode 'edge'",
+        "bump": "try another displacement or width; a bump needs a smooth stretch that is convex (on a "
+                "straight side a bulge always has concave feet), so use mode 'edge' for polygons",
+    }[mode]
+    raise InputError(f"deformation: no place on this contour for a {mode} change of {d:g} px ({reason}); {hint}")
