@@ -357,6 +357,10 @@ def fig_curves(outdir):
 #: here (e.g. the QIC-spline Fig. 10 analogue from ``stimuli.splines``).
 FIGURE_MAKERS = [fig1, fig2, fig3, fig4, fig5, fig6, fig_eq7_u, fig_curves]
 
+from analysis.spline_plots import fig10_maker  # noqa: E402  (QIC-spline Fig. 10 analogue)
+
+FIGURE_MAKERS.append(fig10_maker)
+
 
 def make_figures(outdir, makers=None):
     """Write the paper's figures and a note describing them.

@@ -22,6 +22,7 @@ __all__ = [
     "SampledCurve",
     "segment_slices",
     "interior_extrema",
+    "extrema_indices",
     "join_jumps",
     "g2_error",
     "bending_energy",
@@ -120,6 +121,24 @@ def interior_extrema(curvature, segment, rtol=1e-9):
     bl = block[:-1][keep]
     change = (sg[1:] != sg[:-1]) & (bl[1:] == bl[:-1])
     return np.bincount(bl[1:][change], minlength=int(block[-1]) + 1).astype(int)
+
+
+def extrema_indices(curvature, segment, rtol=1e-9):
+    """Sample indices of the curvature extrema strictly inside segments
+    (the samples counted by :func:`interior_extrema`)."""
+    k = np.asarray(curvature, dtype=float)
+    if k.size < 3:
+        return np.zeros(0, dtype=int)
+    block, inside = _within(segment)
+    tol = rtol * np.max(np.abs(k))
+    d = np.diff(k)
+    keep = np.flatnonzero(inside & (np.abs(d) > tol))
+    sg = np.sign(d[keep])
+    bl = block[:-1][keep]
+    change = (sg[1:] != sg[:-1]) & (bl[1:] == bl[:-1])
+    # the extremum sits after the first difference of the pair (a flat run
+    # between them is reported at its start)
+    return keep[:-1][change] + 1
 
 
 def join_jumps(curvature, segment, closed=True, breaks=()):

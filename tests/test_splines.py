@@ -318,3 +318,17 @@ def test_metrics_on_known_samples():
     assert m["loops"] == 1 and m["interior_extrema"] == 0
     assert segment_turning(sc, np.full(50, 1 / R), np.zeros(50, int))[0] == pytest.approx(2 * np.pi)
     assert bending_energy(sc, np.zeros(50), np.zeros(50, int)) == 0
+
+
+def test_bird30_fig10_analogue(tmp_path):
+    # the shipped 30-point bird: QIC adds no extrema, the polynomial splines do
+    from analysis.spline_plots import FIG10_NAME, fig10_analogue, load_bird30
+
+    P = load_bird30()
+    assert P.shape == (30, 2)
+    qic = qic_spline(P)
+    assert qic.metrics(64)["interior_extrema"] == 0 and qic.loops == 0
+    for deg in (3, 4, 5):
+        assert polynomial_spline(P, deg).metrics(64)["interior_extrema"] >= 10
+    files = fig10_analogue(tmp_path)
+    assert [f.name for f in files] == [FIG10_NAME] and files[0].stat().st_size > 10000
