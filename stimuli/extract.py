@@ -102,6 +102,7 @@ __all__ = [
     "smooth",
     "contour_curvature",
     "describe",
+    "curvature_peaks",
 ]
 
 METHODS = ("otsu", "threshold", "mask", "alpha", "grabcut")
@@ -151,7 +152,7 @@ def read_image(path):
         raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
     if data.size == 0:
         raise InputError(f"{path}: empty file, expected a PNG, JPEG, TIFF or BMP image")
-    img = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
+    img = _quiet_imdecode(cv2, data)
     if img is None or img.size == 0:
         raise InputError(f"{path}: not a readable image (corrupt, or not PNG, JPEG, TIFF or BMP)")
     if img.ndim == 3:
@@ -162,6 +163,19 @@ def read_image(path):
         elif img.shape[2] == 1:
             img = img[:, :, 0]
     return img
+
+
+def _quiet_imdecode(cv2, data):
+    """cv2.imdecode without OpenCV's own warnings on stderr (we raise instead)."""
+    log = getattr(getattr(cv2, "utils", None), "logging", None)
+    if log is None:  # pragma: no cover - very old OpenCV
+        return cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
+    old = log.getLogLevel()
+    log.setLogLevel(log.LOG_LEVEL_SILENT)
+    try:
+        return cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
+    finally:
+        log.setLogLevel(old)
 
 
 def _load(image_or_path):
@@ -362,7 +376,14 @@ def _segment(img, method, threshold, polarity, name, rect=None, grabcut_iteratio
     if lo == hi:
         raise _Failure(f"uniform image (every pixel is {lo:g}): no object to separate from a background")
     if method == "otsu":
-        t, med_lo, med_hi = _histogram_stats(grey)
+        stats_src = grey
+        if img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] >= 3:
+            import cv2
+
+            # the 8-bit luminance gives the same split and medians to within
+            # half a grey level, from an exact 256-bin histogram
+            stats_src = cv2.cvtColor(np.ascontiguousarray(img[:, :, :3]), cv2.COLOR_RGB2GRAY)
+        t, med_lo, med_hi = _histogram_stats(stats_src)
         level = 0.5 * (med_lo + med_hi)
         if not lo <= level < hi:
             level = t
@@ -415,19 +436,34 @@ def _shoelace_area(p):
     return -0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def _trace_grey(field, level, labels, lab, r0, r1, c0, c1, presmooth):
+def _fill_holes(comp):
+    """Pixels of the holes of a binary object (4-connected background not reaching the edge)."""
+    import cv2
+
+    ff = np.pad(~comp, 1, constant_values=True).astype(np.uint8)
+    cv2.floodFill(ff, None, (0, 0), 2)  # 4-connected, like the background of an 8-connected object
+    return ff[1:-1, 1:-1] == 1
+
+
+def _trace_grey(field, level, comp, r0, r1, c0, c1, presmooth, holes):
     """Rings of one object's boundary on the grey field (object above level).
 
-    The crop ``[r0:r1, c0:c1]`` holds the object with a margin of 2 pixels
-    where the image allows.
+    The crop ``[r0:r1, c0:c1]`` holds the object `comp` with a margin of 2
+    pixels where the image allows. Without `holes` the holes are filled
+    first, so only the outer boundary is traced.
     """
     import cv2
 
-    comp = labels[r0:r1, c0:c1] == lab
     local = field[r0:r1, c0:c1]
     # every pixel outside this object is held at or below the level, so only
     # its boundary is traced; object pixels keep their grey values
     local = np.where(comp, local, np.minimum(local, level)).astype(np.float64)
+    hole_px = _fill_holes(comp)
+    if not holes:
+        # hole pixels never share a marching square with the outer boundary
+        # except across a diagonal the object already joins, so raising them
+        # leaves the outer ring unchanged
+        local[hole_px] = level + max(1.0, abs(level))
     pad = 2
     e = np.pad(local, pad, mode="edge")
     # object pixels on the image border get mirrored neighbours below the
@@ -437,15 +473,17 @@ def _trace_grey(field, level, labels, lab, r0, r1, c0, c1, presmooth):
     offset = (c0 - pad, r0 - pad)
     if presmooth:
         rings = _rings_from_find_contours(cv2.blur(e, (3, 3), borderType=cv2.BORDER_REPLICATE), level, offset)
-        if rings and _same_topology(rings, comp):
+        if rings and _same_topology(rings, np.count_nonzero(comp) + np.count_nonzero(hole_px)):
             return rings, True
     return _rings_from_find_contours(e, level, offset), False
 
 
-def _same_topology(rings, comp):
-    """Whether pre-smoothing kept the object whole (did not cut a thin neck)."""
+def _same_topology(rings, n):
+    """Whether pre-smoothing kept the object whole (did not cut a thin neck).
+
+    `n` is the object's pixel count with its holes filled.
+    """
     a = max(abs(_shoelace_area(r)) for r in rings)
-    n = float(np.count_nonzero(comp))
     # the traced area differs from the pixel count by well under a pixel per
     # boundary pixel; losing a part of the object costs far more
     return abs(a - n) <= 0.02 * n + 2.0
@@ -486,6 +524,7 @@ def extract(
     presmooth=True,
     rect=None,
     grabcut_iterations=5,
+    name=None,
 ):
     """Extract the sub-pixel outer contour(s) of the object(s) in an image.
 
@@ -532,6 +571,9 @@ def extract(
         'grabcut' initial rectangle; default the image inset by 5 %.
     grabcut_iterations : int
         Iterations of GrabCut (default 5).
+    name : str, optional
+        Names the image in messages and the contours (default: the path,
+        or 'image' for an array).
 
     Returns
     -------
@@ -566,7 +608,8 @@ def extract(
         raise InputError(f"objects must be 'largest' or 'all', got {objects!r}")
     if not (np.isfinite(mask_sigma) and mask_sigma >= 0):
         raise InputError(f"mask_sigma must be >= 0, got {mask_sigma}")
-    img, name = _load(image_or_path)
+    img, default_name = _load(image_or_path)
+    name = default_name if name is None else str(name)
     try:
         return _extract(img, name, method, threshold, polarity, objects, min_area, holes, min_hole_area,
                         mask_sigma, presmooth, rect, grabcut_iterations)
@@ -609,10 +652,10 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
         comp = labels[r0:r1, c0:c1] == lab
         mask[r0:r1, c0:c1] |= comp
         if field_ is not None:
-            rings, smoothed_ok = _trace_grey(field_, level, labels, lab, r0, r1, c0, c1, presmooth)
+            rings, smoothed_ok = _trace_grey(field_, level, comp, r0, r1, c0, c1, presmooth, holes)
             presmoothed.append(smoothed_ok)
         else:
-            rings = _trace_mask(comp, r0, c0)
+            rings = _trace_mask(comp if holes else comp | _fill_holes(comp), r0, c0)
         if not rings:
             raise _Failure(f"object of {int(stats[lab, 4])} px gave no closed contour")
         areas_r = np.array([_shoelace_area(r) for r in rings])
@@ -811,3 +854,53 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     kk = np.interp(res.t, np.append(t_sm, 1.0), np.append(k, k[0]))
     params = dict(sigma=s, sigma_fraction=SIGMA_FRACTION if sigma is None else None, **res.params)
     return ContourInfo(c, sm, s, res, kk, params)
+
+
+def curvature_peaks(contour, sigma=None, prominence=None, minima=False):
+    """Curvature maxima (or minima) of a closed contour, located between samples.
+
+    Parameters
+    ----------
+    contour : Contour or (N, 2) array_like
+        Closed, ``(x, y)`` image pixels (y down).
+    sigma : float, optional
+        Curvature scale in px of arc length (default :func:`default_sigma`).
+    prominence : float, optional
+        Minimum prominence in 1/px (default 5 % of the curvature's range).
+    minima : bool
+        Find minima (the most concave places) instead of maxima.
+
+    Returns
+    -------
+    dict
+        ``t`` (arc positions in [0, 1) from the first point), ``s`` (px),
+        ``points`` ((K, 2) ``(x, y)`` on the contour), ``curvature`` (1/px)
+        and ``sigma``, ordered from the most extreme. Each extremum is the
+        vertex of a parabola fitted to the curvature over +-sigma/2 around
+        the best sample, so that its place is not limited by the sampling or
+        by pixel noise on a flat maximum.
+    """
+    from .information import find_peaks
+
+    c = contour if isinstance(contour, Contour) else Contour(contour)
+    if not c.closed:
+        raise InputError("curvature_peaks() is for closed contours")
+    s = _resolve_sigma(c, sigma)
+    m = max(int(np.ceil(c.perimeter / min(1.0, s / 4))), 16)
+    q = c.resample(n=m).points
+    k = gaussian_curvature(q, s)
+    sign = -1.0 if minima else 1.0
+    idx, _ = find_peaks(sign * k, closed=True, prominence=prominence)
+    ds = c.perimeter / m
+    half = int(np.clip(round(s / ds), 2, m // 4))
+    off = np.arange(-half, half + 1)
+    pos = []
+    for i in idx:
+        y = sign * k[(i + off) % m]
+        a2, a1, _a0 = np.polyfit(off.astype(float), y, 2)
+        d = -a1 / (2 * a2) if a2 < 0 else 0.0
+        pos.append(i + float(np.clip(d, -half, half)))
+    pos = np.mod(np.asarray(pos, float), m)
+    t = pos / m
+    kv = np.interp(pos, np.arange(m + 1), np.append(k, k[0]))
+    return dict(t=t, s=t * c.perimeter, points=c.point_at(t), curvature=kv, sigma=s)
