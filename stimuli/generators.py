@@ -94,6 +94,12 @@ def _polar(r, theta):
     return np.column_stack([r * np.cos(theta), -r * np.sin(theta)])
 
 
+def _mv(m, v):
+    """Matrix times vector by a plain numpy sum: the same bits whatever BLAS
+    and thread count (files must be byte-identical across workers)."""
+    return (m * v[None, :]).sum(axis=1)
+
+
 def _angles(n):
     return 2.0 * np.pi * np.arange(n) / n
 
@@ -573,15 +579,15 @@ def fourier_shape(rng, kind="radial", r0=100.0, amplitude=0.1, falloff=1.5, harm
     for tries in range(1, max_tries + 1):
         if kind == "radial":
             a, b = rng.normal(size=(2, len(k))) * sd
-            r = r0 * (1.0 + ck @ a + sk @ b)
+            r = r0 * (1.0 + _mv(ck, a) + _mv(sk, b))
             if r.min() < 0.1 * r0:
                 continue
             c = Contour(_polar(r, th))
             coef = np.column_stack([k, a, b])
         else:
             a, b, cc, d = rng.normal(size=(4, len(k))) * (r0 * sd)
-            x = r0 * np.cos(th) + ck @ a + sk @ b
-            y = -r0 * np.sin(th) + ck @ cc + sk @ d
+            x = r0 * np.cos(th) + _mv(ck, a) + _mv(sk, b)
+            y = -r0 * np.sin(th) + _mv(ck, cc) + _mv(sk, d)
             c = Contour(np.column_stack([x, y]))
             if not c.is_simple():
                 continue
@@ -703,7 +709,7 @@ def blob(rng, r0=100.0, sigma=0.2, width=0.6, n=1024):
     z = rng.normal(size=(2, len(k)))
     coef = (z[0] + 1j * z[1]) * np.exp(-0.5 * (k * width) ** 2)
     th = _angles(n)
-    g = (np.exp(1j * np.outer(th, k)) @ coef).real
+    g = _mv(np.cos(np.outer(th, k)), coef.real) - _mv(np.sin(np.outer(th, k)), coef.imag)
     rms = float(np.sqrt(np.mean(g**2)))
     g = g * (sigma / rms) if rms > 0 else g
     r = r0 * np.exp(g)
