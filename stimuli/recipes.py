@@ -402,7 +402,7 @@ class GuidedParams(_Params):
     @classmethod
     def _unique(cls, v):
         if len(set(v)) != len(v):
-            raise ValueError("kinds: each kind at most once")
+            raise ValueError("each kind at most once")
         return v
 
 
@@ -668,7 +668,8 @@ def make(recipe, rng, canvas=None, **params):
     except ValidationError as exc:
         e = exc.errors(include_url=False)[0]
         loc = ".".join(str(x) for x in e["loc"])
-        raise InputError(f"{recipe}: {loc or 'params'}: {e['msg']}") from None
+        msg = e["msg"].removeprefix("Value error, ")
+        raise InputError(f"{recipe}: {loc or 'params'}: {msg}") from None
     if not isinstance(rng, np.random.Generator):
         rng = np.random.default_rng(rng)
     return fn(p, rng, canvas if canvas is not None else Canvas())
