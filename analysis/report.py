@@ -108,7 +108,7 @@ def _positive(name, value, allow_none=True):
 
 def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, tolerance=None, bandwidth=None,
             peak_tolerance=None, permutations=1000, grid=1024, seed=0, level=0.95, A=0.25, b=None,
-            predictions=None):
+            click_sd=None, predictions=None):
     """Analyse clicks against the information predicted along the contours.
 
     Parameters
@@ -146,6 +146,13 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         Confidence level.
     A, b : float
         Parameters of the surprisal model.
+    click_sd : float, optional
+        Localisation error of clicks along the contour (sd in px). When
+        given, the pooled fits (the tested model and its rivals) use the
+        choice model observed through that error
+        (:func:`analysis.stats.fit_beta_blurred`); otherwise, and always for
+        the per-participant and per-stimulus betas, the plain model, whose
+        beta_hat is attenuated by click noise.
     predictions : dict, optional
         Precomputed :func:`analysis.mapping.predict` output (same n, model).
 
@@ -158,6 +165,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     tolerance = _positive("--tolerance", tolerance)
     bandwidth = _positive("--bandwidth", bandwidth)
     peak_tolerance = _positive("--peak-tolerance", peak_tolerance)
+    click_sd = _positive("--click-sd", click_sd)
     scale = _positive("--scale", scale, allow_none=False)
     if not (isinstance(permutations, (int, np.integer)) and permutations >= 0):
         raise InputError(f"--permutations must be a whole number >= 0, got {permutations!r}")
@@ -195,6 +203,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     constant = np.all(Z == 0, axis=1)
     Ms = np.bincount(sidx, minlength=S).astype(float)
     Mgs = np.bincount(pidx * S + sidx, minlength=G * S).reshape(G, S).astype(float)
+    Cs = np.bincount(sidx * npts + j, minlength=S * npts).reshape(S, npts).astype(float)
 
     # --------------------------------------------- choice model, pooled and rivals
     model_name = predictions[ids[0]].result.params["model"]
@@ -202,7 +211,10 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     fits = {}
     for k in PREDICTORS:
         Ak = Zs[k][sidx, j].sum() if U else 0.0
-        f = stats.fit_beta(Zs[k], Ak, Ms, level=level)
+        if click_sd is None:
+            f = stats.fit_beta(Zs[k], Ak, Ms, level=level)
+        else:
+            f = stats.fit_beta_blurred(Zs[k], Cs, click_sd / (perim / npts), level=level)
         fits[k] = f
         models.append(dict(model=k, tested=k == model_name, n_params=1, beta_hat=f["beta"], se=f["se"],
                            ci_low=f["ci_low"], ci_high=f["ci_high"], loglik=f["loglik"], at_bound=f["at_bound"]))
@@ -213,7 +225,10 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     models["aic"] = 2 * models["n_params"] - 2 * models["loglik"]
     models["delta_aic"] = models["aic"] - models["aic"].min()
     main = fits[model_name]
-    pci = stats.profile_ci(Z, zc.sum(), Ms, main["beta"], level=level) if U else (np.nan, np.nan)
+    if U and click_sd is None:
+        pci = stats.profile_ci(Z, zc.sum(), Ms, main["beta"], level=level)
+    else:
+        pci = (np.nan, np.nan)
 
     # ---------------------------------------------------------- per participant
     Ag = np.bincount(pidx, weights=zc, minlength=G)
@@ -385,7 +400,9 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
             peak_tolerance=dict(px=peak_tolerance, rule=f"{peak_tolerance:g} px" if peak_tolerance else
                                 f"{_PEAK_FRACTION:g} x perimeter (arc length each side)"),
             permutations=int(permutations), grid=int(grid), seed=int(seed), level=float(level),
-            choice_model="p(j) = exp(beta z_j) / sum_i exp(beta z_i) over the n points; z = standardised surprisal",
+            click_sd=click_sd,
+            choice_model="p(j) = exp(beta z_j) / sum_i exp(beta z_i) over the n points; z = standardised surprisal"
+            + ("" if click_sd is None else f"; observed through Gaussian error of sd {click_sd:g} px along the contour"),
         ),
         warnings=[],
     )

@@ -136,6 +136,27 @@ def test_fit_beta_vectorised_equals_one_at_a_time_and_flags_bounds():
     assert f["at_bound"][3] and f["beta"][3] == 20.0  # all clicks on the highest point: ML is +inf
 
 
+def test_blur_kernel_sums_to_one_and_has_the_variance_of_a_rounded_shift():
+    assert stats.blur_kernel(50, 0.0)[0] == 1.0
+    w = stats.blur_kernel(200, 3.0)
+    d = np.where(np.arange(200) < 100, np.arange(200), np.arange(200) - 200)
+    assert w.sum() == pytest.approx(1.0, abs=1e-12)
+    assert (w * d).sum() == pytest.approx(0.0, abs=1e-12)  # symmetric
+    # round(U + e), U uniform on a unit interval, e ~ N(0, s^2): var = s^2 + E[f(1-f)] = s^2 + 1/6
+    assert (w * d * d).sum() == pytest.approx(9 + 1 / 6, abs=1e-6)
+
+
+def test_blurred_fit_without_error_is_the_plain_fit():
+    rng = np.random.default_rng(6)
+    Z = stats.standardize(rng.normal(size=(4, 30)))
+    C = rng.poisson(2.0 * np.exp(Z)).astype(float)
+    plain = stats.fit_beta(Z, (C * Z).sum(), C.sum(axis=1))
+    blurred = stats.fit_beta_blurred(Z, C, 0.0)
+    assert blurred["beta"] == pytest.approx(plain["beta"], abs=1e-6)
+    assert blurred["se"] == pytest.approx(plain["se"], rel=1e-4)
+    assert blurred["loglik"] == pytest.approx(plain["loglik"], abs=1e-6)
+
+
 # -------------------------------------------------------- circular-shift null
 def test_circular_spearman_matches_scipy_on_every_shift():
     rng = np.random.default_rng(3)
@@ -257,6 +278,14 @@ def test_click_noise_attenuates_beta_but_keeps_the_test_valid(ten):
     b2 = analyze(df2, s, predictions=pred, permutations=0).summary
     assert 0 < b2["beta_hat"] < b0["beta_hat"]
     assert b2["group"]["p_value"] < 0.001
+
+
+def test_localisation_error_model_recovers_beta_under_click_noise(ten):
+    s, pred = ten
+    df, _ = simulate(pred, participants=20, clicks=10, beta=1.5, seed=1, noise=2.0)
+    sm = analyze(df, s, predictions=pred, permutations=0, click_sd=2.0).summary
+    assert abs(sm["beta_hat"] - 1.5) < 0.1 * 1.5
+    assert sm["params"]["click_sd"] == 2.0
 
 
 def test_beta_zero_gives_beta_hat_within_four_standard_errors(ten):

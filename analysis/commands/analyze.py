@@ -40,6 +40,9 @@ def add_parser(sub):
                    help="circular shifts per stimulus for the correlation null (default 1000)")
     p.add_argument("--grid", type=int, default=1024, metavar="M",
                    help="positions along the contour for density and correlation (default 1024)")
+    p.add_argument("--click-sd", type=float, default=None, metavar="PX",
+                   help="localisation error of clicks along the contour (sd, px) built into the pooled fit of "
+                        "beta; without it beta_hat is attenuated by click noise")
     p.add_argument("--seed", type=int, default=0, help="seed of the null of the mean correlation (default 0)")
     p.add_argument("--no-figures", action="store_true", help="skip the figures (report.html keeps the tables)")
     p.add_argument("--force", action="store_true", help="replace OUT if it exists")
@@ -60,7 +63,7 @@ def run(args):
     res = analyze(
         clicks, stimset, n=args.n, model=args.model, coords=args.coords, scale=args.scale,
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
-        permutations=args.permutations, grid=args.grid, seed=args.seed,
+        permutations=args.permutations, grid=args.grid, seed=args.seed, click_sd=args.click_sd,
     )
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
                    inputs=dict(clicks=args.clicks, stimuli=args.stimuli))
