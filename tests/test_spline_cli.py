@@ -104,3 +104,15 @@ def test_non_convergence_is_a_clean_error(tmp_path, capsys):
             assert "loops" in json.loads(summ.read_text())
         else:
             assert rc == 2 and "did not converge" in err and len(err.strip().splitlines()) == 1
+
+
+def test_lac_g1_method(blob, tmp_path):
+    path, P = blob
+    out, summ = tmp_path / "lac.csv", tmp_path / "lac.json"
+    assert main(["spline", str(path), "-o", str(out), "--method", "lac-g1", "--alpha", "0.5",
+                 "--samples", "8", "--summary", str(summ)]) == 0
+    df = pd.read_csv(out)
+    assert len(df) == 14 * 8
+    s = json.loads(summ.read_text())
+    assert s["method"] == "lac-g1" and s["interior_extrema"] == 0
+    assert isinstance(s["fallback_segments"], list)

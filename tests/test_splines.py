@@ -332,3 +332,86 @@ def test_bird30_fig10_analogue(tmp_path):
         assert polynomial_spline(P, deg).metrics(64)["interior_extrema"] >= 10
     files = fig10_analogue(tmp_path)
     assert [f.name for f in files] == [FIG10_NAME] and files[0].stat().st_size > 10000
+
+
+# ---------------------------------------------------------------------------
+# log-aesthetic segments (Yoshida & Saito) and the G1 LAC spline
+
+
+def test_lac_alpha_minus_one_is_the_g1_clothoid():
+    from stimuli.clothoid import g1_hermite
+    from stimuli.lac import LACNotDrawable, lac_segment, lac_segment_points
+
+    rng = np.random.default_rng(8)
+    done = 0
+    for _ in range(40):
+        p1 = rng.uniform(1, 3, 2)
+        phi = np.arctan2(p1[1], p1[0])
+        f0, f1 = -rng.uniform(0.05, 1.0), rng.uniform(0.05, 1.0)
+        if rng.random() < 0.5:
+            f0, f1 = -f0, -f1
+        try:
+            seg = lac_segment((0, 0), phi + f0, p1, phi + f1, alpha=-1.0)
+        except LACNotDrawable:
+            continue  # the clothoid would need an inflection
+        s, x, y, k = lac_segment_points(seg, 40)
+        c = g1_hermite(0, 0, phi + f0, p1[0], p1[1], phi + f1)
+        assert abs(k[0] - c["k"]) < 1e-9 * abs(c["k1"] - c["k"]) + 1e-12
+        assert abs(k[-1] - c["k1"]) < 1e-9 * abs(c["k1"] - c["k"]) + 1e-12
+        assert abs(s[-1] - c["L"]) < 1e-10 * c["L"]
+        assert np.hypot(x[-1] - p1[0], y[-1] - p1[1]) < 1e-10
+        done += 1
+    assert done >= 10
+
+
+@pytest.mark.parametrize("alpha", [-0.5, 0.0, 0.5, 1.0])
+def test_lac_segment_has_a_straight_log_curvature_graph(alpha):
+    # rho(s) = (lam alpha s + 1)**(1/alpha): rho**alpha (log rho for alpha 0)
+    # is linear in arc length; and the segment joins its end points with
+    # the given tangents
+    from stimuli.lac import lac_segment, lac_segment_points
+
+    seg = lac_segment((0, 0), -0.6, (2, 0), 0.25, alpha=alpha)
+    s, x, y, k = lac_segment_points(seg, 200)
+    rho = 1 / np.abs(k)
+    g = np.log(rho) if alpha == 0 else rho**alpha
+    coef = np.polyfit(s, g, 1)
+    assert np.max(np.abs(np.polyval(coef, s) - g)) < 1e-9 * np.ptp(g)
+    assert abs(x[0]) < 1e-12 and abs(y[0]) < 1e-12 and np.hypot(x[-1] - 2, y[-1]) < 1e-10
+    # second-order one-sided differences for the end tangents
+    assert abs(np.arctan2(-3 * y[0] + 4 * y[1] - y[2], -3 * x[0] + 4 * x[1] - x[2]) + 0.6) < 1e-3
+    assert abs(np.arctan2(3 * y[-1] - 4 * y[-2] + y[-3], 3 * x[-1] - 4 * x[-2] + x[-3]) - 0.25) < 1e-3
+    # monotone curvature
+    assert np.all(np.diff(k) >= 0) or np.all(np.diff(k) <= 0)
+
+
+def test_lac_symmetric_triangle_is_a_circular_arc():
+    from stimuli.lac import lac_segment, lac_segment_points
+
+    seg = lac_segment((0, 0), -0.5, (2, 0), 0.5, alpha=0.7)
+    _, _, _, k = lac_segment_points(seg, 20)
+    np.testing.assert_allclose(k, np.sin(0.5), rtol=1e-12)  # chord 2 = 2 R sin(0.5)
+
+
+def test_lac_g1_spline():
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    P = np.c_[100 + 40 * np.cos(t) * (1 + 0.3 * np.cos(2 * t)), 100 - 40 * np.sin(t)]
+    sp = fit_spline(P, "lac-g1", alpha=0.0)
+    c = sp.sample(400)
+    starts = np.c_[c.x[0::400], c.y[0::400]]
+    ends = np.c_[c.x[399::400], c.y[399::400]]
+    np.testing.assert_allclose(starts, P, atol=1e-9)
+    np.testing.assert_allclose(ends, np.roll(P, -1, axis=0), atol=1e-9)
+    # G1: the tangent leaving each point equals the one arriving (to the
+    # finite-difference step), curvature monotone on every segment
+    z = c.x + 1j * c.y
+    tin = np.angle(3 * z[399::400] - 4 * z[398::400] + z[397::400])  # second-order differences
+    tout = np.angle(-3 * z[0::400] + 4 * z[1::400] - z[2::400])
+    assert np.max(np.abs(np.angle(np.exp(1j * (np.roll(tin, 1) - tout))))) < 1e-4
+    m = sp.metrics(64)
+    assert m["interior_extrema"] == 0 and sp.fallback_segments == ()
+    # an S-shaped open run needs an inflection: that span falls back to a clothoid
+    S = np.c_[[0, 10, 20, 30, 40], [0, 5, 0, -5, 0]]
+    sp2 = fit_spline(S, "lac-g1", closed=False)
+    assert len(sp2.fallback_segments) >= 1
+    assert sp2.metrics(32)["interior_extrema"] == 0
