@@ -531,12 +531,16 @@ def qic_spline(points, closed=True, *, end_tangents=(None, None), corners=(), to
         lo = np.minimum(np.minimum(0.0, delta), th_v)
         segs.append((idx[:nseg], Q[:nseg], phi + p0, k0, dk, L, hi - lo))
     start = np.concatenate([s[0] for s in segs])
-    Q0 = np.concatenate([s[1] for s in segs])
+    # pieces of a closed curve with corners start at the first corner: put
+    # the segments back in order from the first point
+    order = np.argsort(start, kind="stable") if len(segs) > 1 else slice(None)
+    start = start[order]
+    Q0 = np.concatenate([s[1] for s in segs])[order]
     turning = np.concatenate([s[6] for s in segs])
     sp = QICSpline(
         points=P, closed=closed, x0=Q0[:, 0], y0=Q0[:, 1],
-        theta0=np.concatenate([s[2] for s in segs]), k0=np.concatenate([s[3] for s in segs]),
-        dk=np.concatenate([s[4] for s in segs]), length=np.concatenate([s[5] for s in segs]),
+        theta0=np.concatenate([s[2] for s in segs])[order], k0=np.concatenate([s[3] for s in segs])[order],
+        dk=np.concatenate([s[4] for s in segs])[order], length=np.concatenate([s[5] for s in segs])[order],
         start=start, sign=_geometric_sign(P, closed, y_down), iterations=total_it,
         g2_error=worst_g2, closure_error=worst_close, loops=int(np.count_nonzero(turning > np.pi)),
         corners=tuple(corners), seconds=time.perf_counter() - t_start,

@@ -234,6 +234,15 @@ def test_corners_break_tangent_only_there():
     np.testing.assert_allclose(sp.length, 5, rtol=1e-14)
     m = sp.metrics(8)
     assert m["g2_error"] == 0 and m["interior_extrema"] == 0
+    # corners inside a closed curve: segments still run from the first point,
+    # natural (zero) curvature on both sides of each corner, G2 elsewhere
+    t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    C = 50 * np.c_[np.cos(t), np.sin(t)]
+    sp = qic_spline(C, corners=(3, 7))
+    assert sp.start.tolist() == list(range(12))
+    assert sp.k0[3] == pytest.approx(0, abs=1e-14) and sp.k0[7] == pytest.approx(0, abs=1e-14)
+    assert abs(sp.k0[2] + sp.dk[2] * sp.length[2]) < 1e-14
+    assert sp.metrics(8)["g2_error"] < 1e-12
 
 
 def test_random_order_and_jagged_never_hang():
