@@ -460,11 +460,11 @@ def _execute_pool(jobs, out, workers, bar):
     from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
 
     ctx = None
-    if sys.platform != "win32" and "forkserver" in multiprocessing.get_all_start_methods():
-        # forkserver: workers fork from a clean server that has already imported
-        # numpy and the recipes, so start-up is quick and no parent thread is copied
-        ctx = multiprocessing.get_context("forkserver")
-        ctx.set_forkserver_preload(["stimuli.batch", "stimuli.recipes", "stimuli.render"])
+    if sys.platform.startswith("linux"):
+        # fork: workers start at once with everything imported, and the caller's
+        # __main__ is not re-run (spawn and forkserver would need an
+        # ``if __name__ == "__main__"`` guard in every script that calls this)
+        ctx = multiprocessing.get_context("fork")
     out_s = str(out.resolve())
     with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker) as ex:
         futures = {ex.submit(_run_chunk, chunk, out_s): len(chunk) for chunk in _chunks(jobs, workers)}
