@@ -47,6 +47,7 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg.lapack import dgtsv as _dgtsv
 
 from .clothoid import _segment_state, clothoid_points, guess_A, wrap_angle
 from .curve_metrics import SampledCurve, curve_metrics
@@ -63,8 +64,6 @@ __all__ = [
 ]
 
 METHODS = ("qic", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1")
-
-_DENSE_MAX = 48  # below this a dense solve beats the banded machinery
 
 
 class ConvergenceError(InputError):
@@ -192,35 +191,27 @@ def _linear_system(st, F, closed, free_start, free_end, prev=None):
 
 def _solve_tridiagonal(sub, diag, sup, rhs, cyclic):
     """Solve a (cyclic) tridiagonal system; sub[i] multiplies x[i-1] and
-    sup[i] multiplies x[i+1] (indices modulo n when cyclic)."""
+    sup[i] multiplies x[i+1] (indices modulo n when cyclic). LAPACK's
+    ``dgtsv`` (Gaussian elimination with partial pivoting), with
+    Sherman-Morrison for the two corner entries of a cyclic system.
+    Returns NaNs if the matrix is singular."""
     n = diag.size
-    if n <= _DENSE_MAX:
-        J = np.zeros((n, n))
-        i = np.arange(n)
-        J[i, i] = diag
-        if cyclic:
-            J[i, (i - 1) % n] += sub
-            J[i, (i + 1) % n] += sup
-        else:
-            J[i[1:], i[:-1]] = sub[1:]
-            J[i[:-1], i[1:]] = sup[:-1]
-        return np.linalg.solve(J, rhs)
-    from scipy.linalg import solve_banded
-
-    ab = np.zeros((3, n))
-    ab[0, 1:] = sup[:-1]
-    ab[1] = diag
-    ab[2, :-1] = sub[1:]
-    if not cyclic:
-        return solve_banded((1, 1), ab, rhs, check_finite=False)
-    # Sherman-Morrison: J = T + u v^T carries the two corner entries
+    if not cyclic or n < 3:
+        if n == 1:
+            return rhs / diag
+        *_, x, info = _dgtsv(sub[1:], diag, sup[:-1], rhs[:, None])
+        return x[:, 0] if info == 0 else np.full(n, np.nan)
     top, bottom = sub[0], sup[-1]  # J[0, n-1] and J[n-1, 0]
     gamma = -diag[0] if diag[0] != 0 else 1.0
-    ab[1, 0] -= gamma
-    ab[1, -1] -= top * bottom / gamma
-    u = np.zeros(n)
-    u[0], u[-1] = gamma, bottom
-    yz = solve_banded((1, 1), ab, np.column_stack([rhs, u]), check_finite=False)
+    d = diag.copy()
+    d[0] -= gamma
+    d[-1] -= top * bottom / gamma
+    b = np.zeros((n, 2))
+    b[:, 0] = rhs
+    b[0, 1], b[-1, 1] = gamma, bottom
+    *_, yz, info = _dgtsv(sub[1:], d, sup[:-1], b)
+    if info != 0:
+        return np.full(n, np.nan)
     y, z = yz[:, 0], yz[:, 1]
     vy = y[0] + top / gamma * y[-1]
     vz = z[0] + top / gamma * z[-1]
@@ -441,7 +432,7 @@ def qic_spline(points, closed=True, *, end_tangents=(None, None), corners=(), to
     -----
     Scale invariant: the points are scaled by their mean chord length before
     solving. Each iteration costs O(N) (a tridiagonal, cyclic for closed
-    curves, solve by :func:`scipy.linalg.solve_banded` and Sherman-Morrison).
+    curves, solve by LAPACK ``dgtsv`` and Sherman-Morrison).
 
     References
     ----------
