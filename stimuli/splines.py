@@ -44,7 +44,7 @@ References
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.linalg.lapack import dgtsv as _dgtsv
@@ -330,6 +330,13 @@ class QICSpline:
     @property
     def n_points(self):
         return len(self.points)
+
+    @property
+    def interior_extrema(self):
+        """Curvature extrema strictly inside segments, counted on 32 samples
+        per segment (zero by construction: curvature is linear in arc length
+        on every segment)."""
+        return self.metrics(32)["interior_extrema"]
 
     @property
     def node_curvature(self):
@@ -714,7 +721,7 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         return polynomial_spline(points, 3, False, bc_type="natural", **kwargs)
     if method in ("poly2", "poly3", "poly4", "poly5"):
         sp = polynomial_spline(points, int(method[-1]), closed, **kwargs)
-        return sp.__class__(**{**sp.__dict__, "method": method})
+        return replace(sp, method=method)
     if method == "lac-g1":
         from .lac import lac_g1_spline
 
