@@ -53,7 +53,7 @@ import re
 import typing
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any, Literal, Optional
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
@@ -135,6 +135,7 @@ class BatchConfig(BaseModel):
 
     model_config = _STRICT
 
+    attneave_version: Optional[str] = None  # written to config.yaml; ignored when read back
     seed: int = Field(ge=0, lt=2**63)
     canvas: CanvasConfig = Field(default_factory=CanvasConfig)
     output: OutputConfig = Field(default_factory=OutputConfig)
@@ -553,7 +554,7 @@ def _first_error(exc, model):
     # an unknown key (a typo) usually explains a missing one: report it first
     e = min(errors, key=lambda err: err["type"] != "extra_forbidden")
     raw = tuple(e["loc"])
-    loc = tuple(p for p in raw if not (isinstance(p, str) and _is_union_tag(p)))
+    loc = tuple(p for p in raw if not _is_union_tag(p))
     msg = _message(e, model, loc)
     tag_at = next((i for i, p in enumerate(raw) if isinstance(p, str) and _is_union_tag(p)), None)
     if tag_at is not None and e["type"] != "extra_forbidden":
@@ -563,8 +564,15 @@ def _first_error(exc, model):
         tags = list(dict.fromkeys(str(err["loc"][tag_at]) for err in members))
         whole = next((err for err in members if len(err["loc"]) == tag_at + 1), e)
         if len(tags) > 1:
-            loc = tuple(p for p in raw[:tag_at] if not (isinstance(p, str) and _is_union_tag(p)))
-            msg = f"must be {' or '.join(_plain_type(t) for t in tags)}, got {_got(whole)}"
+            fitting = [err for err in members if not _is_type_mismatch(err)]
+            if fitting:
+                # the value has the type of one member but breaks its constraint: say which
+                e = fitting[0]
+                loc = tuple(p for p in e["loc"] if not _is_union_tag(p))
+                msg = _message(e, model, loc)
+            else:
+                loc = tuple(p for p in raw[:tag_at] if not _is_union_tag(p))
+                msg = f"must be {' or '.join(_plain_type(t) for t in tags)}, got {_got(whole)}"
             errors = [err for err in errors if err not in members] + [e]
     if len(errors) > 1:
         msg += f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
@@ -577,19 +585,30 @@ def _plain_type(tag):
         return words[tag]
     m = re.fullmatch(r"tuple\[(.*)\]", tag)
     if m:
-        parts = [x.strip() for x in m.group(1).split(",")]
+        parts = [x.strip().removeprefix("constrained-") for x in m.group(1).split(",")]
         if len(set(parts)) == 1 and parts[0] in words:
             return f"a list of {len(parts)} {'numbers' if parts[0] == 'float' else parts[0] + 's'}"
+    m = re.fullmatch(r"constrained-(\w+)", tag)
+    if m:
+        return _plain_type(m.group(1))
     return tag
 
 
+_TYPE_WORDS = {"int", "float", "str", "bool", "bytes", "list", "tuple", "dict", "set", "none", "decimal",
+               "date", "datetime", "any"}
+_TAG_PREFIXES = ("constrained-", "function-", "lax-", "strict-", "json-or-python", "nullable", "chain",
+                 "default", "union", "tagged-union", "literal", "is-instance", "enum")
+
+
 def _is_union_tag(p):
-    # pydantic puts the union member ('float', 'tuple[float, float, float]', 'function-after[...]')
-    # into loc; these are not keys the user wrote
-    return bool(re.match(r"^(int|float|str|bool|list|tuple|dict|function-|lax-|json-or-python|"
-                         r"union|literal|nullable|default|chain|is-instance)", p)) and (
-        "[" in p or p in {"int", "float", "str", "bool", "list", "tuple", "dict"}
-    )
+    # pydantic puts the union member ('float', 'constrained-float', 'tuple[float, float, float]')
+    # into loc; these are not keys anyone wrote
+    return isinstance(p, str) and (p in _TYPE_WORDS or "[" in p or p.startswith(_TAG_PREFIXES))
+
+
+def _is_type_mismatch(err):
+    t = err["type"]
+    return t.endswith(("_type", "_parsing")) or t in ("is_instance_of", "literal_error", "union_tag_invalid")
 
 
 def _got(e):
