@@ -8,6 +8,8 @@ annulus areas, and a 16 x 16 point-sampling scanline reference written below.
 from __future__ import annotations
 
 import math
+import shutil
+import subprocess
 import xml.etree.ElementTree as ET
 
 import cv2
@@ -364,10 +366,17 @@ def test_svg_is_well_formed_and_in_pixel_coordinates(tmp_path):
     write_svg(tmp_path / "t.svg", res)
     assert (tmp_path / "s.svg").read_bytes() == (tmp_path / "t.svg").read_bytes()
     # outlines, fragments and dots
+    out = render_outline(p, 2.0, size=(80, 60), join="bevel")
+    el = ET.fromstring(svg_text(out)).find("s:g/s:path", ns)
+    assert el.get("stroke-width") == "2" and el.get("stroke-linejoin") == "bevel"
+    assert el.get("fill") == "none" and el.get("d").endswith("Z")
+    # mitre joins: the exact stroke region, filled (SVG's mitre fallback differs)
     out = render_outline(p, 2.0, size=(80, 60), join="miter")
     el = ET.fromstring(svg_text(out)).find("s:g/s:path", ns)
-    assert el.get("stroke-width") == "2" and el.get("stroke-linejoin") == "miter"
-    assert el.get("fill") == "none" and el.get("d").endswith("Z")
+    assert el.get("fill") == "#000000" and el.get("stroke") is None
+    rings = _path_points(el.get("d"))
+    area = sum(shoelace(r) * (1 if k == 0 else -1) for k, r in enumerate(rings))
+    assert len(rings) == 2 and math.isclose(area, out["area"], rel_tol=1e-6)
     fr = render_fragments([p[:5], p[10:14]], 1.5, size=(80, 60))
     el = ET.fromstring(svg_text(fr)).find("s:g/s:path", ns)
     assert el.get("stroke-linecap") == "butt" and len(_path_points(el.get("d"))) == 2
@@ -437,3 +446,22 @@ def test_self_intersecting_ring_fills_both_lobes_in_every_path():
     f = render_silhouette(bowtie, shape=(16, 24))["img"]
     u8 = render_silhouette(bowtie, shape=(16, 24), dtype="uint8")["img"]
     assert np.allclose(f, 1.0 - cov) and np.array_equal(u8, 255 - np.rint(255 * cov))
+
+
+@pytest.mark.skipif(shutil.which("rsvg-convert") is None, reason="librsvg's rsvg-convert not installed")
+def test_svg_rasterised_by_librsvg_matches_png(tmp_path):
+    rng = np.random.default_rng(1)
+    p = random_star(rng, 40, (40.3, 30.2), 10, 25)
+    for res in (
+        render_silhouette(p, size=(80, 60)),
+        render_outline(p, 3.0, size=(80, 60), join="mitre"),
+        render_fragments([p[:8], p[15:25]], 2.0, size=(80, 60), cap="square"),
+    ):
+        write_png(tmp_path / "a.png", res)
+        write_svg(tmp_path / "a.svg", res)
+        subprocess.run(["rsvg-convert", "-o", str(tmp_path / "b.png"), str(tmp_path / "a.svg")], check=True)
+        a = cv2.imread(str(tmp_path / "a.png"), cv2.IMREAD_GRAYSCALE).astype(float)
+        b = cv2.imread(str(tmp_path / "b.png"), cv2.IMREAD_GRAYSCALE).astype(float)
+        assert a.shape == b.shape
+        assert np.abs(a - b).mean() < 0.5  # grey levels; a one-pixel shift gives > 4
+        assert abs(a.sum() - b.sum()) / 255 < 0.01 * perimeter(p)
