@@ -14,9 +14,16 @@ from .information import (  # noqa: E402
     surprisal_paper,
     surprisal_vonmises,
 )
+from .splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline  # noqa: E402
+from . import curves  # noqa: E402
 
 __all__ = [
+    "ConvergenceError",
     "Contour",
+    "curves",
+    "fit_spline",
+    "polynomial_spline",
+    "qic_spline",
     "InputError",
     "find_peaks",
     "surprisal",

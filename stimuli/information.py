@@ -23,7 +23,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.signal
 import scipy.special
 
 from .contour import Contour, turning_angles
@@ -154,6 +153,8 @@ def find_peaks(u, closed=True, prominence=None):
     prominences : (K,) ndarray
         Their prominences, in the same order.
     """
+    import scipy.signal  # slow to import (about 1 s); only peak finding needs it
+
     u = np.asarray(u, dtype=float)
     finite = np.isfinite(u)
     if not finite.any():
