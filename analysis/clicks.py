@@ -122,9 +122,9 @@ def read_clicks(path, columns=None):
         One row per data row of the file, all values as text (``str``),
         columns renamed to ``participant, stimulus_id, x, y`` where mapped,
         other columns unchanged. A column of the file that already bears a
-        canonical name which the mapping gives to another column is kept as
-        ``input_<name>``. A first column ``line`` holds the line number in the
-        file (the header is line 1).
+        canonical name which the mapping gives to another column, or the name
+        ``line``, is kept as ``input_<name>``. A first column ``line`` holds
+        the line number in the file (the header is line 1).
 
     Raises
     ------
@@ -173,6 +173,8 @@ def read_clicks(path, columns=None):
         raise InputError(f"{path}: no click rows (only a header)")
     for c in ("participant", "stimulus_id"):
         df[c] = df[c].str.strip()
+    if "line" in df.columns:
+        df = df.rename(columns={"line": "input_line"})
     df.insert(0, "line", np.arange(2, len(df) + 2))
     return df
 
@@ -204,14 +206,18 @@ def parse_coordinates(values):
     """
     import pandas as pd
 
-    s = pd.Series(values, dtype=object).astype(str).str.strip()
+    s = pd.Series(values, dtype=object)
     num = pd.to_numeric(s, errors="coerce").to_numpy(dtype=float, copy=True)
-    missing = s.str.lower().isin(MISSING_TOKENS).to_numpy()
-    bad = ~np.isfinite(num) & ~missing
     problem = np.full(len(s), "", dtype=object)
-    problem[missing] = "missing_coordinate"
-    problem[bad] = "non_numeric_coordinate"
-    num[missing | bad] = np.nan
+    bad = ~np.isfinite(num)
+    if bad.any():
+        # only the rows that failed are looked at as text (few, usually)
+        idx = np.flatnonzero(bad)
+        raw = s.iloc[idx]
+        missing = raw.isna().to_numpy() | raw.astype(str).str.strip().str.lower().isin(MISSING_TOKENS).to_numpy()
+        problem[idx[missing]] = "missing_coordinate"
+        problem[idx[~missing]] = "non_numeric_coordinate"
+        num[idx] = np.nan
     return num, problem
 
 

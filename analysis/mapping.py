@@ -189,7 +189,8 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     Returns
     -------
     pandas.DataFrame
-        The input columns (an input column whose name the mapping uses is
+        The input columns, with ``participant`` and ``stimulus_id`` as text
+        stripped of surrounding spaces (an input column whose name the mapping uses is
         kept as ``input_<name>``) followed by: ``x_image, y_image`` (image
         pixels, y down), ``nearest_x, nearest_y``, ``distance`` (px), ``t``
         (arc position in [0, 1) from the contour's first point,
@@ -212,11 +213,12 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     x, px = _parse(df["x"])
     y, py = _parse(df["y"])
     reason = np.where(px != "", px, py).astype(object)
-    sid = df["stimulus_id"].astype(str).str.strip().to_numpy()
-    part = df["participant"].astype(str).str.strip().to_numpy()
-    known = np.array([s in predictions for s in sid], dtype=bool)
+    sid = _ids(df["stimulus_id"])
+    part = _ids(df["participant"])
+    df["stimulus_id"], df["participant"] = sid, part
+    known = pd.Series(sid).isin(list(predictions)).to_numpy()
     reason[(reason == "") & ~known] = "unknown_stimulus"
-    reason[(reason == "") & ((part == "") | (part.astype(str) == "nan"))] = "missing_participant"
+    reason[(reason == "") & (part == "")] = "missing_participant"
 
     cols = {c: np.full(N, np.nan) for c in new_cols if c not in ("excluded", "reason")}
     cols["point"] = np.full(N, -1, dtype=np.int64)
@@ -252,6 +254,13 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     df["excluded"] = reason != ""
     df["reason"] = reason.astype(str)
     return df
+
+
+def _ids(col):
+    """Identifiers as stripped text ('' for missing)."""
+    v = col.astype(object).where(col.notna(), "").astype(str).to_numpy(dtype=str)
+    strip = getattr(getattr(np, "strings", None), "strip", np.char.strip)  # a ufunc in numpy >= 2
+    return strip(v).astype(object)
 
 
 def _parse(col):

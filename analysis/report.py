@@ -184,12 +184,11 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
 
     # ------------------------------------------------------------ indexing
     sidx_all = mapped["stimulus_id"].map(sindex).to_numpy()
-    part_all = mapped["participant"].astype(str).str.strip().to_numpy()
-    participants = sorted(set(part_all[used]) | set(p for p in part_all if p not in ("", "nan")))
-    pindex = {p: i for i, p in enumerate(participants)}
+    part_all = mapped["participant"].to_numpy(dtype=object)
+    participants = sorted(set(pd.unique(part_all)) - {""})
     G = len(participants)
     sidx = sidx_all[used].astype(np.int64)
-    pidx = np.array([pindex[p] for p in part_all[used]], dtype=np.int64)
+    pidx = pd.Categorical(part_all[used], categories=participants).codes.astype(np.int64)
     t = mapped["t"].to_numpy()[used]
     j = mapped["point"].to_numpy()[used].astype(np.int64)
     zc = mapped["z"].to_numpy()[used]
@@ -296,7 +295,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     mean_rho = float(np.nanmean(rho[ok])) if ok.any() else np.nan
     p_mean_rho = (1 + (mean_null >= mean_rho - 1e-12).sum()) / (1 + len(mean_null)) if len(mean_null) else np.nan
     n_rows_s = mapped["stimulus_id"].value_counts()
-    parts_s = np.array([len(set(pidx[sidx == i])) for i in range(S)])
+    parts_s = np.bincount(np.unique(sidx * max(G, 1) + pidx) // max(G, 1), minlength=S)
     mani = stimset.manifest
     per_s = pd.DataFrame(
         dict(
@@ -308,6 +307,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
             n_points=npts,
             ds_px=perim / npts,
             constant_prediction=constant,
+            surprisal_sd=[float(np.std(predictions[s].predictors["surprisal"])) for s in ids],
             beta_hat=fs["beta"],
             beta_se=fs["se"],
             beta_at_bound=fs["at_bound"],

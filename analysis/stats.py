@@ -655,7 +655,7 @@ def group_test(values, level=0.95):
     v = np.asarray(values, dtype=float)
     v = v[np.isfinite(v)]
     n = len(v)
-    out = dict(test="one-sample t-test", statistic=np.nan, df=n - 1, p_value=np.nan, effect_size=np.nan,
+    out = dict(test="one-sample t-test", statistic=np.nan, df=n - 1 if n >= 2 else None, p_value=np.nan, effect_size=np.nan,
                effect_size_name="cohen_dz", mean=float(v.mean()) if n else np.nan, sd=np.nan,
                ci_low=np.nan, ci_high=np.nan, n=n, wilcoxon=dict(statistic=np.nan, p_value=np.nan))
     if n >= 2:
