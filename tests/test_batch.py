@@ -226,6 +226,27 @@ def test_bad_input_met_inside_a_recipe_leaves_no_directory(tmp_path, capsys):
     assert not (tmp_path / "out").exists()
 
 
+def test_file_parameters_are_recorded_as_written(tmp_path):
+    (tmp_path / "shapes").mkdir()
+    (tmp_path / "shapes" / "sq.csv").write_text("x,y\n0,0\n0,10\n10,10\n10,0\n")
+    cfg = tmp_path / "c.yaml"
+    cfg.write_text("seed: 1\ncanvas: {width: 64, height: 64, margin: 4}\nconditions:\n  - name: c\n"
+                   "    recipe: deformation\n    params:\n      base: {generator: from_csv, params: {path: shapes/sq.csv}}\n")
+    out = tmp_path / "out"
+    run_batch(cfg, out, progress=False)
+    rows = _manifest(out)
+    assert [r["condition"] for r in rows] == ["base", "concave", "convex"]
+    assert all('"path":"shapes/sq.csv"' in r["params"] for r in rows)
+    for p in out.rglob("*"):
+        if p.is_file() and p.suffix in (".csv", ".yaml"):
+            assert str(tmp_path) not in p.read_text()
+    # a 10 px square fitted into 56 px, so 5.6x; the base keeps the square's area
+    base = np.loadtxt(out / rows[0]["contour"], delimiter=",", skiprows=1)
+    x, y = base.T
+    area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    assert area == pytest.approx(56.0 ** 2, rel=1e-6)
+
+
 def test_scheduler_without_dask_says_how_to_install(tiny, tmp_path, monkeypatch):
     cfg, _, _ = tiny
     monkeypatch.setitem(sys.modules, "dask.distributed", None)  # import fails

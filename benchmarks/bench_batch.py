@@ -1,0 +1,83 @@
+"""Benchmark: a 2000-stimulus batch with 1 and with 2 local worker processes.
+
+The anchor is the same batch run in one process (``--workers 1``). The
+script writes its own config to a temporary directory (Attneave polygons,
+radial-frequency shapes and blobs, 256 x 256 px, 8-bit PNG + contour CSV),
+runs ``stimuli.batch.run_batch`` with 1 and then 2 workers, checks that both
+runs wrote byte-identical files, and prints both wall times and the ratio
+(target: speed-up >= 1.7 with 2 workers on 2 cores).
+
+    python benchmarks/bench_batch.py [--n 2000] [--size 256] [--workers 2]
+
+The machine's load average is printed too: the speed-up can only approach
+the number of workers when that many cores are free.
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import os
+import tempfile
+import time
+from pathlib import Path
+
+CONFIG = """\
+seed: 2000
+canvas: {{width: {size}, height: {size}, margin: 16}}
+output: {{png_bit_depth: 8, svg: false}}
+conditions:
+  - name: poly
+    recipe: attneave_polygon
+    grid: {{n_points: [6, 10, 16, 24]}}
+    repeats: {r_poly}
+  - name: rf
+    recipe: radial_frequency
+    grid: {{frequency: [3, 5, 8, 12]}}
+    repeats: {r_rf}
+  - name: blob
+    recipe: blob
+    repeats: {r_blob}
+"""
+
+
+def _hashes(d):
+    d = Path(d)
+    return {p.relative_to(d).as_posix(): hashlib.sha256(p.read_bytes()).hexdigest()
+            for p in sorted(d.rglob("*")) if p.is_file()}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--n", type=int, default=2000, help="stimuli in the batch (default 2000)")
+    ap.add_argument("--size", type=int, default=256, help="image side in px (default 256)")
+    ap.add_argument("--workers", type=int, default=2, help="workers of the parallel run (default 2)")
+    args = ap.parse_args(argv)
+
+    from stimuli.batch import run_batch
+
+    r_poly = args.n // 12  # 4 cells
+    r_rf = args.n // 12  # 4 cells
+    r_blob = args.n - 4 * r_poly - 4 * r_rf
+    text = CONFIG.format(size=args.size, r_poly=r_poly, r_rf=r_rf, r_blob=r_blob)
+    with tempfile.TemporaryDirectory(prefix="bench_batch_") as tmp:
+        cfg = Path(tmp) / "bench.yaml"
+        cfg.write_text(text)
+        print(f"batch: {args.n} stimuli ({args.size}x{args.size} px PNG + contour CSV); "
+              f"cpus: {os.cpu_count()}; load average before: {os.getloadavg()[0]:.2f}")
+        times = {}
+        for w in (1, args.workers):
+            t0 = time.perf_counter()
+            res = run_batch(cfg, Path(tmp) / f"w{w}", workers=w, progress=False)
+            times[w] = time.perf_counter() - t0
+            assert res.n_stimuli == args.n, res
+            print(f"  workers={w}: {times[w]:8.2f} s  ({1000 * times[w] / args.n:6.2f} ms/stimulus)")
+        same = _hashes(Path(tmp) / "w1") == _hashes(Path(tmp) / f"w{args.workers}")
+        ratio = times[1] / times[args.workers]
+        print(f"  speed-up workers={args.workers} vs workers=1 (anchor): {ratio:.2f}x (target >= 1.7); "
+              f"byte-identical outputs: {same}; load average after: {os.getloadavg()[0]:.2f}")
+    return 0 if same else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
