@@ -404,11 +404,16 @@ def _workspace(name, n, zeroed=False):
     left so by the caller. The buffers never leave this module: everything
     returned to callers is computed from them into new arrays.
     """
+    if n > _WORKSPACE_MAX:  # huge images: do not keep hundreds of MB around
+        return (np.zeros if zeroed else np.empty)(n)
     buf = getattr(_TLS, name, None)
     if buf is None or buf.size < n:
         buf = (np.zeros if zeroed else np.empty)(max(n, 1 << 18))
         setattr(_TLS, name, buf)
     return buf[:n]
+
+
+_WORKSPACE_MAX = 1 << 23  # elements (64 MB) per scratch buffer and thread
 
 
 def _box_coverage(acc):
@@ -456,8 +461,11 @@ def _disc_terms(centers, radius, h, w):
     r = float(radius)
     quad = np.array([r, 0.0, -r, 0.0]), np.array([0.0, r, 0.0, -r])
     for cx, cy in centers + 0.5:
-        gx = np.arange(math.floor(cx - r) + 1, math.ceil(cx + r), dtype=float)
-        gy = np.arange(math.floor(cy - r) + 1, math.ceil(cy + r), dtype=float)
+        # Only grid lines of the image (edges included) need cuts: an arc
+        # outside the image spans the same columns as its chord (arcs are
+        # monotone between the extreme points) and its segment is dropped.
+        gx = np.arange(max(math.floor(cx - r) + 1, 0), min(math.ceil(cx + r), w + 1), dtype=float)
+        gy = np.arange(max(math.floor(cy - r) + 1, 0), min(math.ceil(cy + r), h + 1), dtype=float)
         hx = np.sqrt(np.maximum(r * r - (gx - cx) ** 2, 0.0))
         hy = np.sqrt(np.maximum(r * r - (gy - cy) ** 2, 0.0))
         px = np.concatenate([gx, gx, cx + hy, cx - hy, cx + quad[0]])

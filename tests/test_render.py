@@ -465,3 +465,16 @@ def test_svg_rasterised_by_librsvg_matches_png(tmp_path):
         assert a.shape == b.shape
         assert np.abs(a - b).mean() < 0.5  # grey levels; a one-pixel shift gives > 4
         assert abs(a.sum() - b.sum()) / 255 < 0.01 * perimeter(p)
+
+
+def test_huge_and_far_dots_are_clipped_exactly():
+    # a disc much larger than the image, centred outside it: the visible part
+    # is the image minus the part outside the circle (checked with a fine polygon)
+    c, R = np.array([-300.3, 20.2]), 330.0
+    cov = disc_coverage([c], R, (40, 50))
+    t = np.linspace(0, 2 * np.pi, 200000, endpoint=False)
+    fine = coverage(np.column_stack([c[0] + R * np.cos(t), c[1] + R * np.sin(t)]), (40, 50))
+    assert np.abs(cov - fine).max() < 1e-5
+    assert np.array_equal(disc_coverage([(1e6, 1e6)], 5.0, (8, 8)), np.zeros((8, 8)))
+    full = disc_coverage([(3.5, 3.5)], 1e5, (8, 8))
+    assert np.allclose(full, 1.0)
