@@ -249,10 +249,10 @@ def to_image_coords(x, y, width, height, coords="image", scale=1.0):
 
     Examples
     --------
-    >>> to_image_coords(0.0, 0.0, 512, 512, "centered")
-    (array(255.5), array(255.5))
-    >>> to_image_coords(-256.0, 256.0, 512, 512, "centered")
-    (array(-0.5), array(-0.5))
+    >>> [float(v) for v in to_image_coords(0.0, 0.0, 512, 512, "centered")]
+    [255.5, 255.5]
+    >>> [float(v) for v in to_image_coords(-256.0, 256.0, 512, 512, "centered")]
+    [-0.5, -0.5]
     """
     _check(coords, scale)
     x = np.asarray(x, dtype=float)
@@ -271,8 +271,8 @@ def from_image_coords(x, y, width, height, coords="image", scale=1.0):
 
     Examples
     --------
-    >>> from_image_coords(255.5, 255.5, 512, 512, "centered")
-    (array(0.), array(0.))
+    >>> [float(v) for v in from_image_coords(255.5, 255.5, 512, 512, "centered")]
+    [0.0, 0.0]
     """
     _check(coords, scale)
     x = np.asarray(x, dtype=float)

@@ -181,18 +181,24 @@ def circular_kde(t, bandwidth, m=1024, group=None, n_groups=None):
 
 # ----------------------------------------------------------------- the choice model
 def _moments(beta, Z):
-    """E and Var of z under p ∝ exp(beta z) for every (group, stimulus).
+    """log-sum-exp, E and Var of z under p ∝ exp(beta z), row by row.
 
-    beta (G,), Z (S, n) -> lse (G, S), E (G, S), V (G, S).
+    beta (P,), Z (P, n) -> lse (P,), E (P,), V (P,).
     """
-    x = beta[:, None, None] * Z[None, :, :]
-    mx = x.max(axis=2, keepdims=True)
+    x = beta[:, None] * Z
+    mx = x.max(axis=1, keepdims=True)
     w = np.exp(x - mx)
-    sw = w.sum(axis=2)
-    E = np.einsum("gsn,sn->gs", w, Z) / sw
-    E2 = np.einsum("gsn,sn->gs", w, Z * Z) / sw
-    lse = np.log(sw) + mx[:, :, 0]
+    sw = w.sum(axis=1)
+    E = np.einsum("pn,pn->p", w, Z) / sw
+    E2 = np.einsum("pn,pn->p", w, Z * Z) / sw
+    lse = np.log(sw) + mx[:, 0]
     return lse, E, np.maximum(E2 - E * E, 0.0)
+
+
+def _pairs(M):
+    """The (group, stimulus, count) triples of the non-zero counts of M (G, S)."""
+    g, s = np.nonzero(M)
+    return g, s, M[g, s]
 
 
 def loglik(beta, Z, A, M):
@@ -213,10 +219,12 @@ def loglik(beta, Z, A, M):
     float or (G,) ndarray
     """
     scalar = np.ndim(beta) == 0 and np.ndim(A) == 0 and np.ndim(M) == 1
-    beta = np.atleast_1d(np.asarray(beta, dtype=float))
     M = np.atleast_2d(np.asarray(M, dtype=float))
-    lse, _, _ = _moments(beta, np.asarray(Z, dtype=float))
-    ll = beta * np.atleast_1d(A) - (M * lse).sum(axis=1)
+    G = M.shape[0]
+    beta = np.broadcast_to(np.atleast_1d(np.asarray(beta, dtype=float)), (G,))
+    g, s, m = _pairs(M)
+    lse, _, _ = _moments(beta[g], np.asarray(Z, dtype=float)[s])
+    ll = beta * np.broadcast_to(np.atleast_1d(A), (G,)) - np.bincount(g, weights=m * lse, minlength=G)
     return float(ll[0]) if scalar else ll
 
 
@@ -260,10 +268,22 @@ def fit_beta(Z, A, M, bound=20.0, level=0.95, tol=1e-10, max_iter=200):
     M = np.atleast_2d(np.asarray(M, dtype=float))
     G = len(A)
     N = M.sum(axis=1)
+    # only the (group, stimulus) pairs with clicks enter the likelihood: memory
+    # grows with them, not with groups x stimuli
+    pg, ps, pm = _pairs(M)
 
-    def score_info(b, sel=slice(None)):
-        _, E, V = _moments(b, Z)
-        return A[sel] - (M[sel] * E).sum(axis=1), (M[sel] * V).sum(axis=1)
+    def score_info(b, sel=None):
+        """Score and information of groups `sel` (all) at their betas `b`."""
+        if sel is None:
+            sel = np.arange(G)
+        where = np.full(G, -1)
+        where[sel] = np.arange(len(sel))
+        keep = where[pg] >= 0
+        gi = where[pg[keep]]
+        _, E, V = _moments(b[gi], Z[ps[keep]])
+        k = len(sel)
+        return (A[sel] - np.bincount(gi, weights=pm[keep] * E, minlength=k),
+                np.bincount(gi, weights=pm[keep] * V, minlength=k))
 
     g_lo, _ = score_info(np.full(G, -bound))
     g_hi, _ = score_info(np.full(G, bound))
