@@ -466,19 +466,32 @@ def _execute_pool(jobs, out, workers, bar):
         # ``if __name__ == "__main__"`` guard in every script that calls this)
         ctx = multiprocessing.get_context("fork")
     out_s = str(out.resolve())
-    with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker) as ex:
+    ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker)
+    try:
         futures = {ex.submit(_run_chunk, chunk, out_s): len(chunk) for chunk in _chunks(jobs, workers)}
-        try:
-            pending = set(futures)
-            while pending:
-                finished, pending = wait(pending, return_when=FIRST_EXCEPTION)
-                for fut in finished:
-                    yield from fut.result()
-                    bar.update(futures[fut])
-        except BaseException:
-            for fut in futures:
-                fut.cancel()
-            raise
+        pending = set(futures)
+        while pending:
+            finished, pending = wait(pending, return_when=FIRST_EXCEPTION)
+            for fut in finished:
+                yield from fut.result()
+                bar.update(futures[fut])
+    except BaseException:
+        # an error or Ctrl-C: stop at once rather than finish the queued chunks; a
+        # worker killed mid-write leaves at most a temporary file, which the rerun removes
+        _terminate_workers(ex)  # before shutdown(), which forgets the processes
+        ex.shutdown(wait=False, cancel_futures=True)
+        raise
+    ex.shutdown(wait=True)
+
+
+def _terminate_workers(ex):
+    if hasattr(ex, "terminate_workers"):  # Python >= 3.14
+        with contextlib.suppress(Exception):
+            ex.terminate_workers()
+            return
+    for proc in list((getattr(ex, "_processes", None) or {}).values()):
+        with contextlib.suppress(Exception):
+            proc.terminate()
 
 
 def _execute_dask(jobs, out, scheduler, bar):
