@@ -15,13 +15,17 @@ piece from ``(x0, y0)`` to ``(x1, y1)`` inside pixel ``(r, c)`` adds the
 exact signed area between itself and the pixel's bottom side,
 ``(x1 - x0) * (1 - ym)`` with ``ym`` its mean height in the pixel, to that
 pixel, and the rest of its "cover", ``(x1 - x0) * ym``, to the pixel below.
-A cumulative sum down each column then gives, in every pixel, the integral
-of the winding number over the pixel square: for rings that do not cross
-one another, oriented so that holes subtract, this is the exact covered
-area. Pieces left or right of the image are dropped (they affect no image
-column) and pieces above it are flattened onto its top edge, so shapes that
-touch or cross the border are clipped exactly. The only error is floating
-point (about 1e-12 px^2 per pixel).
+A cumulative sum down each column (done with ``cv2.integral``, several
+times faster than ``np.cumsum``) then gives, in every pixel, the integral
+``w`` of the winding number over the pixel square, and the coverage is
+``min(|w|, 1)``: exact for a simple ring and for holes (rings are oriented
+by nesting so that holes subtract); a self-intersecting ring is filled by
+the non-zero rule, exact except in the pixels where it crosses itself.
+Pieces left or right of the image are dropped (they affect no image column)
+and pieces above or below it are flattened onto its top or bottom edge, so
+shapes that touch or cross the border are clipped exactly. The only error is
+floating point (about 1e-13 px^2 per pixel); values within 1e-10 of 0 or 1
+are snapped so that figure and ground colours come out exactly.
 
 Discs (:func:`render_dots`) are exact too: the circle is cut where it
 crosses grid lines, the polygon through those points is accumulated as
@@ -41,6 +45,15 @@ The SVG written by :func:`write_svg` uses the same coordinates as the
 contour files: its shapes sit in a group with ``transform="translate(0.5
 0.5)"``, because in SVG the centre of pixel ``j`` is at user unit
 ``j + 0.5``. Rasterised at one user unit per pixel it matches the PNG.
+
+Speed: a 512 x 512 image of a 500-vertex polygon takes about 0.3 ms as
+uint8 and 0.5 ms as float64 (see ``benchmarks/bench_render.py``).
+
+References
+----------
+.. [1] R. Levien, "Inside the fastest font renderer in the world" (font-rs),
+       2016.
+.. [2] S. Barrett, stb_truetype.h, version 2 rasteriser.
 """
 
 from __future__ import annotations
@@ -582,6 +595,14 @@ def disc_coverage(centers, radius, shape):
         Exact covered fraction of each pixel (to floating point), clipped to
         [0, 1]. Where discs overlap the winding integrals add and are
         clipped at 1, exact except in pixels crossed by two circles.
+
+    Examples
+    --------
+    A disc of diameter 1 inscribed in pixel (3, 3) covers pi/4 of it:
+
+    >>> cov = disc_coverage([(3.0, 3.0)], 0.5, (7, 7))
+    >>> bool(np.isclose(cov[3, 3], np.pi / 4)), float(cov.sum() - cov[3, 3])
+    (True, 0.0)
     """
     h, w = _resolve_shape(shape=shape)
     centers = _as_points(centers, "centers")
