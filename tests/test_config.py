@@ -45,13 +45,27 @@ def _error(tmp_path, text):
     return msg
 
 
-def test_shipped_configs_validate():
+def test_shipped_configs_validate_and_resolve_to_a_fixed_point(tmp_path):
     assert len(CONFIGS) >= 4
     names = {p.stem for p in CONFIGS}
     assert {"attneave_polygons", "radial_frequency", "barenholtz_deformations", "guided_fragments"} <= names
     for p in CONFIGS:
         b = load_config(p)
         assert 0 < b.n_jobs <= 60  # kept small: the README runs one of them
+        again = load_config(_write(tmp_path, b.text, p.name))
+        assert again.text == b.text
+
+
+def test_dotted_grid_keys_reach_nested_parameters(tmp_path):
+    text = ("seed: 1\nconditions:\n  - name: g\n    recipe: guided\n"
+            "    params: {base: {generator: blob, params: {sigma: 0.1}}}\n"
+            "    grid: {base.params.n: [64, 128], fraction: [0.2, 0.3]}\n")
+    b = load_config(_write(tmp_path, text))
+    cells = b.conditions[0].cells
+    assert [(c["base"]["params"]["n"], c["fraction"]) for c in cells] == [(64, 0.2), (64, 0.3), (128, 0.2), (128, 0.3)]
+    assert all(c["base"]["params"]["sigma"] == 0.1 for c in cells)
+    assert "n" not in b.conditions[0].params["base"]["params"]  # a grid axis, not a fixed value
+    assert load_config(_write(tmp_path, b.text, "again.yaml")).text == b.text
 
 
 @pytest.mark.parametrize(
