@@ -63,7 +63,7 @@ def main(argv=None):
     ap.add_argument("--seeds", type=int, default=400)
     ap.add_argument("--alpha", type=float, default=0.05)
     ap.add_argument("--noise", type=float, default=1.0, help="click noise (px) under the null")
-    ap.add_argument("--recovery-seeds", type=int, default=30)
+    ap.add_argument("--recovery-seeds", type=int, default=100)
     args = ap.parse_args(argv)
 
     s = stimulus_set()
