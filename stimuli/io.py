@@ -19,8 +19,11 @@ __all__ = ["atomic_write", "write_table", "read_table", "read_points"]
 
 
 @contextlib.contextmanager
-def atomic_write(path, mode="w", **kwargs):
+def atomic_write(path, mode="w", fsync=False, **kwargs):
     """Open a temporary file beside `path` and move it into place on success.
+
+    The rename is atomic, so a killed process (even ``kill -9``) leaves either
+    the old file or the complete new one under `path`, never a partial one.
 
     Parameters
     ----------
@@ -28,6 +31,10 @@ def atomic_write(path, mode="w", **kwargs):
         Final file name. Its directory must exist.
     mode : {'w', 'wb'}
         Text or binary.
+    fsync : bool
+        Also flush the data to disk before the rename. Only a power cut needs
+        this, and it costs milliseconds per file, so it is off by default and
+        kept for the files that mark a batch complete.
     **kwargs
         Passed to :func:`open` (e.g. ``newline=''``).
 
@@ -42,8 +49,9 @@ def atomic_write(path, mode="w", **kwargs):
     try:
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
-            fh.flush()
-            os.fsync(fh.fileno())
+            if fsync:
+                fh.flush()
+                os.fsync(fh.fileno())
         # mkstemp makes the file private (0600); give it the mode a plain open() would
         os.chmod(tmp, 0o666 & ~_UMASK)
         os.replace(tmp, path)
