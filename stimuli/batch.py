@@ -27,8 +27,10 @@ How that is kept
   config skips complete jobs and makes the rest; a directory made by another
   config is refused unless ``force=True`` (which deletes the earlier batch's
   files first). At the end the parent writes ``manifest.csv`` and
-  ``config.yaml`` and removes ``.rows/``, the marker and any temporary file an
-  interrupted write left behind.
+  ``config.yaml`` (after flushing everything to disk once, so that a manifest
+  that survives a power cut lists only files that survived it) and removes
+  ``.rows/``, the marker and any temporary file an interrupted write left
+  behind.
 * A config that does not validate writes nothing. An error inside a recipe
   call (e.g. an unreadable image) stops the batch; a directory that this run
   created is then removed again.
@@ -324,8 +326,13 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
                 )
             ids[row["stimulus_id"]] = job["key"]
     rows.sort(key=lambda r: r["stimulus_id"])
+    # the stimulus files are renamed into place but not flushed one by one (that
+    # costs ms per file); flush them all once, so that a manifest that survives a
+    # power cut lists only files that survived it too
+    if hasattr(os, "sync"):
+        os.sync()
     _write_manifest(out / "manifest.csv", rows, bool(batch.output.get("svg")))
-    with atomic_write(out / "config.yaml", "w", encoding="utf-8", newline="\n") as fh:
+    with atomic_write(out / "config.yaml", "w", fsync=True, encoding="utf-8", newline="\n") as fh:
         fh.write(batch.text)
     shutil.rmtree(out / ROWS_DIR, ignore_errors=True)
     _remove_temporaries(out)
@@ -404,10 +411,17 @@ def _completed(out, jobs, batch):
     complete = {}
     for key, rows in found.items():
         if key in keys and rows and all(
-            (out / row[col]).is_file() for row in rows for col in ("image", "contour", "svg") if row.get(col)
+            _nonempty(out / row[col]) for row in rows for col in ("image", "contour", "svg") if row.get(col)
         ):
             complete[key] = rows
     return complete
+
+
+def _nonempty(p):
+    try:
+        return p.is_file() and p.stat().st_size > 0
+    except OSError:
+        return False
 
 
 def _int(v):
@@ -424,7 +438,7 @@ def _write_manifest(path, rows, svg):
     w.writeheader()
     for row in rows:
         w.writerow(row)
-    with atomic_write(path, "w", encoding="utf-8", newline="") as fh:
+    with atomic_write(path, "w", fsync=True, encoding="utf-8", newline="") as fh:
         fh.write(buf.getvalue())
 
 
