@@ -128,6 +128,7 @@ def test_same_files_through_a_dask_localcluster(tiny, tmp_path):
     assert hashes(tmp_path / "dask") == ref
 
 
+@pytest.mark.skipif(not hasattr(os, "killpg"), reason="needs POSIX process groups")
 def test_kill_9_mid_way_then_rerun_gives_the_uninterrupted_files(tiny, tmp_path, capsys):
     cfg, out, ref = tiny
     dest = tmp_path / "killed"
