@@ -16,7 +16,7 @@ excluded; the image is an array in memory):
 
 Target: the full pipeline at most 2x ``find_contours`` alone.
 
-Usage: python benchmarks/bench_extract.py [--repeats 7] [--size 1000]
+Usage: python benchmarks/bench_extract.py [--repeats 9] [--size 1000]
 """
 
 from __future__ import annotations
@@ -29,7 +29,10 @@ import numpy as np
 
 
 def photo_like(size=1000, seed=0):
-    """A smooth textured object on a gradient background, antialiased (uint8, RGB)."""
+    """A smooth textured object on a gradient background, antialiased.
+
+    Returns (uint8 RGB image, true outline as an (M, 2) ring in pixels).
+    """
     from stimuli.render import coverage
 
     rng = np.random.default_rng(seed)
@@ -39,7 +42,7 @@ def photo_like(size=1000, seed=0):
     ring = np.c_[0.52 * w + r * np.cos(th), 0.48 * h + r * np.sin(th)]
     cov = coverage(ring, (h, w))
     yy, xx = np.mgrid[:h, :w] / size
-    background = 70 + 60 * xx + 25 * yy
+    background = 60 + 45 * xx + 20 * yy
     # low-frequency texture on the object: a blurred noise field
     import cv2
 
@@ -48,22 +51,25 @@ def photo_like(size=1000, seed=0):
     obj = 205 + tex - 20 * yy
     grey = background * (1 - cov) + obj * cov + rng.normal(0, 6, (h, w))
     rgb = np.stack([grey * 1.02, grey, grey * 0.95], axis=-1)
-    return np.clip(np.round(rgb), 0, 255).astype(np.uint8)
+    return np.clip(np.round(rgb), 0, 255).astype(np.uint8), ring
 
 
-def median_time(fn, repeats):
-    times = []
-    out = None
+def interleaved_medians(fns, repeats):
+    """Median time of each function, the calls interleaved round by round so
+    that load from other processes falls on all of them alike."""
+    times = {k: [] for k in fns}
+    out = {}
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
+        for k, fn in fns.items():
+            t0 = time.perf_counter()
+            out[k] = fn()
+            times[k].append(time.perf_counter() - t0)
+    return {k: statistics.median(v) for k, v in times.items()}, out
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--repeats", type=int, default=9)
     ap.add_argument("--size", type=int, default=1000, help="image side in px (default 1000: 1 megapixel)")
     args = ap.parse_args(argv)
 
@@ -72,11 +78,12 @@ def main(argv=None):
 
     from stimuli.extract import describe, extract
 
-    img = photo_like(args.size)
+    from stimuli.contour import Contour
+
+    img, ring = photo_like(args.size)
     grey = img[:, :, :3].astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
     grey8 = cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)
-    ex = extract(img)
-    level = ex.params["level"]
+    level = extract(img).params["level"]
 
     def full():
         e = extract(img)
@@ -92,19 +99,25 @@ def main(argv=None):
         _, m = cv2.threshold(grey8, 0, 255, cv2.THRESH_BINARY + cv2.THRESH_OTSU)
         return cv2.findContours(m, cv2.RETR_LIST, cv2.CHAIN_APPROX_NONE)[0]
 
-    # warm up (imports, caches), then interleave nothing: each measured as a block
-    for f in (full, fast, anchor_fc, anchor_cv):
+    fns = dict(full=full, fc=anchor_fc, fast=fast, cv=anchor_cv)
+    for f in fns.values():  # warm up (imports, caches)
         f()
-    t_full, (e, info) = median_time(full, args.repeats)
-    t_fc, fc = median_time(anchor_fc, args.repeats)
-    t_fast, _ = median_time(fast, args.repeats)
-    t_cv, cvc = median_time(anchor_cv, args.repeats)
+    t, out = interleaved_medians(fns, args.repeats)
+    t_full, t_fc, t_fast, t_cv = t["full"], t["fc"], t["fast"], t["cv"]
+    e, info = out["full"]
+    fc, cvc = out["fc"], out["cv"]
+    truth = Contour(ring)
+    _, _, dist = truth.project(e.contour.points)
 
     h, w = img.shape[:2]
     print(f"image: {w}x{h} RGB uint8 ({w * h / 1e6:.2f} Mpx), photo-like (textured object, gradient, noise)")
     print(f"extracted: {len(e.contour)} points, perimeter {e.contour.perimeter:.1f} px, area {e.contour.area:.0f} px^2, "
           f"level {level:.2f}, polarity {e.params['polarity']}, sigma {info.sigma:.2f} px, n {info.params['n']}")
-    print(f"find_contours found {len(fc)} iso-contours; cv2.findContours found {len(cvc)} contours")
+    print(f"accuracy against the true outline: RMS distance {np.sqrt(np.mean(dist ** 2)):.4f} px, "
+          f"max {dist.max():.4f} px; area {e.contour.area / truth.area - 1:+.4%}, "
+          f"perimeter {e.contour.perimeter / truth.perimeter - 1:+.4%}")
+    print(f"find_contours found {len(fc)} iso-contours (noise included); cv2.findContours found {len(cvc)} contours")
+    print(f"medians of {args.repeats} interleaved rounds")
     print(f"{'what':58s} {'median ms':>10s}")
     print(f"{'full pipeline (extract + describe)':58s} {t_full * 1e3:10.1f}")
     print(f"{'anchor: skimage.measure.find_contours alone':58s} {t_fc * 1e3:10.1f}")

@@ -259,37 +259,47 @@ class Extraction:
 
 # ----------------------------------------------------------------- segmentation
 def _histogram_stats(grey):
-    """Otsu threshold and medians of the two classes, in image units.
+    """Otsu threshold, the medians of the two classes, and the grey range.
 
-    Returns (threshold, median_low, median_high); the low class is
-    ``grey <= threshold``.
+    Returns (threshold, median_low, median_high, lo, hi, n_values) in image
+    units; the low class is ``grey <= threshold``. `n_values` is the number
+    of distinct grey levels, counted up to 3.
     """
     from skimage.filters import threshold_otsu
 
     if grey.dtype == np.uint8:
-        counts = np.bincount(grey.ravel(), minlength=256).astype(float)
+        import cv2
+
+        counts = cv2.calcHist([grey], [0], None, [256], [0, 256]).ravel().astype(float)
         centres = np.arange(256, dtype=float)
         nz = np.flatnonzero(counts)
+        lo, hi = float(nz[0]), float(nz[-1])
+        if lo == hi:
+            return lo, lo, hi, lo, hi, 1
         counts, centres = counts[nz[0] : nz[-1] + 1], centres[nz[0] : nz[-1] + 1]
         t = float(threshold_otsu(hist=(counts, centres)))
         cum = np.cumsum(counts)
         k = int(np.searchsorted(centres, t, side="right"))  # low class: centres[:k]
 
-        def med(lo, hi):
-            c = cum[lo:hi] - (cum[lo - 1] if lo else 0.0)
-            return float(centres[lo + int(np.searchsorted(c, 0.5 * c[-1]))])
+        def med(a, b):
+            c = cum[a:b] - (cum[a - 1] if a else 0.0)
+            return float(centres[a + int(np.searchsorted(c, 0.5 * c[-1]))])
 
-        return t, med(0, k), med(k, len(centres))
+        return t, med(0, k), med(k, len(centres)), lo, hi, min(len(nz), 3)
+    lo, hi = float(grey.min()), float(grey.max())
+    if lo == hi:
+        return lo, lo, hi, lo, hi, 1
+    n_values = 2 if not np.any((grey != lo) & (grey != hi)) else 3
     g = grey
     if g.size > 2_000_000:  # a regular subsample is plenty for two medians
         step = int(np.ceil(np.sqrt(g.size / 1_000_000)))
         g = g[::step, ::step]
     t = float(threshold_otsu(g))
-    lo = g[g <= t]
-    hi = g[g > t]
-    if lo.size == 0 or hi.size == 0:
-        return t, float(g.min()), float(g.max())
-    return t, float(np.median(lo)), float(np.median(hi))
+    low = g[g <= t]
+    high = g[g > t]
+    if low.size == 0 or high.size == 0:
+        return t, lo, hi, lo, hi, n_values
+    return t, float(np.median(low)), float(np.median(high)), lo, hi, n_values
 
 
 def _polarity_from_border(on):
@@ -303,20 +313,19 @@ def _polarity_from_border(on):
     return "light" if on.mean() <= 0.5 else "dark"
 
 
-def _grabcut(image, grey, rect, iterations, name):
+def _grabcut(image, rect, iterations, name):
     import cv2
 
-    if image.ndim == 2 or image.shape[2] < 3:
-        g = grey.astype(np.float64)
-        g8 = np.clip(np.round(255 * (g - g.min()) / max(np.ptp(g), 1e-12)), 0, 255).astype(np.uint8)
-        bgr = cv2.cvtColor(g8, cv2.COLOR_GRAY2BGR)
-    else:
-        rgb = image[:, :, :3]
-        if rgb.dtype != np.uint8:
-            r = rgb.astype(np.float64)
-            rgb = np.clip(np.round(255 * (r - r.min()) / max(np.ptp(r), 1e-12)), 0, 255).astype(np.uint8)
-        bgr = np.ascontiguousarray(rgb[:, :, ::-1])
-    h, w = grey.shape
+    img = image
+    if img.ndim == 3 and img.shape[2] in (2, 4):
+        img = img[:, :, : img.shape[2] - 1]
+    if img.ndim == 3 and img.shape[2] == 1:
+        img = img[:, :, 0]
+    if img.dtype != np.uint8:
+        f = img.astype(np.float64)
+        img = np.clip(np.round(255 * (f - f.min()) / max(np.ptp(f), 1e-12)), 0, 255).astype(np.uint8)
+    bgr = cv2.cvtColor(img, cv2.COLOR_GRAY2BGR) if img.ndim == 2 else np.ascontiguousarray(img[:, :, ::-1])
+    h, w = bgr.shape[:2]
     if rect is None:
         mx, my = max(1, round(0.05 * w)), max(1, round(0.05 * h))
         rect = (mx, my, w - 2 * mx, h - 2 * my)
@@ -324,8 +333,10 @@ def _grabcut(image, grey, rect, iterations, name):
         rect = tuple(int(v) for v in rect)
     except (TypeError, ValueError):
         raise InputError(f"{name}: rect must be (x, y, width, height), got {rect!r}") from None
+    if len(rect) != 4:
+        raise InputError(f"{name}: rect must be (x, y, width, height), got {rect!r}")
     x, y, rw, rh = rect
-    if len(rect) != 4 or rw < 2 or rh < 2 or x < 0 or y < 0 or x + rw > w or y + rh > h:
+    if rw < 2 or rh < 2 or x < 0 or y < 0 or x + rw > w or y + rh > h:
         raise InputError(f"{name}: rect {rect} must be (x, y, width, height) inside the {w}x{h} image")
     gc = np.zeros((h, w), np.uint8)
     bgd = np.zeros((1, 65), np.float64)
@@ -334,34 +345,72 @@ def _grabcut(image, grey, rect, iterations, name):
     return (gc == cv2.GC_FGD) | (gc == cv2.GC_PR_FGD), rect
 
 
-def _segment(img, method, threshold, polarity, name, rect=None, grabcut_iterations=5):
-    """Return (field, level, on, params).
+class _Segmentation:
+    """The object mask, and the grey field the sub-pixel contour is traced on.
 
-    `field` is a float image in which the object is *above* `level` (the
-    grey image, negated for a dark object), or None for a pure mask; `on` is
-    the boolean object mask (before picking objects).
+    ``on`` is the boolean mask of object pixels. ``field(r0, r1, c0, c1)``
+    returns a float64 crop in which the object is *above* ``level`` (the
+    grey levels, negated for a dark object), or ``field`` is None when the
+    image is two-valued (a mask: traced as a staircase, then smoothed).
     """
-    grey, alpha = _split_channels(img, name)
+
+    def __init__(self, on, params, source=None, sign=1.0, level=0.5):
+        self.on = on
+        self.params = params
+        self._source = source
+        self._sign = sign
+        self.level = sign * level
+        self.field = None if source is None else self._field
+
+    def _field(self, r0, r1, c0, c1):
+        src = self._source[r0:r1, c0:c1]
+        if src.ndim == 3:  # luminance of the crop only, in float
+            f = src[:, :, :3].astype(np.float64) @ np.array([0.299, 0.587, 0.114])
+        else:
+            f = src.astype(np.float64)
+        if self._sign < 0:
+            np.negative(f, out=f)
+        return f
+
+
+def _segment(img, method, threshold, polarity, name, rect=None, grabcut_iterations=5):
+    """Segment an image array: a `_Segmentation` (raises `_Failure` if there is nothing to separate)."""
+    import cv2
+
     params = dict(method=method, polarity=polarity)
-    if method == "alpha":
-        if alpha is None:
-            raise InputError(f"{name}: method 'alpha' needs an image with an alpha channel (RGBA or grey+alpha)")
-        src = alpha
-        scale = _full_scale(src.dtype)
-        level = 0.5 * scale if threshold is None else float(threshold)
-        params.update(polarity="opaque", threshold=level, level=level)
-        lo, hi = float(src.min()), float(src.max())
-        if lo == hi:
-            return None, level, np.full(src.shape, lo > level), params
-        g = src.astype(np.float32) if src.dtype != np.float64 else src
-        return g, level, g > level, params
+    if img.dtype == bool:
+        img = img.astype(np.uint8)
     if method == "grabcut":
-        on, rect = _grabcut(img, grey, rect, grabcut_iterations, name)
+        _split_channels(img, name)  # validates the array
+        on, rect = _grabcut(img, rect, grabcut_iterations, name)
         params.update(polarity="grabcut", threshold=None, level=None, rect=list(rect),
                       iterations=int(grabcut_iterations))
-        return None, 0.5, on, params
+        return _Segmentation(on, params)
+    if method == "alpha":
+        _, alpha = _split_channels(img, name)
+        if alpha is None:
+            raise InputError(f"{name}: method 'alpha' needs an image with an alpha channel (RGBA or grey+alpha)")
+        src = np.ascontiguousarray(alpha)
+        level = 0.5 * _full_scale(src.dtype) if threshold is None else float(threshold)
+        params.update(polarity="opaque", threshold=level, level=level)
+        on = src > level
+        lo, hi = float(src.min()), float(src.max())
+        two_valued = lo == hi or not np.any((src != lo) & (src != hi))
+        return _Segmentation(on, params) if two_valued else _Segmentation(on, params, src, 1.0, level)
 
-    lo, hi = float(grey.min()), float(grey.max())
+    # a grey image for the statistics and the mask: for 8-bit colour the
+    # rounded 8-bit luminance (same split and medians to within half a grey
+    # level, from an exact 256-bin histogram); the crop's float luminance is
+    # what the contour is traced on
+    if img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] in (3, 4):
+        if min(img.shape[:2]) < 2:
+            raise InputError(f"{name}: image of {img.shape[1]}x{img.shape[0]} pixels is too small")
+        grey = cv2.cvtColor(np.ascontiguousarray(img[:, :, :3]), cv2.COLOR_RGB2GRAY)
+        source = img
+    else:
+        grey, _ = _split_channels(img, name)
+        source = grey
+    t, med_lo, med_hi, lo, hi, n_values = _histogram_stats(np.ascontiguousarray(grey))
     if method == "mask":
         level = 0.5 * (lo + hi)
         params.update(threshold=level, level=level)
@@ -369,23 +418,15 @@ def _segment(img, method, threshold, polarity, name, rect=None, grabcut_iteratio
             pol = "light" if polarity == "auto" else polarity
             on = np.full(grey.shape, (lo > 0) if pol == "light" else (lo == 0))
             params["polarity"] = pol
-            return None, 0.5, on, params
+            return _Segmentation(on, params)
         light = grey > level
         pol = _polarity_from_border(light) if polarity == "auto" else polarity
         params["polarity"] = pol
-        return None, 0.5, light if pol == "light" else ~light, params
+        return _Segmentation(light if pol == "light" else ~light, params)
 
     if lo == hi:
         raise _Failure(f"uniform image (every pixel is {lo:g}): no object to separate from a background")
     if method == "otsu":
-        stats_src = grey
-        if img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] >= 3:
-            import cv2
-
-            # the 8-bit luminance gives the same split and medians to within
-            # half a grey level, from an exact 256-bin histogram
-            stats_src = cv2.cvtColor(np.ascontiguousarray(img[:, :, :3]), cv2.COLOR_RGB2GRAY)
-        t, med_lo, med_hi = _histogram_stats(stats_src)
         level = 0.5 * (med_lo + med_hi)
         if not lo <= level < hi:
             level = t
@@ -394,26 +435,24 @@ def _segment(img, method, threshold, polarity, name, rect=None, grabcut_iteratio
         if threshold is None:
             raise InputError(f"{name}: method 'threshold' needs a threshold value")
         level = float(threshold)
-        t = level
         params["threshold"] = level
         if level < lo or level >= hi:
-            what = "every pixel is object" if (polarity == "light" and level < lo) or (polarity == "dark" and level >= hi) else "no object"
             if polarity == "auto":
                 what = "the whole image is on one side of the threshold"
+            elif (polarity == "light") == (level < lo):
+                what = "every pixel is object"
+            else:
+                what = "no pixel is object"
             raise _Failure(f"threshold {level:g} is outside the image's range [{lo:g}, {hi:g}]: {what}")
     else:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
-    g = grey if grey.dtype in (np.float32, np.float64) else grey.astype(np.float32)
-    light = g > level
+    light = grey > level
     pol = _polarity_from_border(light) if polarity == "auto" else polarity
-    params["polarity"] = pol
-    two_valued = not np.any((g != lo) & (g != hi))
-    params["level"] = level
-    if two_valued:
-        return None, 0.5, light if pol == "light" else ~light, params
-    if pol == "light":
-        return g, level, light, params
-    return -g, -level, ~light, params
+    params.update(polarity=pol, level=level)
+    on = light if pol == "light" else ~light
+    if n_values <= 2:
+        return _Segmentation(on, params)
+    return _Segmentation(on, params, source, 1.0 if pol == "light" else -1.0, level)
 
 
 class _Failure(InputError):
@@ -438,45 +477,33 @@ def _shoelace_area(p):
     return -0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def _fill_holes(comp):
-    """Pixels of the holes of a binary object (4-connected background not reaching the edge)."""
-    import cv2
+def _trace_grey(field, level, obj, n_filled, offset, presmooth):
+    """Rings of one object's boundary on its grey crop `field` (object above `level`).
 
-    ff = np.pad(~comp, 1, constant_values=True).astype(np.uint8)
-    cv2.floodFill(ff, None, (0, 0), 2)  # 4-connected, like the background of an 8-connected object
-    return ff[1:-1, 1:-1] == 1
-
-
-def _trace_grey(field, level, comp, r0, r1, c0, c1, presmooth, holes):
-    """Rings of one object's boundary on the grey field (object above level).
-
-    The crop ``[r0:r1, c0:c1]`` holds the object `comp` with a margin of 2
-    pixels where the image allows. Without `holes` the holes are filled
-    first, so only the outer boundary is traced.
+    `obj` marks the crop's pixels that count as object (the object with its
+    holes filled, or the object alone when holes are wanted); the crop has a
+    margin of 2 pixels where the image allows. `offset` is the crop's (x, y).
     """
     import cv2
 
-    local = field[r0:r1, c0:c1]
-    # every pixel outside this object is held at or below the level, so only
-    # its boundary is traced; object pixels keep their grey values
-    local = np.where(comp, local, np.minimum(local, level)).astype(np.float64)
-    hole_px = _fill_holes(comp)
-    if not holes:
-        # hole pixels never share a marching square with the outer boundary
-        # except across a diagonal the object already joins, so raising them
-        # leaves the outer ring unchanged
-        local[hole_px] = level + max(1.0, abs(level))
+    # every other pixel is held at or below the level, so only this object's
+    # boundary is traced; object pixels are held (just) above it, which only
+    # matters where the 8-bit mask and the float field disagree by rounding
+    above = np.nextafter(level, np.inf)
+    local = field  # a fresh array from the segmentation; modified in place
+    np.minimum(local, level, out=local, where=~obj)
+    np.maximum(local, above, out=local, where=obj)
     pad = 2
     e = np.pad(local, pad, mode="edge")
     # object pixels on the image border get mirrored neighbours below the
     # level, which closes the contour exactly on the image edge
-    e = np.minimum(e, 2 * level - e)
-    e[pad:-pad, pad:-pad] = local
-    offset = (c0 - pad, r0 - pad)
+    for strip in (e[:pad], e[-pad:], e[pad:-pad, :pad], e[pad:-pad, -pad:]):
+        np.minimum(strip, 2 * level - strip, out=strip)
+    offset = (offset[0] - pad, offset[1] - pad)
     if presmooth:
         blurred = cv2.blur(e, (3, 3), borderType=cv2.BORDER_REPLICATE)
         rings = _rings_from_find_contours(blurred, level, offset)
-        if rings and _same_topology(rings, np.count_nonzero(comp) + np.count_nonzero(hole_px)):
+        if rings and _same_topology(rings, n_filled):
             return rings, True
     return _rings_from_find_contours(e, level, offset), False
 
@@ -492,10 +519,10 @@ def _same_topology(rings, n):
     return abs(a - n) <= 0.02 * n + 2.0
 
 
-def _trace_mask(comp, r0, c0):
+def _trace_mask(obj, offset):
     """Rings (staircase outlines) of a binary object, before smoothing."""
-    e = np.pad(comp.astype(np.float64), 1)
-    return _rings_from_find_contours(e, 0.5, (c0 - 1, r0 - 1))
+    e = np.pad(obj.astype(np.float64), 1)
+    return _rings_from_find_contours(e, 0.5, (offset[0] - 1, offset[1] - 1))
 
 
 #: Inward shift, per unit curvature (px^2), of the 0.5-level line of an edge
@@ -509,24 +536,49 @@ def _finish(ring, name, mask_sigma, debias, shape):
     """The Contour of a traced ring: staircase smoothed, or pre-smoothing bias removed."""
     if mask_sigma > 0:
         ring = _smooth_ring(ring, mask_sigma)
-    c = Contour(ring, name=name)
-    if not debias:
-        return c
-    # the 3x3 average moves the level line towards the centre of curvature by
-    # PRESMOOTH_SHIFT * k; move each point back along its normal
-    p = c.points
-    k = c.curvature(method="gaussian", sigma=min(2.0, c.perimeter / 16))
-    t = np.roll(p, -1, axis=0) - np.roll(p, 1, axis=0)
-    t /= np.hypot(t[:, 0], t[:, 1])[:, None]
-    outward = np.column_stack([-t[:, 1], t[:, 0]])  # counter-clockwise on the screen, y down
-    shift = np.clip(PRESMOOTH_SHIFT * k, -0.5, 0.5)
-    q = p + shift[:, None] * outward
+    if debias:
+        ring = _debias(ring, shape)
+    return Contour(ring, name=name)
+
+
+def _debias(p, shape, sigma=2.0):
+    """Undo the 3x3 average's shift of a traced ring towards its centres of curvature.
+
+    The shift is ``PRESMOOTH_SHIFT`` times the curvature vector (which points
+    to the centre of curvature whatever the ring's orientation), taken at a
+    `sigma` px scale from periodic Gaussian derivatives of the ring
+    resampled at about 1 px; it is capped at 0.5 px (sharp corners), and no
+    point leaves the image.
+    """
+    d = np.roll(p, -1, axis=0) - p
+    seg = np.hypot(d[:, 0], d[:, 1])
+    s = np.concatenate(([0.0], np.cumsum(seg)))
+    length = s[-1]
+    sigma = min(sigma, length / 16)
+    m = max(64, int(np.ceil(length / min(1.0, sigma / 2))))
+    su = np.arange(m) * (length / m)
+    ring = np.vstack([p, p[:1]])
+    z = np.fft.fft(np.interp(su, s, ring[:, 0]) + 1j * np.interp(su, s, ring[:, 1]))
+    w = 2 * np.pi * np.fft.fftfreq(m, d=length / m)
+    zg = z * np.exp(-0.5 * (w * sigma) ** 2)
+    d1 = np.fft.ifft(zg * (1j * w))
+    d2 = np.fft.ifft(zg * (-(w**2)))
+    speed2 = (d1 * d1.conj()).real
+    # curvature vector: the part of d2 normal to the tangent, over speed^2
+    along = (d2 * d1.conj()).real / speed2
+    kv = (d2 - along * d1) / speed2
+    kv *= PRESMOOTH_SHIFT
+    mag = np.abs(kv)
+    kv = np.where(mag > 0.5, kv * (0.5 / np.maximum(mag, 1e-300)), kv)
+    sv = np.append(su, length)
+    kv = np.append(kv, kv[0])
+    q = p - np.column_stack([np.interp(s[:-1], sv, kv.real), np.interp(s[:-1], sv, kv.imag)])
     # where the object is cut by the image border the corners are sharp; the
     # object cannot reach beyond the image edge
-    h, w = shape
-    np.clip(q[:, 0], -0.5, w - 0.5, out=q[:, 0])
+    h, w_ = shape
+    np.clip(q[:, 0], -0.5, w_ - 0.5, out=q[:, 0])
     np.clip(q[:, 1], -0.5, h - 0.5, out=q[:, 1])
-    return Contour(q, name=name, orient=False)
+    return q
 
 
 def _smooth_ring(p, sigma):
@@ -657,7 +709,8 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
              presmooth, rect, grabcut_iterations):
     import cv2
 
-    field_, level, on, params = _segment(img, method, threshold, polarity, name, rect, grabcut_iterations)
+    seg = _segment(img, method, threshold, polarity, name, rect, grabcut_iterations)
+    on, params, field_, level = seg.on, seg.params, seg.field, seg.level
     h, w = on.shape
     if min_area is None:
         min_area = max(9.0, 1e-4 * h * w)
@@ -670,44 +723,72 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
     if n_on == on.size:
         raise _Failure("everything is object: no background pixel")
 
-    n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(on.view(np.uint8), connectivity=8)
-    areas = stats[1:, cv2.CC_STAT_AREA]
-    order = np.argsort(-areas, kind="stable")
-    chosen = [int(k) + 1 for k in order if areas[k] >= min_area]
+    # outer boundaries of the 8-connected objects (far faster than labelling
+    # every pixel); an object's size is its pixel count with holes filled
+    on8 = np.ascontiguousarray(on, dtype=np.uint8)
+    outlines, _ = cv2.findContours(on8, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    # Pick's theorem: pixels = polygon area + boundary pixels / 2 + 1 (exact
+    # for a simple outline; only a pre-filter, exact counts follow)
+    approx = np.array([cv2.contourArea(c) + 0.5 * len(c) + 1.0 for c in outlines])
+
+    def silhouette(k):
+        x, y, bw, bh = cv2.boundingRect(outlines[k])
+        r0, c0 = max(y - 2, 0), max(x - 2, 0)
+        r1, c1 = min(y + bh + 2, h), min(x + bw + 2, w)
+        filled = np.zeros((r1 - r0, c1 - c0), np.uint8)
+        cv2.drawContours(filled, outlines, k, 1, thickness=-1, offset=(-c0, -r0))
+        return (r0, r1, c0, c1), filled.view(bool)
+
+    order = np.argsort(-approx, kind="stable")
+    if objects == "largest":
+        cand = [k for k in order if approx[k] >= 0.8 * approx[order[0]] - 4]
+    else:
+        cand = [k for k in order if approx[k] >= 0.5 * min_area - 4]
+    sil = {k: silhouette(k) for k in cand}
+    size = {k: int(np.count_nonzero(sil[k][1])) for k in cand}
+    cand.sort(key=lambda k: -size[k])  # stable: ties keep the scan order
+    chosen = [k for k in cand if size[k] >= min_area]
     if not chosen:
-        raise _Failure(f"no object of at least {min_area:g} px (largest has {int(areas.max())} px)")
+        biggest = max(size.values()) if size else int(max(approx))
+        raise _Failure(f"no object of at least {min_area:g} px (largest has {biggest} px)")
     if objects == "largest":
         chosen = chosen[:1]
 
     contours, hole_lists, dropped, presmoothed = [], [], 0, []
     mask = np.zeros((h, w), bool)
-    for lab in chosen:
-        x, y, bw, bh = (int(v) for v in stats[lab, :4])
-        r0, c0 = max(y - 2, 0), max(x - 2, 0)
-        r1, c1 = min(y + bh + 2, h), min(x + bw + 2, w)
-        comp = labels[r0:r1, c0:c1] == lab
-        mask[r0:r1, c0:c1] |= comp
+    for k in chosen:
+        (r0, r1, c0, c1), filled = sil[k]
+        obj = filled
+        if holes:
+            # the object itself: the 8-connected part of the filled outline
+            # that holds the outline (islands inside holes are not part of it)
+            part = (on[r0:r1, c0:c1] & filled).view(np.uint8)
+            _, lab = cv2.connectedComponents(part, connectivity=8)
+            x0, y0 = outlines[k][0, 0]
+            obj = lab == lab[y0 - r0, x0 - c0]
+        mask[r0:r1, c0:c1] |= obj
+        n_filled = size[k]
         if field_ is not None:
-            rings, smoothed_ok = _trace_grey(field_, level, comp, r0, r1, c0, c1, presmooth, holes)
+            rings, smoothed_ok = _trace_grey(field_(r0, r1, c0, c1), level, obj, n_filled, (c0, r0), presmooth)
             presmoothed.append(smoothed_ok)
         else:
-            rings = _trace_mask(comp if holes else comp | _fill_holes(comp), r0, c0)
+            rings = _trace_mask(obj, (c0, r0))
         if not rings:
-            raise _Failure(f"object of {int(stats[lab, 4])} px gave no closed contour")
+            raise _Failure(f"object of {n_filled} px gave no closed contour")
         areas_r = np.array([_shoelace_area(r) for r in rings])
         k_out = int(np.argmax(np.abs(areas_r)))
         outer_sign = np.sign(areas_r[k_out])
-        outer = rings[k_out]
         hole_rings = [r for i, r in enumerate(rings) if i != k_out and np.sign(areas_r[i]) != outer_sign]
         debias = field_ is not None and presmoothed[-1]
-        contours.append(_finish(outer, name, mask_sigma if field_ is None else 0.0, debias, (h, w)))
+        sigma_m = mask_sigma if field_ is None else 0.0
+        contours.append(_finish(rings[k_out], name, sigma_m, debias, (h, w)))
         hl = []
         if holes:
             for r in hole_rings:
                 if abs(_shoelace_area(r)) < min_hole_area:
                     dropped += 1
                     continue
-                hl.append(_finish(r, name, mask_sigma if field_ is None else 0.0, debias, (h, w)))
+                hl.append(_finish(r, name, sigma_m, debias, (h, w)))
         hole_lists.append(hl)
 
     params.update(
@@ -719,8 +800,8 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
         holes=bool(holes),
         holes_dropped=dropped,
         mask_sigma=float(mask_sigma) if field_ is None else None,
-        n_objects_found=int(n_lab - 1),
-        object_areas=[int(stats[lab, 4]) for lab in chosen],
+        n_objects_found=len(outlines),
+        object_areas=[size[k] for k in chosen],
         shape=[int(h), int(w)],
         source=name,
     )
