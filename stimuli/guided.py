@@ -190,15 +190,19 @@ def _points_at_samples(contour, res, idx):
     return contour.point_at(t), t
 
 
-def attneave_cat(contour, k=10, n=256, model="paper", A=0.25, b=None, min_separation=None, prominence=None):
-    """Attneave's cat: the `k` most informative points joined by straight lines.
+def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_separation=None, prominence=None):
+    """Attneave's cat: the most informative points joined by straight lines.
 
     Parameters
     ----------
     contour : Contour
         Closed (image pixels, y down).
-    k : int
-        Number of points (>= 3).
+    k : int, optional
+        Number of points (>= 3). Local maxima of surprisal (curvature
+        extrema, the points Attneave's cat joins) come first, best first,
+        then the other points. Default: every local maximum whose
+        prominence is at least `prominence` (default 0.1% of the range of
+        surprisal), and at least 3.
     n : int
         Surprisal sampling (points along the contour).
     model, A, b, prominence
@@ -218,16 +222,7 @@ def attneave_cat(contour, k=10, n=256, model="paper", A=0.25, b=None, min_separa
         n_extrema, simple`` (whether the polygon through the points is
         simple) and the surprisal parameters.
     """
-    k = int(k)
-    if k < 3:
-        raise InputError(f"k: must be >= 3, got {k}")
-    res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
-    L = contour.perimeter
-    sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
-    order, n_ext = rank_candidates(res.surprisal, "peaks", span=1, prominence=prominence)
-    chosen = select_separated(order, res.s, L, k, sep)
-    if len(chosen) < k:
-        raise InputError(f"k: only {len(chosen)} points are {sep:g} px apart on this contour, asked for {k}")
+    res, k, sep, chosen, n_ext = _choose(contour, k, "peaks", 3, n, model, A, b, min_separation, prominence)
     idx = np.sort(np.asarray(chosen))
     pts, t = _points_at_samples(contour, res, idx)
     import shapely
@@ -245,6 +240,28 @@ def attneave_cat(contour, k=10, n=256, model="paper", A=0.25, b=None, min_separa
         **_surprisal_params(res),
     )
     return pts, params
+
+
+def _choose(contour, k, which, k_min, n, model, A, b, min_separation, prominence):
+    """The `k` best-ranked samples at least `min_separation` apart (k=None: every extremum)."""
+    if k is not None and int(k) < k_min:
+        raise InputError(f"k: must be >= {k_min}, got {k}")
+    res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
+    L = contour.perimeter
+    sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
+    if prominence is None:
+        # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
+        # sharpest corners; Attneave's points are every curvature extremum, ranked
+        prominence = 1e-3 * float(np.ptp(res.surprisal))
+    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=prominence)
+    if k is None:
+        # every extremum that keeps its distance from the better ones, and no fewer than k_min
+        k = max(k_min, len(select_separated(order[:n_ext], res.s, L, n_ext, sep)))
+    k = int(k)
+    chosen = select_separated(order, res.s, L, k, sep)
+    if len(chosen) < k:
+        raise InputError(f"k: only {len(chosen)} points are {sep:g} px apart on this contour, asked for {k}")
+    return res, k, sep, chosen, n_ext
 
 
 def _surprisal_params(res):
@@ -336,11 +353,11 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
     return out
 
 
-def dots(contour, k=10, which="peaks", n=256, model="paper", A=0.25, b=None, min_separation=None, prominence=None):
+def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, min_separation=None, prominence=None):
     """Dots at the `k` most (``'peaks'``) or least (``'troughs'``) informative points.
 
-    Parameters are as in :func:`attneave_cat`; `min_separation` defaults to
-    two sample spacings.
+    Parameters are as in :func:`attneave_cat`; `k` defaults to every local
+    extremum of the chosen kind and `min_separation` to two sample spacings.
 
     Returns
     -------
@@ -350,15 +367,7 @@ def dots(contour, k=10, which="peaks", n=256, model="paper", A=0.25, b=None, min
         ``k, which, indices, t, surprisal, n_extrema`` and the surprisal
         parameters.
     """
-    k = int(k)
-    if k < 1:
-        raise InputError(f"k: must be >= 1, got {k}")
-    res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
-    sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
-    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=prominence)
-    chosen = select_separated(order, res.s, contour.perimeter, k, sep)
-    if len(chosen) < k:
-        raise InputError(f"k: only {len(chosen)} points are {sep:g} px apart on this contour, asked for {k}")
+    res, k, sep, chosen, n_ext = _choose(contour, k, which, 1, n, model, A, b, min_separation, prominence)
     idx = np.sort(np.asarray(chosen))
     pts, t = _points_at_samples(contour, res, idx)
     params = dict(

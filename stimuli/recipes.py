@@ -390,7 +390,8 @@ class GuidedParams(_Params):
     A: float = Field(0.25, gt=0, allow_inf_nan=False)
     b: Optional[float] = Field(None, ge=0, allow_inf_nan=False)
     prominence: Optional[float] = Field(None, ge=0, allow_inf_nan=False)
-    k: int = Field(10, ge=3, le=100_000, description="points of the cat and dots")
+    k: Optional[int] = Field(None, ge=3, le=100_000,
+                             description="points of the cat and dots (default: every surprisal peak)")
     min_separation: Optional[float] = Field(None, ge=0, allow_inf_nan=False, description="px between cat/dot points")
     fraction: float = Field(0.3, gt=0, lt=1, description="fraction of the perimeter shown as fragments")
     n_fragments: int = Field(4, ge=1, le=100_000)
