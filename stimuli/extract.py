@@ -349,7 +349,7 @@ class _Segmentation:
     """The object mask, and the grey field the sub-pixel contour is traced on.
 
     ``on`` is the boolean mask of object pixels. ``field(r0, r1, c0, c1)``
-    returns a float64 crop in which the object is *above* ``level`` (the
+    returns a float32 crop in which the object is *above* ``level`` (the
     grey levels, negated for a dark object), or ``field`` is None when the
     image is two-valued (a mask: traced as a staircase, then smoothed).
     """
@@ -359,15 +359,18 @@ class _Segmentation:
         self.params = params
         self._source = source
         self._sign = sign
-        self.level = sign * level
+        # float32 halves the memory traffic of the per-pixel steps (its
+        # resolution, 1e-7 of the value, is far below any edge noise); the
+        # level is rounded to a float32 so that "above" is exact
+        self.level = float(np.float32(sign * level)) if source is not None else sign * level
         self.field = None if source is None else self._field
 
     def _field(self, r0, r1, c0, c1):
         src = self._source[r0:r1, c0:c1]
         if src.ndim == 3:  # luminance of the crop only, in float
-            f = src[:, :, :3].astype(np.float64) @ np.array([0.299, 0.587, 0.114])
+            f = src[:, :, :3].astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
         else:
-            f = src.astype(np.float64)
+            f = src.astype(np.float32)
         if self._sign < 0:
             np.negative(f, out=f)
         return f
@@ -477,35 +480,99 @@ def _shoelace_area(p):
     return -0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 
-def _trace_grey(field, level, obj, n_filled, offset, presmooth):
-    """Rings of one object's boundary on its grey crop `field` (object above `level`).
+#: Half-width (px) of the window in which the local object and background
+#: grey levels are measured for ``local_level`` (in blocks of 4 px: the
+#: window is 5 x 5 blocks, 20 px square).
+LOCAL_RADIUS = 10
+_BLOCK = 4
 
-    `obj` marks the crop's pixels that count as object (the object with its
-    holes filled, or the object alone when holes are wanted); the crop has a
-    margin of 2 pixels where the image allows. `offset` is the crop's (x, y).
+
+def _local_level_field(field, level, obj, cls):
+    """`field` shifted so that `level` is the local midpoint of object and background.
+
+    The object's and the background's grey levels are averaged over a
+    20 px window, using only pixels at least 3 px from the edge (so that
+    the edge's own transition does not count); where either is missing the
+    global level is kept. The averages vary slowly, so they are taken on
+    4 x 4 blocks and interpolated back (bilinear).
     """
     import cv2
 
+    k5 = np.ones((5, 5), np.uint8)
+    fg = cv2.erode((cls & obj).view(np.uint8), k5, borderType=cv2.BORDER_CONSTANT, borderValue=0)
+    bg = cv2.erode((~cls & ~obj).view(np.uint8), k5, borderType=cv2.BORDER_CONSTANT, borderValue=0)
+    h, w = field.shape
+    hb, wb = max(1, -(-h // _BLOCK)), max(1, -(-w // _BLOCK))
+    fgf, bgf = fg.astype(np.float32), bg.astype(np.float32)
+    win = (2 * (LOCAL_RADIUS // _BLOCK) + 1,) * 2
+    # block means (cv2's area resampling), then window sums of them; the
+    # ratios below do not depend on the normalisation
+    ft, fc, bt, bc = (
+        cv2.boxFilter(cv2.resize(a, (wb, hb), interpolation=cv2.INTER_AREA), -1, win, normalize=False,
+                      borderType=cv2.BORDER_CONSTANT)
+        for a in (field * fgf, fgf, field * bgf, bgf)
+    )
+    eps = 0.5 / (_BLOCK * _BLOCK)
+    ok = (fc > eps) & (bc > eps)
+    mid = np.full((hb, wb), level, np.float32)
+    mid[ok] = 0.5 * (ft[ok] / fc[ok] + bt[ok] / bc[ok])
+    # back to pixels: the same resampling geometry in reverse (bilinear)
+    up = cv2.resize(mid, (w, h), interpolation=cv2.INTER_LINEAR)
+    return field - up + level
+
+
+def _trace_grey(field, level, obj, cls, n_filled, offset, presmooth, local_level):
+    """Rings of one object's boundary on its grey crop `field` (object above `level`).
+
+    `obj` marks the crop's pixels that count as object (the object with its
+    holes filled, or the object alone when holes are wanted), `cls` the
+    pixels of the object class (any object); `offset` is the crop's (x, y).
+
+    Returns (rings, presmoothed, local): the first of (local level, 3x3
+    average), (global level, 3x3 average), (global level, raw) that keeps
+    the object whole.
+    """
+    import cv2
+
+    above = np.nextafter(np.float32(level), np.float32(np.inf))
+    pad = 2
+    tries = []
+    if local_level and presmooth:
+        # pixels away from the edge keep their side of the level, so that only
+        # this object's boundary is traced and its topology cannot change
+        shifted = _local_level_field(field, level, obj, cls)
+        k3 = np.ones((3, 3), np.uint8)
+        inner = cv2.erode(obj.view(np.uint8), k3, borderType=cv2.BORDER_CONSTANT, borderValue=1).view(bool)
+        outer = cv2.erode((~obj).view(np.uint8), k3, borderType=cv2.BORDER_CONSTANT, borderValue=1).view(bool)
+        np.maximum(shifted, above, out=shifted, where=inner)
+        np.minimum(shifted, level, out=shifted, where=outer)
+        tries.append((shifted, True, True))
     # every other pixel is held at or below the level, so only this object's
     # boundary is traced; object pixels are held (just) above it, which only
     # matters where the 8-bit mask and the float field disagree by rounding
-    above = np.nextafter(level, np.inf)
-    local = field  # a fresh array from the segmentation; modified in place
-    np.minimum(local, level, out=local, where=~obj)
-    np.maximum(local, above, out=local, where=obj)
-    pad = 2
-    e = np.pad(local, pad, mode="edge")
-    # object pixels on the image border get mirrored neighbours below the
-    # level, which closes the contour exactly on the image edge
-    for strip in (e[:pad], e[-pad:], e[pad:-pad, :pad], e[pad:-pad, -pad:]):
-        np.minimum(strip, 2 * level - strip, out=strip)
-    offset = (offset[0] - pad, offset[1] - pad)
+    def forced():
+        np.minimum(field, level, out=field, where=~obj)  # field is a fresh array: modify in place
+        np.maximum(field, above, out=field, where=obj)
+        return field
+
     if presmooth:
-        blurred = cv2.blur(e, (3, 3), borderType=cv2.BORDER_REPLICATE)
-        rings = _rings_from_find_contours(blurred, level, offset)
-        if rings and _same_topology(rings, n_filled):
-            return rings, True
-    return _rings_from_find_contours(e, level, offset), False
+        tries.append((forced, True, False))
+    tries.append((forced, False, False))
+    offset = (offset[0] - pad, offset[1] - pad)
+    for i, (f, smooth, local) in enumerate(tries):
+        if callable(f):
+            f = f()
+        e = np.pad(f, pad, mode="edge")
+        # object pixels on the image border get mirrored neighbours below the
+        # level, which closes the contour exactly on the image edge
+        for strip in (e[:pad], e[-pad:], e[pad:-pad, :pad], e[pad:-pad, -pad:]):
+            np.minimum(strip, 2 * level - strip, out=strip)
+        if smooth:
+            e = cv2.blur(e, (3, 3), borderType=cv2.BORDER_REPLICATE)
+        rings = _rings_from_find_contours(e, level, offset)
+        if i == len(tries) - 1 or (rings and _same_topology(rings, n_filled)):
+            return rings, smooth, local
+    raise AssertionError("unreachable")  # pragma: no cover
 
 
 def _same_topology(rings, n):
@@ -608,6 +675,7 @@ def extract(
     min_hole_area=None,
     mask_sigma=MASK_SIGMA,
     presmooth=True,
+    local_level=True,
     rect=None,
     grabcut_iterations=5,
     name=None,
@@ -655,6 +723,17 @@ def extract(
         at a 2 px scale. If the average would cut the object (a neck
         thinner than about 1.5 px), the raw field is traced instead;
         ``params['presmooth']`` records which, per object.
+    local_level : bool
+        With `presmooth`, trace each edge at the midpoint of the object's
+        and the background's grey levels measured within about
+        ``LOCAL_RADIUS`` (10) px of it, rather than at one level for the whole image (default
+        True). Under uneven lighting or a graded background a global level
+        sits off the local midpoint, which moves a sharp edge by up to the
+        width of its transition (three pixels after the 3x3 average); the
+        local midpoint keeps it on the 50 % line. Pixels more than a pixel
+        from the edge keep their side of the level, so the object's shape
+        cannot change; ``params['local_level']`` records, per object,
+        whether it was used (it is not if it would cut the object).
     rect : (x, y, width, height), optional
         'grabcut' initial rectangle; default the image inset by 5 %.
     grabcut_iterations : int
@@ -700,13 +779,13 @@ def extract(
     name = default_name if name is None else str(name)
     try:
         return _extract(img, name, method, threshold, polarity, objects, min_area, holes, min_hole_area,
-                        mask_sigma, presmooth, rect, grabcut_iterations)
+                        mask_sigma, presmooth, local_level, rect, grabcut_iterations)
     except _Failure as exc:
         raise _Failure(f"{name}: {exc}") from None
 
 
 def _extract(img, name, method, threshold, polarity, objects, min_area, holes, min_hole_area, mask_sigma,
-             presmooth, rect, grabcut_iterations):
+             presmooth, local_level, rect, grabcut_iterations):
     import cv2
 
     seg = _segment(img, method, threshold, polarity, name, rect, grabcut_iterations)
@@ -731,10 +810,13 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
     # for a simple outline; only a pre-filter, exact counts follow)
     approx = np.array([cv2.contourArea(c) + 0.5 * len(c) + 1.0 for c in outlines])
 
+    # the grey path measures local grey levels up to LOCAL_RADIUS px away
+    margin = 2 + (LOCAL_RADIUS if field_ is not None and local_level else 0)
+
     def silhouette(k):
         x, y, bw, bh = cv2.boundingRect(outlines[k])
-        r0, c0 = max(y - 2, 0), max(x - 2, 0)
-        r1, c1 = min(y + bh + 2, h), min(x + bw + 2, w)
+        r0, c0 = max(y - margin, 0), max(x - margin, 0)
+        r1, c1 = min(y + bh + margin, h), min(x + bw + margin, w)
         filled = np.zeros((r1 - r0, c1 - c0), np.uint8)
         cv2.drawContours(filled, outlines, k, 1, thickness=-1, offset=(-c0, -r0))
         return (r0, r1, c0, c1), filled.view(bool)
@@ -754,7 +836,7 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
     if objects == "largest":
         chosen = chosen[:1]
 
-    contours, hole_lists, dropped, presmoothed = [], [], 0, []
+    contours, hole_lists, dropped, presmoothed, localised = [], [], 0, [], []
     mask = np.zeros((h, w), bool)
     for k in chosen:
         (r0, r1, c0, c1), filled = sil[k]
@@ -769,8 +851,12 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
         mask[r0:r1, c0:c1] |= obj
         n_filled = size[k]
         if field_ is not None:
-            rings, smoothed_ok = _trace_grey(field_(r0, r1, c0, c1), level, obj, n_filled, (c0, r0), presmooth)
+            rings, smoothed_ok, was_local = _trace_grey(
+                field_(r0, r1, c0, c1), level, obj, on[r0:r1, c0:c1], n_filled, (c0, r0),
+                presmooth, local_level,
+            )
             presmoothed.append(smoothed_ok)
+            localised.append(was_local)
         else:
             rings = _trace_mask(obj, (c0, r0))
         if not rings:
@@ -794,6 +880,7 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
     params.update(
         subpixel="grey" if field_ is not None else "mask",
         presmooth=presmoothed if field_ is not None else None,
+        local_level=localised if field_ is not None else None,
         objects=objects,
         min_area=float(min_area),
         min_hole_area=min_hole_area,
