@@ -9,7 +9,8 @@ The pipeline
 ------------
 1. **Read** (:func:`read_image`): PNG, JPEG, TIFF, BMP; grey, RGB or RGBA;
    8 or 16 bit (or float TIFF). Colour is reduced to luminance
-   ``0.299 R + 0.587 G + 0.114 B`` in the image's own units.
+   ``0.299 R + 0.587 G + 0.114 B`` in the image's own units; the alpha
+   channel is used only by ``method='alpha'``.
 2. **Segment** (``method``), giving a boolean object mask and, where the
    image has grey levels, an iso-level for the sub-pixel step:
 
@@ -49,15 +50,19 @@ The pipeline
    for it. An object that touches the image border is closed along the
    border (at the image edge, ``x = -0.5`` or ``x = width - 0.5``, ...).
 4. **Sub-pixel contour**: marching squares
-   (:func:`skimage.measure.find_contours`) on the grey image at the contour
-   level, run only on a crop around the chosen object with every other
-   pixel held below the level, so that nothing but this object's boundary
-   is traced, after a 3x3 average that makes an antialiased edge's profile
-   linear between pixel centres (its known curvature-dependent shift is
-   then removed). On an exact-coverage render the contour is accurate to
-   about 0.005 px RMS. A two-valued image (a binary mask, whatever the method) has
-   no grey levels to interpolate: its marching-squares outline (a
-   staircase) is smoothed lightly along the arc (``mask_sigma`` px,
+   (:func:`skimage.measure.find_contours`) on the grey image, run only on
+   a crop around the chosen object in which every pixel more than a pixel
+   from its edge keeps its side of the level, so that nothing but this
+   object's boundary is traced and its shape cannot change. Three
+   refinements make it accurate on antialiased edges: each edge is traced
+   at the local midpoint of the object's and the background's grey levels
+   (``local_level``; under a graded background a single level moves the
+   edge), after a 3x3 average that makes the edge profile linear between
+   pixel centres (``presmooth``), whose known curvature-dependent shift is
+   then removed. On exact-coverage renders the contour is accurate to
+   about 0.004 px RMS. A two-valued image (a binary mask, whatever the
+   method) has no grey levels to interpolate: its marching-squares outline
+   (a staircase) is smoothed lightly along the arc (``mask_sigma`` px,
    default 1) instead.
 5. **Curvature and surprisal** (:func:`describe`): the contour is
    smoothed along its arc with a periodic Gaussian whose scale is tied to
@@ -105,6 +110,7 @@ __all__ = [
     "contour_curvature",
     "describe",
     "curvature_peaks",
+    "IMAGE_SUFFIXES",
 ]
 
 METHODS = ("otsu", "threshold", "mask", "alpha", "grabcut")
@@ -237,13 +243,19 @@ class Extraction:
         For each contour, the contours of its holes (empty lists unless
         ``holes=True``); also counter-clockwise on the screen.
     mask : (H, W) bool ndarray
-        The pixels of the chosen object(s) (holes not filled).
+        The pixels inside the chosen objects' outer contours (holes
+        filled); with ``holes=True``, the objects' own pixels (holes, and
+        anything inside them, cleared).
     params : dict
         Every resolved parameter: method, polarity, threshold (Otsu's split
-        or the value given), level (the iso-level traced, in image units),
-        subpixel ('grey' or 'mask'), objects, min_area, min_hole_area,
-        mask_sigma, object_areas (pixel counts), n_objects_found,
-        holes_dropped, shape, source.
+        or the value given), class_medians (Otsu), level (the global
+        contour level, in image units), subpixel ('grey': traced on grey
+        levels, or 'mask': a two-valued image), presmooth and local_level
+        (per object, whether each refinement was used), objects, min_area,
+        min_hole_area, holes, holes_dropped, mask_sigma, object_areas (pixel
+        counts, holes filled), n_objects_found (separate objects in the
+        image; islands inside holes are part of their object), shape,
+        source.
     """
 
     contours: list
@@ -428,7 +440,10 @@ def _segment(img, method, threshold, polarity, name, rect=None, grabcut_iteratio
         return _Segmentation(light if pol == "light" else ~light, params)
 
     if lo == hi:
-        raise _Failure(f"uniform image (every pixel is {lo:g}): no object to separate from a background")
+        hint = ""
+        if img.ndim == 3 and img.shape[2] in (2, 4):
+            hint = "; it has an alpha channel: use method 'alpha'"
+        raise _Failure(f"uniform image (every pixel is {lo:g}): no object to separate from a background{hint}")
     if method == "otsu":
         level = 0.5 * (med_lo + med_hi)
         if not lo <= level < hi:
@@ -592,10 +607,10 @@ def _trace_mask(obj, offset):
     return _rings_from_find_contours(e, 0.5, (offset[0] - 1, offset[1] - 1))
 
 
-#: Inward shift, per unit curvature (px^2), of the 0.5-level line of an edge
-#: averaged over 3x3 pixels and traced by marching squares. Measured on
-#: exact-coverage discs of radius 20-400 px (0.48-0.50); a Gaussian blur of
-#: the same variance would give 0.375 to first order.
+#: Shift towards the centre of curvature, per unit curvature (px^2), of the
+#: level line of an edge averaged over 3x3 pixels and traced by marching
+#: squares: measured on exact-coverage discs of radius 20 to 400 px
+#: (0.48 to 0.50).
 PRESMOOTH_SHIFT = 0.49
 
 
@@ -700,7 +715,8 @@ def extract(
         The largest object only (default) or every object of at least
         `min_area` pixels, largest first.
     min_area : float, optional
-        Smallest object, in pixels; default ``max(9, 1e-4 * H * W)``.
+        Smallest object, in pixels counted with its holes filled; default
+        ``max(9, 1e-4 * H * W)``.
     holes : bool
         Also trace the holes of each object (returned apart, in
         ``Extraction.holes``).
@@ -1032,8 +1048,13 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     sigma : float, optional
         Smoothing scale in px of arc length (default 1 % of the perimeter,
         at least 1 px).
-    model, A, b, bits, prominence
+    model, A, b, bits
         As in :func:`stimuli.information.surprisal`.
+    prominence : float, optional
+        Smallest prominence of a surprisal peak. Default: 5 % of the
+        surprisal's range or of the surprisal step from the mean turn
+        ``2 pi / n`` to twice it, whichever is larger, so that a circle's
+        pixel noise yields no peaks (as :func:`curvature_peaks`).
 
     Returns
     -------
@@ -1048,6 +1069,8 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     q = c.resample(n=max(int(np.ceil(c.perimeter / min(1.0, s / 4))), 16)).points
     sm = Contour(_fourier_smooth(q, s, c.perimeter), orient=False, name=c.name)
     res = surprisal(sm, n=n, spacing=spacing, model=model, A=A, b=b, bits=bits, prominence=prominence)
+    if prominence is None:
+        res = _with_default_prominence(res, model, A, bits)
     # the Gaussian-derivative curvature of the same samples is the smoothed
     # curve's curvature; read it at the surprisal's arc positions
     k = gaussian_curvature(q, s)
@@ -1055,6 +1078,23 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     kk = np.interp(res.t, np.append(t_sm, 1.0), np.append(k, k[0]))
     params = dict(sigma=s, sigma_fraction=SIGMA_FRACTION if sigma is None else None, **res.params)
     return ContourInfo(c, sm, s, res, kk, params)
+
+
+def _with_default_prominence(res, model, A, bits):
+    """Peaks again with prominence 5 % of max(range of u, u(2 mu) - u(mu)), mu = 2 pi / n."""
+    import dataclasses
+
+    from .information import find_peaks, surprisal_paper, surprisal_vonmises
+
+    n = res.params["n"]
+    mu = 2 * np.pi / n
+    if model == "paper":
+        ref = surprisal_paper(np.array([mu, 2 * mu]), res.params["ds"], n, A=A, b=res.params["b"], bits=bits)
+    else:
+        ref = surprisal_vonmises(np.array([mu, 2 * mu]), n, b=res.params["b"], bits=bits)
+    prominence = 0.05 * max(float(np.ptp(res.surprisal)), float(abs(ref[1] - ref[0])))
+    peaks, _ = find_peaks(res.surprisal, closed=True, prominence=prominence)
+    return dataclasses.replace(res, peaks=peaks, params={**res.params, "prominence": prominence})
 
 
 def curvature_peaks(contour, sigma=None, prominence=None, minima=False):

@@ -127,6 +127,22 @@ def test_antialiased_light_disk_on_dark_subpixel_from_8bit_png(tmp_path):
     assert abs(perim) <= 0.003
 
 
+def test_uneven_lighting_edge_stays_on_the_50_percent_line():
+    # ground graded left to right, figure graded top to bottom: one global
+    # level is off the local midpoint almost everywhere
+    cx, cy, r = 130.4, 120.7, 80.2
+    th = np.linspace(0, 2 * np.pi, 4096, endpoint=False)
+    cov = coverage(np.c_[cx + r * np.cos(th), cy + r * np.sin(th)], (250, 260))
+    yy, xx = np.mgrid[:250, :260]
+    img = (20 + 100 * xx / 259) * (1 - cov) + (230 - 40 * yy / 249) * cov
+    errors = {}
+    for local in (True, False):
+        p = extract(img, local_level=local).contour.points
+        errors[local] = np.sqrt(np.mean((np.hypot(p[:, 0] - cx, p[:, 1] - cy) - r) ** 2))
+    assert errors[True] <= 0.05
+    assert errors[False] > 0.1  # what a single level does
+
+
 def test_contour_conventions_xy_orientation_no_repeat():
     # an ellipse wide in x, centred off the diagonal: (x, y) must not be swapped
     pts, _ = ellipse(80, 30, 150.3, 60.7)
@@ -368,6 +384,7 @@ def test_describe_circle_constant_and_ellipse_peaks_at_major_axis_ends():
     # a circle's turning angles are all 2 pi / n, up to pixel noise
     assert np.ptp(info.surprisal.turning_angle) < 0.05 * (2 * np.pi / 64)
     assert np.sqrt(np.mean((info.curvature * r - 1) ** 2)) < 0.01
+    assert len(info.surprisal.peaks) == 0  # pixel noise makes no peaks
     pts, _ = ellipse(90, 40, 100.2, 60.9)
     [c] = extract_contours(coverage(pts, (130, 200)))
     info = describe(c, n=100)

@@ -264,7 +264,7 @@ def _analyse(image, stem, opts):
             pts = np.concatenate([hc.points for hc in holes]) if holes else np.empty((0, 2))
             files[f"{pre}.holes.csv"] = _table_writer({"hole": np.asarray(hole_ids, int), "x": pts[:, 0], "y": pts[:, 1]},
                                                       float_format="%.10g")
-    files[f"{stem}.overlay.png"] = _png_writer(overlay(img, ex.contours, infos))
+    files[f"{stem}.overlay.png"] = _png_writer(overlay(img, ex.contours, infos, ex.holes))
     c0, i0 = ex.contours[0], infos[0]
     summary = dict(
         reason="", n_points=c0.n, perimeter=c0.perimeter, area=c0.area, n_objects=len(ex.contours),
@@ -285,7 +285,7 @@ def _png_writer(img):
     return lambda path: write_png(path, img)
 
 
-def overlay(image, contours, infos):
+def overlay(image, contours, infos, holes=None):
     """The image (as 8-bit RGB) with each contour coloured by surprisal and its peaks circled.
 
     Parameters
@@ -296,6 +296,8 @@ def overlay(image, contours, infos):
         ``(x, y)`` image pixels (y down, pixel centres at integers).
     infos : list of stimuli.extract.ContourInfo
         Their surprisal (from :func:`stimuli.extract.describe`).
+    holes : list of list of Contour, optional
+        Drawn as black lines on a white halo (no surprisal).
 
     Returns
     -------
@@ -314,7 +316,14 @@ def overlay(image, contours, infos):
     rad = max(4, int(round(min(h, w) / 70)))
     all_u = np.concatenate([i.surprisal.surprisal for i in infos])
     lo, hi = float(np.min(all_u)), float(np.max(all_u))
-    span = hi - lo if hi > lo else 1.0
+    # a nearly constant surprisal (a circle) is shown as constant: the colour
+    # scale spans at least the step from the mean turn to twice it (the
+    # default peak prominence is 5 % of that)
+    floor = max((i.params.get("prominence") or 0.0) for i in infos) / 0.05
+    span = max(hi - lo, floor)
+    if span <= 0:
+        span = 1.0
+    hi = lo + span
     lut = cv2.applyColorMap(np.arange(256, dtype=np.uint8)[:, None], cv2.COLORMAP_TURBO)[:, 0, ::-1]
     shift = 4  # sub-pixel drawing: coordinates in 1/16 px
     scale = 1 << shift
@@ -342,6 +351,10 @@ def overlay(image, contours, infos):
             centre = (int(round(x * scale)), int(round(y * scale)))
             cv2.circle(rgb, centre, (rad + lw) * scale, (0, 0, 0), lw + 1, cv2.LINE_AA, shift)
             cv2.circle(rgb, centre, rad * scale, (255, 255, 255), lw, cv2.LINE_AA, shift)
+    for hole in (h for hl in (holes or []) for h in hl):
+        p = np.round(hole.points * scale).astype(np.int32).reshape(-1, 1, 2)
+        cv2.polylines(rgb, [p], True, (255, 255, 255), lw + 2, cv2.LINE_AA, shift)
+        cv2.polylines(rgb, [p], True, (0, 0, 0), max(1, lw - 1), cv2.LINE_AA, shift)
     units = infos[0].params.get("units", "nats")
     _legend(rgb, lut, f"{lo:.4g}", f"{hi:.4g} {units}")
     return rgb
