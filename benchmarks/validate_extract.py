@@ -9,7 +9,8 @@ contour is the outer boundary):
 * IoU: the contour re-rendered with exact coverage
   (``stimuli.render.coverage``) and thresholded at 0.5, against the object
   mask; and the soft IoU ``sum(min(cov, mask)) / sum(max(cov, mask))``;
-* failures (with their reasons) and time per image (extract alone, and
+* failures (with their reasons), contours that cross themselves, and time
+  per image (extract alone, and
   extract + describe: curvature at 1 % of the perimeter and surprisal at
   n = 100).
 
@@ -86,6 +87,7 @@ def main(argv=None):
             image=f.name, pixels=int(m.sum()), area_ratio=ex.contour.area / m.sum(), iou=iou, soft_iou=soft,
             n_points=ex.contour.n, subpixel=ex.params["subpixel"], objects_found=ex.params["n_objects_found"],
             touches_border=touches, t_extract=t1 - t0, t_total=t2 - t0, megapixels=m.size / 1e6,
+            simple=ex.contour.is_simple(),
         ))
 
     def q(v, p):
@@ -101,6 +103,7 @@ def main(argv=None):
     print(f"processed {len(rows)}, failed {len(failures)}; "
           f"{sum(r['touches_border'] for r in rows)} objects touch the border; "
           f"{sum(r['objects_found'] > 1 for r in rows)} images have more than one object (largest taken); "
+          f"{sum(not r['simple'] for r in rows)} contours cross themselves; "
           f"sub-pixel path: {', '.join(f'{k} {v}' for k, v in zip(*np.unique([r['subpixel'] for r in rows], return_counts=True)))}")
     print(f"{'measure':34s} {'min':>9s} {'p5':>9s} {'median':>9s} {'p95':>9s} {'max':>9s}")
     for name, v, fmt in [("area ratio (contour / pixels)", ar, "{:9.5f}"), ("IoU (re-rendered >= 0.5 vs mask)", io, "{:9.5f}"),
