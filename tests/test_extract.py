@@ -459,6 +459,18 @@ def test_cli_objects_all_naming_and_workers_give_identical_files(tmp_path):
         assert (a / n).read_bytes() == (b / n).read_bytes(), n
 
 
+def test_cli_rerun_removes_outputs_of_an_input_that_now_fails(tmp_path):
+    from analysis.cli import main
+
+    _write_inputs(tmp_path)
+    img, out = tmp_path / "good.png", tmp_path / "out"
+    assert main(["extract", str(img), "-o", str(out)]) == 0
+    assert (out / "good.contour.csv").is_file()
+    img.write_bytes(b"no longer an image")
+    assert main(["extract", str(img), "-o", str(out)]) == 1
+    assert sorted(p.name for p in out.iterdir()) == ["summary.csv"]
+
+
 def test_cli_bad_arguments_exit_2(tmp_path, capsys):
     from analysis.cli import main
 

@@ -24,12 +24,14 @@ its own ``STEM.K.contour.csv``, ``STEM.K.surprisal.csv``,
 n_points, perimeter, area`` (of the largest object), then ``n_objects,
 method, polarity, level, sigma, n``. A file that cannot be used (unreadable,
 no object, everything object) gets ``status = failed`` and the reason; the
-others are still processed, and the exit status is then 1.
+others are still processed, and the exit status is then 1. Outputs that
+an earlier run wrote for an input that now fails (``STEM.contour.csv``, ...)
+are removed so that the directory agrees with ``summary.csv``; per-object
+``STEM.K.*`` files are left alone (an input named ``STEM.K.png`` writes the
+same names). Every file is written under a temporary name and renamed.
 """
 
 from __future__ import annotations
-
-import re
 
 OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
 SUMMARY_COLUMNS = (
@@ -106,7 +108,7 @@ def _check_args(args):
         raise InputError(f"--b must be >= 0, got {args.b}")
 
 
-def _stems(images):
+def _stems(images, objects="largest"):
     from pathlib import Path
 
     from stimuli.errors import InputError
@@ -119,6 +121,13 @@ def _stems(images):
         if stem in seen:
             raise InputError(f"{seen[stem]} and {img} share the name {stem!r}; their outputs would collide")
         seen[stem] = img
+    if objects == "all":
+        # STEM.K.* of one image would be the outputs of an image named STEM.K
+        for stem, img in seen.items():
+            base, _, k = stem.rpartition(".")
+            if k.isdigit() and base in seen:
+                raise InputError(f"{seen[base]} and {img}: with --objects all, object {k} of {seen[base]} and "
+                                 f"{img} would write the same files ({stem}.*)")
     return [Path(i).stem for i in images]
 
 
@@ -140,7 +149,7 @@ def run(args):
     from stimuli.io import write_table
 
     _check_args(args)
-    stems = _stems(args.images)
+    stems = _stems(args.images, args.objects)
     out = Path(args.output)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a directory")
@@ -189,12 +198,16 @@ def _summary_frame(rows):
 
 
 def _remove_stale(outdir, stem, keep):
-    """Remove this stem's outputs of an earlier run that this run did not write."""
-    pattern = re.compile(
-        re.escape(stem) + r"(\.\d+)?\.(" + "|".join(re.escape(k) for k in OUTPUT_KINDS) + r")$"
-    )
-    for f in outdir.iterdir():
-        if f.is_file() and pattern.fullmatch(f.name) and f.name not in keep:
+    """Remove this stem's outputs of an earlier run that this run did not write.
+
+    Only names that no other input can produce are touched: ``STEM.KIND``
+    (one object per image) and ``STEM.overlay.png``. Per-object files
+    ``STEM.K.KIND`` of an earlier ``--objects all`` run are left alone,
+    since an input named ``STEM.K.png`` writes the same names.
+    """
+    for kind in OUTPUT_KINDS:
+        f = outdir / f"{stem}.{kind}"
+        if f.name not in keep and f.is_file():
             f.unlink()
 
 
