@@ -55,7 +55,7 @@ def add_parser(sub):
             "listed with status 'failed' and its reason; the exit status is then 1."
         ),
     )
-    p.add_argument("images", nargs="+", metavar="IMAGE")
+    p.add_argument("images", nargs="+", metavar="IMAGE", help="image files (PNG, JPEG, TIFF, BMP)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory (created if needed)")
     p.add_argument(
         "--method", choices=("otsu", "threshold", "mask", "alpha", "grabcut"), default="otsu",
@@ -315,10 +315,10 @@ def overlay(image, contours, infos, holes=None):
     Returns
     -------
     (H, W, 3) uint8 ndarray, RGB
-        Surprisal is mapped with the turbo colour map over its range across
-        all contours (dark blue lowest, dark red highest; a colour bar in the
-        top-left corner gives the values), on a thin white halo; peaks are
-        white circles with a black rim.
+        Surprisal is mapped with the turbo colour map over each contour's
+        own range (dark blue lowest, dark red highest; with one contour a
+        colour bar in the top-left corner gives the values), on a thin white
+        halo; peaks are white circles with a black rim.
     """
     import cv2
     import numpy as np
@@ -326,21 +326,24 @@ def overlay(image, contours, infos, holes=None):
     rgb = _display_rgb(image)
     h, w = rgb.shape[:2]
     lw = max(2, int(round(min(h, w) / 200)))
-    rad = max(4, int(round(min(h, w) / 70)))
-    all_u = np.concatenate([i.surprisal.surprisal for i in infos])
-    lo, hi = float(np.min(all_u)), float(np.max(all_u))
-    # a nearly constant surprisal (a circle) is shown as constant: the colour
-    # scale spans at least the step from the mean turn to twice it (the
-    # default peak prominence is 5 % of that)
-    floor = max((i.params.get("prominence") or 0.0) for i in infos) / 0.05
-    span = max(hi - lo, floor)
-    if span <= 0:
-        span = 1.0
-    hi = lo + span
+    rad = max(3, int(round(min(h, w) / 100)))
+    def colour_range(group):
+        u = np.concatenate([i.surprisal.surprisal for i in group])
+        lo, hi = float(np.min(u)), float(np.max(u))
+        # a nearly constant surprisal (a circle) is shown as constant: the
+        # scale spans at least the step from the mean turn to twice it (the
+        # default peak prominence is 5 % of that)
+        floor = max((i.params.get("prominence") or 0.0) for i in group) / 0.05
+        span = max(hi - lo, floor)
+        return lo, (span if span > 0 else 1.0)
+
+    # objects of different sizes have different spacings (and the paper's
+    # surprisal scales with spacing^2): each object gets its own scale
+    ranges = [colour_range([i]) for i in infos]
     lut = cv2.applyColorMap(np.arange(256, dtype=np.uint8)[:, None], cv2.COLORMAP_TURBO)[:, 0, ::-1]
     shift = 4  # sub-pixel drawing: coordinates in 1/16 px
     scale = 1 << shift
-    for c, info in zip(contours, infos):
+    for c, info, (lo, span) in zip(contours, infos, ranges):
         res = info.surprisal
         u = res.surprisal
         # colour each stretch of the contour by the surprisal at its arc position
@@ -369,7 +372,11 @@ def overlay(image, contours, infos, holes=None):
         cv2.polylines(rgb, [p], True, (255, 255, 255), lw + 2, cv2.LINE_AA, shift)
         cv2.polylines(rgb, [p], True, (0, 0, 0), max(1, lw - 1), cv2.LINE_AA, shift)
     units = infos[0].params.get("units", "nats")
-    _legend(rgb, lut, f"{lo:.4g}", f"{hi:.4g} {units}")
+    if len(infos) == 1:
+        lo, span = ranges[0]
+        _legend(rgb, lut, f"{lo:.4g}", f"{lo + span:.4g} {units}")
+    else:
+        _legend(rgb, lut, "low", f"high {units} (per object)")
     return rgb
 
 
