@@ -666,9 +666,10 @@ def _debias(p, shape, sigma=2.0):
 def _smooth_ring(p, sigma):
     """Periodic Gaussian smoothing of a closed ring along its arc (sigma in px)."""
     c = Contour(p, orient=False)
-    m = max(int(np.ceil(c.perimeter / 0.5)), 8)
+    m = max(int(np.ceil(c.perimeter / 0.5)), 16)
     q = c.resample(n=m).points
-    return _fourier_smooth(q, sigma, c.perimeter)
+    # a tiny outline (a pixel or two) must keep its size
+    return _fourier_smooth(q, min(sigma, c.perimeter / 16), c.perimeter)
 
 
 def _fourier_smooth(q, sigma, length):
