@@ -15,12 +15,22 @@ from .information import (  # noqa: E402
     surprisal_vonmises,
 )
 from .splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline  # noqa: E402
-from . import curves  # noqa: E402
+from . import curves, recipes  # noqa: E402
+from .extract import describe, extract, extract_contours, read_image  # noqa: E402
+from .render import coverage, fit_to_image, render_silhouette  # noqa: E402
 
 __all__ = [
     "ConvergenceError",
     "Contour",
+    "coverage",
     "curves",
+    "describe",
+    "extract",
+    "extract_contours",
+    "fit_to_image",
+    "read_image",
+    "recipes",
+    "render_silhouette",
     "fit_spline",
     "polynomial_spline",
     "qic_spline",

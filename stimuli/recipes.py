@@ -328,8 +328,17 @@ class FromImageParams(_ShapeParams):
     """The largest object of an image, via :func:`stimuli.extract.extract_contours`."""
 
     path: str = Field(min_length=1)
-    method: Literal["otsu", "mask", "grabcut"] = "otsu"
+    method: Literal["otsu", "threshold", "mask", "alpha", "grabcut"] = "otsu"
+    threshold: Optional[float] = Field(None, allow_inf_nan=False,
+                                       description="grey level for method 'threshold' (image units)")
+    polarity: Literal["auto", "dark", "light"] = "auto"
     resample: Optional[int] = Field(None, ge=3, le=1_000_000)
+
+    @model_validator(mode="after")
+    def _threshold_given(self):
+        if (self.method == "threshold") != (self.threshold is not None):
+            raise ValueError("threshold: give a value with method 'threshold' and only then")
+        return self
 
 
 SHAPES: dict[str, type[_ShapeParams]] = {
@@ -445,7 +454,8 @@ def _shape(name, p, rng):
 def _from_image(p):
     from .extract import extract_contours  # lazily: it pulls in OpenCV and scikit-image
 
-    found = extract_contours(p.path, method=p.method, objects="largest")
+    found = extract_contours(p.path, method=p.method, threshold=p.threshold, polarity=p.polarity,
+                             objects="largest")
     if not found:
         raise InputError(f"{p.path}: no object found in the image")
     c = found[0]
@@ -455,7 +465,8 @@ def _from_image(p):
     if not c.is_simple():
         raise InputError(f"{p.path}: the extracted contour crosses itself")
     x0, y0, x1, y1 = c.bbox
-    return c, dict(path=p.path, method=p.method, n_points=int(n_read), n=int(c.n),
+    return c, dict(path=p.path, method=p.method, threshold=p.threshold, polarity=p.polarity,
+                   n_points=int(n_read), n=int(c.n),
                    centre=[(x0 + x1) / 2.0, (y0 + y1) / 2.0])
 
 
