@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import InputError
+from .io import as_points
 
 __all__ = ["Contour", "turning_angles", "gaussian_curvature"]
 
@@ -156,15 +157,7 @@ class Contour:
         self.name = name
         self.closed = bool(closed)
         where = f"{name}: " if name else ""
-        try:
-            p = np.array(points, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError(f"{where}points must be numbers") from None
-        if p.ndim != 2 or p.shape[1] != 2:
-            raise InputError(f"{where}points must have shape (N, 2), got {p.shape}")
-        if not np.isfinite(p).all():
-            bad = ~np.isfinite(p).all(axis=1)
-            raise InputError(f"{where}point {int(np.flatnonzero(bad)[0])} is not finite: {p[bad][0].tolist()}")
+        p = as_points(points, f"{name}: points" if name else "points")
         # consecutive duplicates carry no direction; drop them (and a repeated end point)
         p = np.ascontiguousarray(p)
         z = p.view(np.complex128).ravel()  # one complex per point: cheap row comparisons

@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["atomic_write", "write_table", "read_table", "read_points"]
+__all__ = ["atomic_write", "write_table", "read_table", "read_points", "as_points"]
 
 
 @contextlib.contextmanager
@@ -144,3 +144,27 @@ def read_points(path, columns=("x", "y")):
     if len(df) == 0:
         raise InputError(f"{path}: no rows")
     return df[list(columns)].to_numpy(dtype=float)
+
+
+def as_points(obj, what="points", min_points=1):
+    """Check and convert an (N, 2) array of ``(x, y)`` points (or anything with
+    a ``.points`` attribute, such as a `Contour`).
+
+    Raises
+    ------
+    InputError
+        One line naming `what` and, for a non-finite value, the row.
+    """
+    pts = getattr(obj, "points", obj)
+    try:
+        pts = np.array(pts, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}: expected an (N, 2) array of (x, y) numbers") from None
+    if pts.ndim != 2 or pts.shape[1] != 2:
+        raise InputError(f"{what}: expected an (N, 2) array of (x, y) points, got shape {pts.shape}")
+    if not np.isfinite(pts).all():
+        row = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
+        raise InputError(f"{what}: row {row}: coordinates must be finite, got {pts[row].tolist()}")
+    if len(pts) < min_points:
+        raise InputError(f"{what}: need at least {min_points} point(s), got {len(pts)}")
+    return pts

@@ -65,7 +65,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .io import atomic_write
+from .io import as_points, atomic_write
 
 __all__ = [
     "coverage",
@@ -116,22 +116,6 @@ def _resolve_shape(size=None, shape=None):
     return hi, wi
 
 
-def _as_points(obj, name="points", min_points=1):
-    pts = getattr(obj, "points", obj)
-    try:
-        pts = np.asarray(pts, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected an (N, 2) array of (x, y) points") from None
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise InputError(f"{name}: expected an (N, 2) array of (x, y) points, got shape {pts.shape}")
-    if not np.isfinite(pts).all():
-        row = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
-        raise InputError(f"{name}: row {row}: coordinates must be finite, got {pts[row].tolist()}")
-    if len(pts) < min_points:
-        raise InputError(f"{name}: need at least {min_points} point(s), got {len(pts)}")
-    return pts
-
-
 def _is_single_ring(obj):
     if hasattr(obj, "points"):
         return True
@@ -165,7 +149,7 @@ def _as_rings(obj, name="rings"):
 
 
 def _ring(obj, name):
-    pts = _as_points(obj, name)
+    pts = as_points(obj, name)
     if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
         pts = pts[:-1]  # tolerate a repeated closing point
     if _distinct_at_most_two(pts):
@@ -605,7 +589,7 @@ def disc_coverage(centers, radius, shape):
     (True, 0.0)
     """
     h, w = _resolve_shape(shape=shape)
-    centers = _as_points(centers, "centers")
+    centers = as_points(centers, "centers")
     radius = _positive(radius, "radius")
     return _dense(_box_coverage(_disc_acc(centers, radius, h, w)), h, w)
 
@@ -915,7 +899,7 @@ def render_outline(
 
     if closed is None:
         closed = bool(getattr(points, "closed", True))
-    pts = _as_points(points, "points", min_points=3 if closed else 2)
+    pts = as_points(points, "points", min_points=3 if closed else 2)
     if closed and len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
         pts = pts[:-1]
     width = _positive(width, "width")
@@ -990,7 +974,7 @@ def render_fragments(
         items = list(polylines)
     except TypeError:
         raise InputError("polylines: expected a list of (M, 2) arrays") from None
-    lines = [_as_points(p, f"polylines[{k}]", min_points=2) for k, p in enumerate(items)]
+    lines = [as_points(p, f"polylines[{k}]", min_points=2) for k, p in enumerate(items)]
     width = _positive(width, "width")
     h, w = _resolve_shape(size, shape)
     f, g = _colours(figure, ground)
@@ -1040,7 +1024,7 @@ def render_dots(points, radius, size=None, *, shape=None, figure=0.0, ground=1.0
     Where two dots overlap their coverages add and are clipped at 1: exact
     except in the few pixels that both circles cross.
     """
-    centers = _as_points(points, "points")
+    centers = as_points(points, "points")
     radius = _positive(radius, "radius")
     h, w = _resolve_shape(size, shape)
     f, g = _colours(figure, ground)
@@ -1087,7 +1071,7 @@ def fit_to_image(points, size, margin=None, scale=None):
     >>> fit_to_image([(0, 0), (1, 0), (1, 1), (0, 1)], size=12, margin=1)["points"].tolist()
     [[0.5, 0.5], [10.5, 0.5], [10.5, 10.5], [0.5, 10.5]]
     """
-    pts = _as_points(points, "points")
+    pts = as_points(points, "points")
     h, w = _resolve_shape(size)
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     extent = hi - lo

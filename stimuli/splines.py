@@ -52,6 +52,7 @@ from scipy.linalg.lapack import dgtsv as _dgtsv
 from .clothoid import _segment_state, clothoid_points, guess_A, wrap_angle
 from .curve_metrics import SampledCurve, curve_metrics
 from .errors import InputError
+from .io import as_points
 
 __all__ = [
     "ConvergenceError",
@@ -81,15 +82,7 @@ class ConvergenceError(InputError):
 
 
 def _as_points(points, closed, what="points"):
-    try:
-        P = np.asarray(points, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what}: expected an (N, 2) array of numbers") from None
-    if P.ndim != 2 or P.shape[1] != 2:
-        raise InputError(f"{what}: expected an (N, 2) array of (x, y), got shape {P.shape}")
-    bad = ~np.isfinite(P).all(axis=1)
-    if bad.any():
-        raise InputError(f"{what}: row {int(np.flatnonzero(bad)[0])}: coordinates must be finite")
+    P = as_points(points, what)
     need = 3 if closed else 2
     if len(P) < need:
         raise InputError(f"{what}: a {'closed' if closed else 'open'} spline needs at least {need} points, got {len(P)}")

@@ -142,7 +142,7 @@ def test_project_recovers_points_on_curve(t0, dx, dy):
 
 
 def test_validation_errors():
-    with pytest.raises(InputError, match="not finite"):
+    with pytest.raises(InputError, match=r"row 1: coordinates must be finite"):
         Contour([[0, 0], [1, np.nan], [2, 0]])
     with pytest.raises(InputError, match="3 distinct"):
         Contour([[0, 0], [1, 1], [0, 0], [1, 1]])
