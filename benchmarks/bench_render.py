@@ -5,13 +5,13 @@ For each of ``--n`` random 500-vertex polygons (default 1000) a filled
 image by image so that machine load hits all three alike:
 
 - project: ``stimuli.render.render_silhouette(..., dtype='uint8')`` and
-  ``stimuli.render.write_png`` (atomic write: temporary file, fsync, rename);
+  ``stimuli.render.write_png`` (atomic write: temporary file, then rename);
   also timed with a plain ``cv2.imwrite`` of the same image, so that the
   renderer is compared with the anchor through the very same writer;
 - anchor: ``cv2.fillPoly(img, pts, 0, cv2.LINE_AA, shift=4)`` then
   ``cv2.imwrite`` (OpenCV's default PNG settings, same as ours); also timed
-  with ``write_png``, so that the cost of the durable atomic write (fsync)
-  can be told apart from the cost of rendering;
+  with ``write_png``, so that the cost of the atomic write can be told
+  apart from the cost of rendering;
 - matplotlib: a 512 x 512 px figure (made once, no axes) with a filled
   ``Polygon`` patch, ``fig.savefig`` (the patch is swapped per image).
 
@@ -156,7 +156,7 @@ def run(kind, n, seed, tmp):
     print("through the same PNG writer (cv2.imwrite, default settings):")
     print(f"  project+imwrite / opencv            = {med['project+imwrite'] / med['opencv']:.2f}  (target <= 1.5)")
     print(f"  matplotlib / project+imwrite        = {med['matplotlib'] / med['project+imwrite']:.1f}x (target >= 5)")
-    print("with the project's durable writer (write_png: temporary file, fsync, rename):")
+    print("with the project's atomic writer (write_png: temporary file, then rename):")
     print(f"  project / opencv+write_png          = {med['project'] / med['opencv+write_png']:.2f}")
     print(f"  project / opencv (raw imwrite)      = {med['project'] / med['opencv']:.2f}")
     print(f"  matplotlib / project                = {med['matplotlib'] / med['project']:.1f}x")
