@@ -22,6 +22,8 @@ from .io import as_points
 
 __all__ = ["Contour", "turning_angles", "gaussian_curvature"]
 
+_MAX_RESAMPLE = 10**8  # points; 1.6 GB of coordinates, far beyond any stimulus
+
 
 def _wrap(a):
     """Wrap angles to (-pi, pi]."""
@@ -333,6 +335,10 @@ class Contour:
         n = int(n)
         if n < 3:
             raise InputError(f"resampling needs n >= 3 points, got {n}")
+        if n > _MAX_RESAMPLE:
+            # an absurd n (or a tiny spacing) would otherwise die allocating terabytes
+            what = f"spacing {spacing} px gives" if spacing is not None else "got"
+            raise InputError(f"resampling needs n <= {_MAX_RESAMPLE:.0e} points; {what} n = {n}")
         return n
 
     # --------------------------------------------------------------- geometry

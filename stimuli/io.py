@@ -43,9 +43,20 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
     file
         The open temporary file. On an exception it is removed and `path` is
         left untouched.
+
+    Raises
+    ------
+    InputError
+        `path` is a directory, or its directory is missing or not writable.
     """
     path = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    if path.is_dir():
+        raise InputError(f"{path}: is a directory; expected a file name to write")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    except OSError as exc:
+        # a missing or read-only directory is the user's input, not a crash
+        raise InputError(f"{path}: cannot write there ({exc.strerror or exc})") from None
     try:
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
@@ -115,6 +126,8 @@ def read_table(path, required=(), numeric=()):
         df = pd.read_csv(path, skipinitialspace=True)
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
+    except OSError as exc:  # a directory, no permission, ...
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
     except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: not a readable CSV file ({str(exc).splitlines()[0]})") from None
     df.columns = [str(c).strip() for c in df.columns]

@@ -1,0 +1,59 @@
+"""File helpers and CLI file errors: one line, exit 2, nothing written."""
+
+import numpy as np
+import pytest
+
+from analysis.cli import main
+from stimuli import Contour, InputError
+from stimuli.io import atomic_write, read_table
+
+
+def _ellipse_csv(path):
+    th = 2 * np.pi * np.arange(200) / 200
+    p = np.c_[256 + 150 * np.cos(th), 256 + 60 * np.sin(th)]
+    path.write_text("x,y\n" + "".join(f"{x},{y}\n" for x, y in p))
+    return path
+
+
+def test_atomic_write_into_missing_directory_is_input_error(tmp_path):
+    with pytest.raises(InputError, match="cannot write"):
+        with atomic_write(tmp_path / "nope" / "out.csv") as fh:
+            fh.write("x")
+
+
+def test_atomic_write_onto_a_directory_is_input_error(tmp_path):
+    (tmp_path / "d").mkdir()
+    with pytest.raises(InputError, match="is a directory"):
+        with atomic_write(tmp_path / "d") as fh:
+            fh.write("x")
+    assert list((tmp_path).iterdir()) == [tmp_path / "d"]  # no temporary left behind
+
+
+def test_read_table_of_a_directory_is_input_error(tmp_path):
+    with pytest.raises(InputError, match="cannot read"):
+        read_table(tmp_path)
+
+
+@pytest.mark.parametrize("which", ["missing-dir", "dir-as-output", "dir-as-input"])
+def test_surprisal_cli_file_errors_one_line_exit_2(tmp_path, capsys, which):
+    src = _ellipse_csv(tmp_path / "c.csv")
+    args = {
+        "missing-dir": [str(src), "-o", str(tmp_path / "no" / "o.csv")],
+        "dir-as-output": [str(src), "-o", str(tmp_path)],
+        "dir-as-input": [str(tmp_path), "-o", str(tmp_path / "o.csv")],
+    }[which]
+    assert main(["surprisal", *args]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["c.csv"]
+
+
+def test_resample_refuses_absurd_point_counts(tmp_path, capsys):
+    th = 2 * np.pi * np.arange(50) / 50
+    c = Contour(np.c_[np.cos(th), np.sin(th)] * 100)
+    with pytest.raises(InputError, match="n <="):
+        c.resample(spacing=1e-9)
+    src = _ellipse_csv(tmp_path / "c.csv")
+    assert main(["surprisal", str(src), "-o", str(tmp_path / "o.csv"), "--spacing", "1e-9"]) == 2
+    assert "n <=" in capsys.readouterr().err
+    assert not (tmp_path / "o.csv").exists()
