@@ -39,6 +39,8 @@ import numpy as np
 from stimuli.contour import Contour
 from stimuli.errors import InputError
 
+from .clicks import read_text_csv
+
 __all__ = ["StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS"]
 
 ID_PATTERN = re.compile(r"^[A-Za-z0-9_.-]+$")
@@ -118,7 +120,6 @@ def read_stimulus_set(directory):
     >>> s.ids, s.sizes["disc"]
     (['disc'], (100, 100))
     """
-    import pandas as pd
 
     directory = Path(directory)
     mpath = directory / "manifest.csv"
@@ -126,11 +127,7 @@ def read_stimulus_set(directory):
         raise InputError(f"{directory}: not a directory (a stimulus set needs manifest.csv and contours/)")
     if not mpath.is_file():
         raise InputError(f"{mpath}: no such file (a stimulus set needs a manifest.csv)")
-    try:
-        manifest = pd.read_csv(mpath, dtype=str, keep_default_na=False, skipinitialspace=True)
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"{mpath}: not a readable CSV file ({str(exc).splitlines()[0]})") from None
-    manifest.columns = [str(c).strip() for c in manifest.columns]
+    manifest, lines = read_text_csv(mpath, what="a manifest", empty=f"expected a header with {', '.join(REQUIRED_COLUMNS)}")
     missing = [c for c in REQUIRED_COLUMNS if c not in manifest.columns]
     if missing:
         raise InputError(f"{mpath}: missing column(s) {', '.join(missing)}; found {', '.join(manifest.columns) or 'none'}")
@@ -138,7 +135,7 @@ def read_stimulus_set(directory):
         raise InputError(f"{mpath}: no stimuli (the manifest has no rows)")
     ids, contours, sizes, images = [], {}, {}, {}
     for i, row in enumerate(manifest.itertuples(index=False)):
-        where = f"{mpath}: line {i + 2}"
+        where = f"{mpath}: line {lines[i]}"
         sid = str(row.stimulus_id).strip()
         if not ID_PATTERN.match(sid):
             raise InputError(f"{where}: stimulus_id must match [A-Za-z0-9_.-]+, got {sid!r}")

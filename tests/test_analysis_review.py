@@ -1,0 +1,64 @@
+"""Regression tests for defects found in review of the analysis package (issue 6)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from analysis.clicks import read_clicks
+from stimuli.errors import InputError
+
+
+# ---------------------------------------------------------------- reading click files
+def test_trailing_delimiters_do_not_shift_columns(tmp_path):
+    # exporters that end every data row with a comma: pandas would take the
+    # first field as the index and shift every value one column to the left
+    f = tmp_path / "c.csv"
+    f.write_text("participant,stimulus_id,x,y\nP1,sq,100,20,\nP2,sq,150,200,\n")
+    df = read_clicks(f)
+    assert df["participant"].tolist() == ["P1", "P2"]
+    assert df["stimulus_id"].tolist() == ["sq", "sq"]
+    assert df["x"].tolist() == ["100", "150"] and df["y"].tolist() == ["20", "200"]
+
+
+def test_extra_values_beyond_the_header_are_an_error_naming_the_line(tmp_path):
+    f = tmp_path / "c.csv"
+    f.write_text("participant,stimulus_id,x,y\nP1,sq,100,20\nP2,sq,150,200,7\n")
+    with pytest.raises(InputError, match=r"line 3\b") as e:
+        read_clicks(f)
+    assert str(f) in str(e.value) and "\n" not in str(e.value)
+    g = tmp_path / "d.csv"
+    g.write_text("participant,stimulus_id,x,y\nP1,sq,100,20,7\nP2,sq,150,200,8\n")
+    with pytest.raises(InputError, match=r"line 2"):
+        read_clicks(g)
+
+
+def test_line_numbers_count_blank_lines_and_multiline_fields(tmp_path):
+    f = tmp_path / "c.csv"
+    f.write_text('participant,stimulus_id,x,y,note\n'
+                 'P1,sq,1,2,a\n'
+                 '\n'
+                 'P2,sq,3,4,"two\nlines"\n'
+                 ',,,,\n'
+                 'P3,sq,5,6,b\n'
+                 '\n\n')
+    df = read_clicks(f)
+    # blank lines are not rows; a row of empty fields is (it is excluded later, not dropped)
+    assert df["participant"].tolist() == ["P1", "P2", "", "P3"]
+    assert df["line"].tolist() == [2, 4, 6, 7]
+    assert df["note"].tolist() == ["a", "two\nlines", "", "b"]
+
+
+def test_manifest_with_trailing_delimiters_and_blank_lines(tmp_path):
+    from analysis.stimulus_set import read_stimulus_set
+
+    (tmp_path / "contours").mkdir()
+    (tmp_path / "contours" / "sq.csv").write_text("x,y\n10,10\n10,50\n50,50\n50,10\n")
+    (tmp_path / "manifest.csv").write_text("stimulus_id,contour,width,height\n"
+                                           "sq,contours/sq.csv,64,64,\n\n"
+                                           "bad id,contours/sq.csv,64,64,\n")
+    with pytest.raises(InputError, match=r"manifest.csv: line 4: stimulus_id must match"):
+        read_stimulus_set(tmp_path)
+    (tmp_path / "manifest.csv").write_text("stimulus_id,contour,width,height\nsq,contours/sq.csv,64,64,\n")
+    s = read_stimulus_set(tmp_path)
+    assert s.ids == ["sq"] and s.sizes["sq"] == (64, 64)
