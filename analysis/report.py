@@ -433,13 +433,21 @@ def _jsonable(obj):
 
 # --------------------------------------------------------------------- writing
 def check_output_dir(out, force=False):
-    """Raise `InputError` if `out` exists (unless `force`) or is not a directory."""
+    """Raise `InputError` if `out` exists (unless `force`), is not a directory, or cannot be created."""
     out = Path(out)
     if out.exists():
         if not out.is_dir():
             raise InputError(f"{out}: exists and is not a directory")
         if any(out.iterdir()) and not force:
             raise InputError(f"{out}: directory exists and is not empty; choose another -o or pass --force")
+    # found before the analysis runs, not after it
+    anc = out.parent
+    while not anc.exists() and anc != anc.parent:
+        anc = anc.parent
+    if anc.exists() and not anc.is_dir():
+        raise InputError(f"{out}: cannot be created, {anc} is not a directory")
+    if anc.is_dir() and not os.access(anc, os.W_OK | os.X_OK):
+        raise InputError(f"{out}: cannot be created, no permission to write in {anc}")
 
 
 def write_analysis(analysis, out, figures=True, force=False, inputs=None):
@@ -467,8 +475,11 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
 
     out = Path(out)
     check_output_dir(out, force)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    except OSError as exc:
+        raise InputError(f"{out}: cannot be created ({exc.strerror or exc})") from None
     try:
         write_table(analysis.clicks, tmp / "clicks.csv")
         write_table(analysis.per_stimulus, tmp / "per_stimulus.csv")

@@ -62,3 +62,28 @@ def test_manifest_with_trailing_delimiters_and_blank_lines(tmp_path):
     (tmp_path / "manifest.csv").write_text("stimulus_id,contour,width,height\nsq,contours/sq.csv,64,64,\n")
     s = read_stimulus_set(tmp_path)
     assert s.ids == ["sq"] and s.sizes["sq"] == (64, 64)
+
+
+# ------------------------------------------------------------------ writing outputs
+def _tiny_set(d):
+    from analysis.stimulus_set import write_stimulus_set
+
+    th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    write_stimulus_set(d, {"ell": np.c_[100 + 60 * np.cos(th), 100 + 30 * np.sin(th)],
+                           "sq": np.array([[50.0, 50], [50, 150], [150, 150], [150, 50]])}, size=(200, 200))
+    return d
+
+
+def test_unwritable_output_location_is_one_line_exit_2(tmp_path, capsys):
+    from analysis.cli import main
+
+    s = _tiny_set(tmp_path / "set")
+    f = tmp_path / "c.csv"
+    f.write_text("participant,stimulus_id,x,y\nP1,ell,160,100\nP2,sq,50,50\n")
+    blocker = tmp_path / "afile"
+    blocker.write_text("")
+    rc = main(["analyze", str(f), "--stimuli", str(s), "-o", str(blocker / "out"), "--no-figures",
+               "--permutations", "10"])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert "error:" in err and "afile" in err and len(err.strip().splitlines()) == 1
