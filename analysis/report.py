@@ -256,6 +256,12 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(den > 0, num / den, np.nan)
 
+    # a participant whose used clicks all fell on stimuli with constant prediction (z = 0
+    # everywhere) has no measured effect: an exact 0 would enter the group tests as data
+    informative = np.bincount(pidx, weights=(~constant[sidx]).astype(float), minlength=G) > 0
+    # likewise for the concavity test: stimuli with both concave and other points
+    concave_informative = np.bincount(pidx, weights=((concave_len > 0) & (concave_len < 1))[sidx].astype(float),
+                                      minlength=G) > 0
     all_counts = pd.Series(part_all).value_counts()
     per_p = pd.DataFrame(
         dict(
@@ -263,11 +269,11 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
             n_clicks=[int(all_counts.get(p, 0)) for p in participants],
             n_used=ng.astype(int),
             n_stimuli=(Mgs > 0).sum(axis=1),
-            mean_z=by(pidx, G, zc),
+            mean_z=np.where(informative, by(pidx, G, zc), np.nan),
             beta_hat=fg["beta"] if G else [],
             beta_se=fg["se"] if G else [],
             beta_at_bound=fg["at_bound"] if G else [],
-            auc=by(pidx, G, pct),
+            auc=np.where(informative, by(pidx, G, pct), np.nan),
             peak_hit_rate=by(pidx, G, hit.astype(float), has_peaks),
             peak_chance=by(pidx, G, chance[sidx], has_peaks),
             concave_click_share=by(pidx, G, concave_click.astype(float)),
@@ -351,7 +357,9 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     b_test["n_at_bound"] = int(per_p["beta_at_bound"].astype(bool).sum()) if G else 0
     auc_test = stats.group_test(per_p["auc"].to_numpy() - 0.5, level=level)
     peak_test = stats.group_test((per_p["peak_hit_rate"] - per_p["peak_chance"]).to_numpy(), level=level)
-    conc_test = stats.group_test((per_p["concave_click_share"] - per_p["concave_length_share"]).to_numpy(), level=level)
+    conc_test = stats.group_test(np.where(concave_informative, (per_p["concave_click_share"]
+                                                                 - per_p["concave_length_share"]).to_numpy(), np.nan),
+                                 level=level)
     tol_rule = (f"{tolerance:g} px" if tolerance is not None
                 else f"{DEFAULT_TOLERANCE_FRACTION:g} x image diagonal")
     first = predictions[ids[0]].result.params

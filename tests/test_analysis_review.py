@@ -87,3 +87,31 @@ def test_unwritable_output_location_is_one_line_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2
     assert "error:" in err and "afile" in err and len(err.strip().splitlines()) == 1
+
+
+# -------------------------------------------------------------------------- statistics
+def test_participant_without_informative_clicks_has_no_effect(tmp_path):
+    # clicks on a circle (constant surprisal, z = 0 everywhere) say nothing about
+    # the prediction: a participant who clicked only there has no measured effect,
+    # not an effect of exactly 0 that would enter the group t-test as data
+    from analysis.report import analyze
+    from analysis.stimulus_set import read_stimulus_set, write_stimulus_set
+
+    th = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    d = tmp_path / "set"
+    write_stimulus_set(d, {"ell": np.c_[100 + 80 * np.cos(th), 100 + 30 * np.sin(th)],
+                           "disc": np.c_[100 + 50 * np.cos(th), 100 + 50 * np.sin(th)]}, size=(200, 200))
+    s = read_stimulus_set(d)
+    import pandas as pd
+
+    rows = [("A", "disc", 150.0, 100.0), ("A", "disc", 100.0, 150.0)]
+    for p, xs in (("B", (180.0, 20.0, 100.0)), ("C", (180.0, 20.0, 180.0)), ("D", (20.0, 100.0, 180.0))):
+        rows += [(p, "ell", x, 100.0 if x != 100.0 else 70.0) for x in xs]
+    res = analyze(pd.DataFrame(rows, columns=["participant", "stimulus_id", "x", "y"]), s, n=100, permutations=0)
+    assert res.per_stimulus.set_index("stimulus_id").loc["disc", "constant_prediction"]
+    pp = res.per_participant.set_index("participant")
+    assert pp.loc["A", "n_used"] == 2
+    assert np.isnan(pp.loc["A", "mean_z"]) and np.isnan(pp.loc["A", "auc"])
+    assert res.summary["group"]["n"] == 3
+    assert res.summary["auc"]["test_vs_half"]["n"] == 3
+    assert all(np.isfinite(pp.loc[["B", "C", "D"], "mean_z"]))
