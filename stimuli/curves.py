@@ -161,6 +161,13 @@ def _rotate_from(z, theta0):
 # --------------------------------------------------------------------------- generic integrator
 
 
+_MAX_NFEV = 1_000_000  # about 50,000 rad of turning, ~10 s
+
+
+class _TooManyEvaluations(Exception):
+    pass
+
+
 def integrate_natural(
     curvature_fn,
     s_start=None,
@@ -215,7 +222,8 @@ def integrate_natural(
     ------
     InputError
         If the interval is empty, the curvature is not finite, or the
-        integration fails.
+        integration fails or would need more than 1e6 evaluations (about
+        50,000 rad of turning).
 
     Notes
     -----
@@ -251,24 +259,40 @@ def integrate_natural(
         bad = grid[~np.isfinite(kappa)][0]
         raise InputError(f"curvature is not finite at s={bad:g}")
 
+    calls = [0]
+
+    def budget():
+        # solve_ivp has no evaluation limit; a curve that winds ~1e5 times would run for hours
+        calls[0] += 1
+        if calls[0] > _MAX_NFEV:
+            raise _TooManyEvaluations
+
     if theta_fn is None:
 
         def rhs(t, y):
+            budget()
             return np.array([float(curvature_fn(t)), np.cos(y[0]), np.sin(y[0])])
 
         y0 = [0.0, 0.0, 0.0]
     else:
 
         def rhs(t, y):
+            budget()
             th = float(theta_fn(t))
             return np.array([np.cos(th), np.sin(th)])
 
         y0 = [0.0, 0.0]
 
-    with np.errstate(all="ignore"):
-        sol = solve_ivp(
-            rhs, (s0, s1), y0, method="DOP853", t_eval=grid, rtol=rtol, atol=atol, max_step=max_step
-        )
+    try:
+        with np.errstate(all="ignore"):
+            sol = solve_ivp(
+                rhs, (s0, s1), y0, method="DOP853", t_eval=grid, rtol=rtol, atol=atol, max_step=max_step
+            )
+    except _TooManyEvaluations:
+        raise InputError(
+            f"integration of the natural equation on [{s0:g}, {s1:g}] needs more than {_MAX_NFEV:.0e} "
+            "steps: the curve turns too often (about 20 steps per radian); shorten the interval"
+        ) from None
     if not sol.success or sol.y.shape[1] != len(grid) or not np.all(np.isfinite(sol.y)):
         raise InputError(f"integration of the natural equation failed on [{s0:g}, {s1:g}]: {sol.message}")
     if theta_fn is None:

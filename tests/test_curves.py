@@ -439,3 +439,13 @@ def test_bad_arguments():
         clothoid(np.nan, 1, 0.0, 1.0)
     with pytest.raises(InputError, match="not finite"):
         integrate_natural(lambda s: 1 / (s - 0.5), 0.0, 1.0, num=3)
+
+
+def test_integrator_has_a_bounded_budget(monkeypatch):
+    # a curve turning ~1e5 rad would take minutes (hours for 1e11 rad: clothoid c=1e6
+    # on [0, 1000] fell back to this integrator and never returned); it must be a clear error
+    import stimuli.curves as curves
+
+    monkeypatch.setattr(curves, "_MAX_NFEV", 20_000, raising=False)
+    with pytest.raises(InputError, match="turns too often"):
+        integrate_natural(lambda s: 2000.0 * s, 0.0, 10.0, num=11)
