@@ -115,3 +115,18 @@ def test_participant_without_informative_clicks_has_no_effect(tmp_path):
     assert res.summary["group"]["n"] == 3
     assert res.summary["auc"]["test_vs_half"]["n"] == 3
     assert all(np.isfinite(pp.loc[["B", "C", "D"], "mean_z"]))
+
+
+def test_power_checks_its_output_before_simulating(tmp_path, monkeypatch, capsys):
+    import analysis.observers
+    from analysis.cli import main
+
+    s = _tiny_set(tmp_path / "set")
+
+    def boom(*a, **k):  # the simulation must not start
+        raise AssertionError("power() ran before the output was checked")
+
+    monkeypatch.setattr(analysis.observers, "power", boom)
+    rc = main(["power", "--stimuli", str(s), "--beta", "0.5", "--participants", "2,4", "--simulations", "2",
+               "-o", str(tmp_path / "no_such_dir" / "p.csv")])
+    assert rc == 2 and "no_such_dir" in capsys.readouterr().err

@@ -50,6 +50,17 @@ def run(args):
     from analysis.stimulus_set import read_stimulus_set
     from stimuli.io import write_table
 
+    if args.output:
+        # found before minutes of simulation, not after
+        from pathlib import Path
+
+        from stimuli.errors import InputError
+
+        out = Path(args.output)
+        if out.is_dir():
+            raise InputError(f"{out}: is a directory; expected a file name to write")
+        if not out.parent.is_dir():
+            raise InputError(f"{out}: cannot write there (no directory {out.parent})")
     stimset = read_stimulus_set(args.stimuli)
     pred = predict(stimset, n=args.n, model=args.model)
     table, info = power(pred, args.beta, participants=args.participants, clicks=args.clicks,
