@@ -67,6 +67,10 @@ __all__ = [
 METHODS = ("qic", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1")
 
 
+# chord / segment length below which a segment counts as degenerate (length -> inf)
+_MIN_X0 = 1e-6
+
+
 class ConvergenceError(InputError):
     """The QIC spline could not be computed for these points.
 
@@ -501,6 +505,16 @@ def qic_spline(points, closed=True, *, end_tangents=(None, None), corners=(), to
                 f"QIC spline did not converge in {it} iterations (max curvature jump "
                 f"{g2:.2g} of max |k|, closure {gres:.2g}); the points may be jagged, "
                 "out of order or too sparse for a smooth curve"
+            )
+        if st["X0"].min() < _MIN_X0:
+            # Newton can also "converge" towards a segment of unbounded length whose
+            # curvature and closure residuals vanish with it (e.g. a closed curve
+            # through collinear points): a bad curve, not a solution
+            j = int(np.argmin(st["X0"]))
+            raise ConvergenceError(
+                f"QIC spline degenerates: the segment from point {int(idx[j])} would be "
+                f"{1 / st['X0'][j]:.2g} times as long as its chord; the points may be "
+                "collinear, out of order or too sparse for a smooth curve"
             )
         nseg = r.size
         nxt = np.r_[1 : d.size, 0] if pclosed else np.arange(1, d.size)

@@ -424,3 +424,16 @@ def test_lac_g1_spline():
     sp2 = fit_spline(S, "lac-g1", closed=False)
     assert len(sp2.fallback_segments) >= 1
     assert sp2.metrics(32)["interior_extrema"] == 0
+
+
+@pytest.mark.parametrize("n", [3, 5, 8])
+def test_closed_qic_through_collinear_points_is_an_error_not_a_huge_segment(n):
+    # a closed curve through collinear points has no G2 clothoid spline; Newton used to
+    # "converge" towards a closing segment ~1e16 times its chord and report success
+    P = np.c_[10.0 * np.arange(n), np.zeros(n)]
+    try:
+        sp = qic_spline(P, closed=True)
+    except ConvergenceError:
+        return
+    chords = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
+    assert np.all(sp.length < 1e3 * chords)
