@@ -116,3 +116,15 @@ def test_lac_g1_method(blob, tmp_path):
     s = json.loads(summ.read_text())
     assert s["method"] == "lac-g1" and s["interior_extrema"] == 0
     assert isinstance(s["fallback_segments"], list)
+
+
+def test_unwritable_summary_leaves_no_output(tmp_path, capsys):
+    # the curve CSV used to be renamed into place before the summary failed
+    th = 2 * np.pi * np.arange(12) / 12
+    src = tmp_path / "p.csv"
+    pd.DataFrame({"x": 100 + 50 * np.cos(th), "y": 100 + 50 * np.sin(th)}).to_csv(src, index=False)
+    out = tmp_path / "out.csv"
+    assert main(["spline", str(src), "-o", str(out), "--summary", str(tmp_path / "no" / "s.json")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "s.json" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.csv"]

@@ -62,9 +62,37 @@ def _check_points(P, path, closed):
         raise InputError(f"{path}: lines {i + 2} and {j + 2} are the same point; consecutive points must differ")
 
 
-def run(args):
-    import json
+def _summary(args, P, sp, curve, closed):
     import math
+
+    from stimuli.curve_metrics import curve_metrics
+
+    m = curve_metrics(curve)
+    summary = {
+        "method": args.method,
+        "n_points": int(len(P)),
+        "closed": closed,
+        "g2_error": m["g2_error"],
+        "interior_extrema": m["interior_extrema"],
+        "loops": m["loops"],
+        "iterations": int(getattr(sp, "iterations", 0)),
+        "seconds": float(sp.seconds),
+        "samples_per_segment": int(args.samples),
+        "max_abs_curvature": m["max_abs_curvature"],
+        "bending_energy": m["bending_energy"],
+        "length": m["length"],
+        "extrema_per_segment": m["extrema_per_segment"],
+    }
+    if hasattr(sp, "closure_error"):
+        summary["closure_error"] = float(sp.closure_error)
+    if hasattr(sp, "fallback_segments"):
+        summary["fallback_segments"] = [int(i) for i in sp.fallback_segments]
+    return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in summary.items()}
+
+
+def run(args):
+    import contextlib
+    import json
 
     from stimuli.errors import InputError
     from stimuli.io import atomic_write, read_points, write_table
@@ -81,32 +109,13 @@ def run(args):
     except InputError as exc:
         raise InputError(f"{args.points}: {exc}") from None
     curve = sp.sample(args.samples)
-    write_table(curve.table(), args.output, float_format="%.17g")
-    if args.summary:
-        from stimuli.curve_metrics import curve_metrics
-
-        m = curve_metrics(curve)
-        summary = {
-            "method": args.method,
-            "n_points": int(len(P)),
-            "closed": closed,
-            "g2_error": m["g2_error"],
-            "interior_extrema": m["interior_extrema"],
-            "loops": m["loops"],
-            "iterations": int(getattr(sp, "iterations", 0)),
-            "seconds": float(sp.seconds),
-            "samples_per_segment": int(args.samples),
-            "max_abs_curvature": m["max_abs_curvature"],
-            "bending_energy": m["bending_energy"],
-            "length": m["length"],
-            "extrema_per_segment": m["extrema_per_segment"],
-        }
-        if hasattr(sp, "closure_error"):
-            summary["closure_error"] = float(sp.closure_error)
-        if hasattr(sp, "fallback_segments"):
-            summary["fallback_segments"] = [int(i) for i in sp.fallback_segments]
-        summary = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in summary.items()}
-        with atomic_write(args.summary, "w") as fh:
+    summary = _summary(args, P, sp, curve, closed) if args.summary else None
+    with contextlib.ExitStack() as stack:
+        # open the summary's temporary file first: an unwritable --summary must fail
+        # before OUT.csv is renamed into place, so that no half of the output appears
+        fh = stack.enter_context(atomic_write(args.summary, "w")) if summary is not None else None
+        write_table(curve.table(), args.output, float_format="%.17g")
+        if fh is not None:
             json.dump(summary, fh, indent=2)
             fh.write("\n")
     return 0
