@@ -22,7 +22,7 @@ import numpy as np
 from stimuli.errors import InputError
 
 from .clicks import from_image_coords
-from .stats import group_test
+from .stats import mean_z_null, mean_z_test, t_statistic
 
 __all__ = ["simulate", "simulate_indices", "power"]
 
@@ -185,15 +185,21 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
 
 
 def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulations=200, alpha=0.05, seed=0,
-          noise=0.0, beta_sd=0.0, target=0.8):
+          noise=0.0, beta_sd=0.0, target=0.8, group_simulations=1999):
     """Power of the group test to detect `beta`, by simulation.
 
     For each simulated experiment the largest number of observers is drawn
     once and the smaller designs use its first observers (common random
     numbers, so the power curve is smooth in the number of participants).
-    The test is the one `attneave analyze` reports: a two-sided one-sample
-    t-test across participants of each participant's mean z at the clicks
-    (see :mod:`analysis.stats`).
+    The test is the one `attneave analyze` reports: the one-sample t
+    statistic across participants of each participant's mean z at the
+    clicks, referred to its Monte Carlo null under uniform clicking with the
+    same design (one-sided; see :func:`analysis.stats.mean_z_test`); an
+    experiment counts as a detection when ``p <= alpha``. The design (every
+    participant clicks every stimulus `clicks` times) is the same in every
+    experiment, so its null is simulated once per number of participants;
+    an experiment in which click noise excluded clicks gets a null of its
+    own design.
 
     Without noise a click maps back to the point it was drawn at, so the
     simulation works on point indices alone; with noise every click is
@@ -218,6 +224,8 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
         As in :func:`simulate`.
     target : float
         Power wanted; the smallest design reaching it is reported.
+    group_simulations : int
+        Monte Carlo replicates R of the null of the group test.
 
     Returns
     -------
@@ -240,23 +248,57 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     if not 0 < alpha < 1:
         raise InputError(f"--alpha must be in (0, 1), got {alpha!r}")
     _check(participants[-1], clicks, noise, beta, beta_sd)
+    if not (isinstance(group_simulations, (int, np.integer)) and group_simulations >= 1):
+        raise InputError(f"--group-simulations must be a whole number >= 1, got {group_simulations!r}")
+    R = int(group_simulations)
     ids = list(predictions)
     Z = np.stack([predictions[s].z["surprisal"] for s in ids])
     Pmax = participants[-1]
+    S = len(ids)
     sig = np.zeros((len(participants), simulations), bool)
     eff = np.zeros((len(participants), simulations))
-    for r, child in enumerate(np.random.SeedSequence(seed).spawn(simulations)):
+    children = np.random.SeedSequence(seed).spawn(simulations + 1)
+    null_rng = np.random.default_rng(children[-1])  # the experiments' streams do not depend on it
+    nulls = {}
+    for P in participants:
+        stim = np.tile(np.repeat(np.arange(S), clicks), P)
+        unit = np.repeat(np.arange(P), S * clicks)
+        nulls[P] = mean_z_null(Z, stim, unit, P, R, null_rng)
+
+    def p_full_design(P, per_p):
+        null, _, informative = nulls[P]
+        obs = t_statistic(per_p[:P][informative])
+        if np.isnan(obs):
+            return np.nan
+        tol = 1e-9 * max(1.0, abs(obs)) if np.isfinite(obs) else 0.0
+        return (1 + np.count_nonzero(null >= obs - tol)) / (1 + R)
+
+    for r, child in enumerate(children[:simulations]):
         if noise == 0:
             j, _, _ = simulate_indices(Z, Pmax, clicks, beta, child, beta_sd)
-            per_p = Z[np.arange(len(ids))[None, :, None], j].mean(axis=(1, 2))
+            per_p = Z[np.arange(S)[None, :, None], j].mean(axis=(1, 2))
+            pvals = [p_full_design(P, per_p) for P in participants]
         else:
             df, _ = simulate(predictions, Pmax, clicks, beta, child, noise=noise, beta_sd=beta_sd)
             m = map_clicks(df, predictions)
-            used = m[~m["excluded"]]
-            per_p = used.groupby("participant", sort=True)["z"].mean().reindex(sorted(df["participant"].unique())).to_numpy()
+            keep = ~m["excluded"].to_numpy()
+            pid = np.repeat(np.arange(Pmax), S * clicks)  # simulate writes rows participant by participant
+            sid = np.tile(np.repeat(np.arange(S), clicks), Pmax)
+            zc = m["z"].to_numpy(dtype=float)
+            with np.errstate(invalid="ignore", divide="ignore"):
+                per_p = (np.bincount(pid[keep], weights=zc[keep], minlength=Pmax)
+                         / np.bincount(pid[keep], minlength=Pmax))
+            pvals = []
+            for P in participants:
+                first = pid < P
+                if keep[first].all():
+                    pvals.append(p_full_design(P, per_p))
+                else:  # exclusions changed the design: a null of its own
+                    u = first & keep
+                    pvals.append(mean_z_test(Z, sid[u], pid[u], zc[u], n_units=P, replicates=R,
+                                             rng=null_rng)["p_value"])
         for i, P in enumerate(participants):
-            res = group_test(per_p[:P])
-            sig[i, r] = np.isfinite(res["p_value"]) and res["p_value"] < alpha
+            sig[i, r] = np.isfinite(pvals[i]) and pvals[i] <= alpha
             eff[i, r] = np.nanmean(per_p[:P])
     pw = sig.mean(axis=1)
     table = pd.DataFrame(
@@ -267,7 +309,9 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
         beta=float(beta), beta_sd=float(beta_sd), clicks=int(clicks), stimuli=len(ids), simulations=int(simulations),
         alpha=float(alpha), seed=int(seed), noise=float(noise), target=float(target),
         n=int(predictions[ids[0]].n), model=predictions[ids[0]].result.params["model"],
-        test="two-sided one-sample t-test of per-participant mean z",
+        group_simulations=R,
+        test=f"one-sample t statistic of per-participant mean z, Monte Carlo null under uniform clicking "
+             f"(R = {R}), one-sided, detection when p <= alpha",
         required_participants=reach[0] if reach else None,
     )
     return table, info

@@ -193,8 +193,9 @@ def group_figure(analysis):
     ax1.set_xlabel("participant (sorted)")
     ax1.set_ylabel("mean z at clicks")
     p = g["p_value"]
-    ax1.set_title(f"group: t({g['df']}) = {g['statistic'] if g['statistic'] is None else round(g['statistic'], 2)}, "
-                  f"p = {p if p is None else f'{p:.2g}'}", fontsize=10)
+    ax1.set_title(f"group: t = {g['statistic'] if g['statistic'] is None else round(g['statistic'], 2)}, "
+                  f"Monte Carlo p = {p if p is None else f'{p:.2g}'} (one-sided, R = {g.get('simulations')})",
+                  fontsize=10)
     cal = _calibration(analysis)
     if cal is not None:
         centre, obs, pred = cal

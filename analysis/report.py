@@ -60,6 +60,7 @@ DEFAULTS = dict(
     grid=1024,
     seed=0,
     level=0.95,
+    group_simulations=1999,
 )
 _BANDWIDTH_FRACTION = 0.02
 _PEAK_FRACTION = 0.02
@@ -108,7 +109,7 @@ def _positive(name, value, allow_none=True):
 
 def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, tolerance=None, bandwidth=None,
             peak_tolerance=None, permutations=1000, grid=1024, seed=0, level=0.95, A=0.25, b=None,
-            click_sd=None, predictions=None):
+            click_sd=None, predictions=None, group_simulations=1999):
     """Analyse clicks against the information predicted along the contours.
 
     Parameters
@@ -140,8 +141,9 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         correlated (the prediction is interpolated linearly between its n
         points).
     seed : int
-        Seed for the null of the mean correlation over stimuli (the only
-        random step of the analysis).
+        Seed of the random steps: the null of the mean correlation over
+        stimuli and the Monte Carlo null of the group and items tests (each
+        from its own stream derived from the seed).
     level : float
         Confidence level.
     A, b : float
@@ -155,6 +157,12 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         beta_hat is attenuated by click noise.
     predictions : dict, optional
         Precomputed :func:`analysis.mapping.predict` output (same n, model).
+    group_simulations : int
+        Monte Carlo replicates R of the null of the group test and the items
+        test (:func:`analysis.stats.mean_z_test`): each used click keeps its
+        stimulus and participant and is redrawn uniformly among the
+        stimulus's n points. The smallest possible p is ``1 / (1 + R)``;
+        0 skips the simulation (p-values None; the parametric ones remain).
 
     Returns
     -------
@@ -169,6 +177,8 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     scale = _positive("--scale", scale, allow_none=False)
     if not (isinstance(permutations, (int, np.integer)) and permutations >= 0):
         raise InputError(f"--permutations must be a whole number >= 0, got {permutations!r}")
+    if not (isinstance(group_simulations, (int, np.integer)) and group_simulations >= 0):
+        raise InputError(f"--group-simulations must be a whole number >= 0, got {group_simulations!r}")
     if not (isinstance(grid, (int, np.integer)) and grid >= 8):
         raise InputError(f"--grid must be a whole number >= 8, got {grid!r}")
     if not 0 < level < 1:
@@ -347,9 +357,18 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
 
     # ------------------------------------------------------------------ summary
     counts = {r: int((mapped["reason"] == r).sum()) for r in REASONS}
-    g_test = stats.group_test(per_p["mean_z"].to_numpy(), level=level)
+    # the Monte Carlo nulls of the group and items tests: streams of their own, so that
+    # the correlation's null above does not change with them
+    rng_g, rng_s = (np.random.default_rng(c) for c in np.random.SeedSequence(seed, spawn_key=(6,)).spawn(2))
+    g_test = stats.mean_z_test(Z, sidx, pidx, zc, n_units=G, replicates=group_simulations, rng=rng_g, level=level)
+    g_test["test"] = ("one-sample t statistic of per-participant mean z, Monte Carlo null under uniform clicking "
+                      f"(R = {int(group_simulations)})")
     g_test["effect"] = "per-participant mean z (standardised surprisal) at used clicks; 0 under uniform clicking"
-    s_test = stats.group_test(per_s.loc[~constant, "mean_z"].to_numpy(), level=level)
+    g_test["null"] = ("each used click keeps its stimulus and participant and is redrawn uniformly among the "
+                      "stimulus's n points (beta = 0); p = (1 + #{null t >= t}) / (1 + R), one-sided (greater)")
+    s_test = stats.mean_z_test(Z, sidx, sidx, zc, n_units=S, replicates=group_simulations, rng=rng_s, level=level)
+    s_test["test"] = ("one-sample t statistic of per-stimulus mean z, Monte Carlo null under uniform clicking "
+                      f"(R = {int(group_simulations)})")
     s_test["effect"] = "per-stimulus mean z at used clicks (items analysis; stimuli with constant prediction left out)"
     pb = per_p.loc[~per_p["beta_at_bound"].astype(bool), "beta_hat"].to_numpy() if G else np.empty(0)
     b_test = stats.group_test(pb, level=level)
@@ -408,6 +427,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
             peak_tolerance=dict(px=peak_tolerance, rule=f"{peak_tolerance:g} px" if peak_tolerance else
                                 f"{_PEAK_FRACTION:g} x perimeter (arc length each side)"),
             permutations=int(permutations), grid=int(grid), seed=int(seed), level=float(level),
+            group_simulations=int(group_simulations),
             click_sd=click_sd,
             choice_model="p(j) = exp(beta z_j) / sum_i exp(beta z_i) over the n points; z = standardised surprisal"
             + ("" if click_sd is None else f"; observed through Gaussian error of sd {click_sd:g} px along the contour"),
@@ -557,10 +577,13 @@ def _html(analysis, summary, images):
         ("beta_hat (pooled ML)", f"{_fmt(s['beta_hat'])}, {s['beta_ci_method']} CI "
                                  f"[{_fmt(s['beta_ci'][0])}, {_fmt(s['beta_ci'][1])}], profile CI "
                                  f"[{_fmt(s['beta_profile_ci'][0])}, {_fmt(s['beta_profile_ci'][1])}]"),
-        ("group test", f"{g['test']} of per-participant mean z: t({g['df']}) = {_fmt(g['statistic'])}, "
-                       f"p = {_fmt(g['p_value'])}, d_z = {_fmt(g['effect_size'])}, mean = {_fmt(g['mean'])}"),
-        ("items test", f"per-stimulus mean z: t({s['by_stimulus']['df']}) = {_fmt(s['by_stimulus']['statistic'])}, "
-                       f"p = {_fmt(s['by_stimulus']['p_value'])}"),
+        ("group test", f"{g['test']}: t = {_fmt(g['statistic'])} ({g['n']} participants), "
+                       f"p = {_fmt(g['p_value'])} (one-sided, greater; t distribution with {g['df']} df "
+                       f"would give {_fmt(g['p_value_parametric'])}), d_z = {_fmt(g['effect_size'])}, "
+                       f"mean = {_fmt(g['mean'])}"),
+        ("items test", f"per-stimulus mean z: t = {_fmt(s['by_stimulus']['statistic'])} "
+                       f"({s['by_stimulus']['n']} stimuli), Monte Carlo p = {_fmt(s['by_stimulus']['p_value'])} "
+                       f"(one-sided)"),
         ("Spearman (density vs surprisal)", f"mean rho = {_fmt(s['spearman']['mean_rho'])}, circular-shift p = "
                                             f"{_fmt(s['spearman']['p_value'])}; {s['spearman']['n_significant']} of "
                                             f"{s['spearman']['n_stimuli']} stimuli p < 0.05"),

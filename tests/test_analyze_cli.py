@@ -69,7 +69,15 @@ def test_analyze_writes_every_output(stimset, clicks, tmp_path, capsys):
     s = json.loads((out / "summary.json").read_text())
     for key in ("n_clicks", "n_used", "n_excluded", "exclusions", "beta_hat", "beta_ci", "group"):
         assert key in s
-    assert {"test", "statistic", "p_value", "effect_size"} <= set(s["group"])
+    assert {"test", "statistic", "p_value", "effect_size", "p_value_parametric"} <= set(s["group"])
+    assert "Monte Carlo" in s["group"]["test"] and s["group"]["simulations"] == 1999
+    assert s["group"]["alternative"] == "greater" and "wilcoxon" not in s["group"]
+    assert s["group"]["p_value"] >= 1 / 2000 and s["by_stimulus"]["p_value"] >= 1 / 2000
+    # the statistic is the one-sample t of the per-participant mean z in per_participant.csv
+    mz = pd.read_csv(out / "per_participant.csv")["mean_z"].dropna()
+    import scipy.stats
+
+    assert s["group"]["statistic"] == pytest.approx(scipy.stats.ttest_1samp(mz, 0.0).statistic, rel=1e-9)
     assert s["n_clicks"] == 8 * 8 * 5 and s["n_used"] + s["n_excluded"] == s["n_clicks"]
     assert s["group"]["p_value"] < 0.05 and s["beta_hat"] > 0
     assert set(s["models"]) == {"paper", "vonmises", "abs_curvature", "uniform"}
@@ -196,6 +204,15 @@ def test_column_mapping(stimset, clicks, tmp_path):
     a = json.loads((tmp_path / "m" / "summary.json").read_text())
     b = json.loads((tmp_path / "plain" / "summary.json").read_text())
     assert a["beta_hat"] == b["beta_hat"] and a["group"] == b["group"]
+
+
+def test_group_simulations_option(stimset, clicks, tmp_path, capsys):
+    assert _analyze(clicks, stimset, tmp_path / "r99", "--no-figures", "--group-simulations", "99") == 0
+    g = json.loads((tmp_path / "r99" / "summary.json").read_text())["group"]
+    assert g["simulations"] == 99 and "R = 99" in g["test"] and 0.01 <= g["p_value"] <= 1
+    assert "Monte Carlo p" in capsys.readouterr().out
+    assert _analyze(clicks, stimset, tmp_path / "bad", "--no-figures", "--group-simulations", "-1") == 2
+    assert "--group-simulations" in capsys.readouterr().err and not (tmp_path / "bad").exists()
 
 
 def test_unusable_click_file_exits_2_with_one_line_and_writes_nothing(stimset, tmp_path):

@@ -213,6 +213,80 @@ def test_group_test_is_the_one_sample_t_test():
     ref = scipy.stats.ttest_1samp(v[:5], 0.0)
     assert g["statistic"] == pytest.approx(ref.statistic) and g["p_value"] == pytest.approx(ref.pvalue)
     assert g["effect_size"] == pytest.approx(v[:5].mean() / v[:5].std(ddof=1)) and g["df"] == 4
+    assert "wilcoxon" not in g
+    one = stats.group_test(v, alternative="greater")
+    assert one["p_value"] == pytest.approx(ref.pvalue / 2)  # t > 0 here
+
+
+def test_t_statistic_ranks_samples_without_spread():
+    assert stats.t_statistic(np.array([0.3, -0.1, 0.5])) == pytest.approx(scipy.stats.ttest_1samp([0.3, -0.1, 0.5], 0).statistic)
+    np.testing.assert_array_equal(stats.t_statistic(np.array([[2.0, -1.0, 0.0], [2.0, -1.0, 0.0]]), axis=0),
+                                  [np.inf, -np.inf, 0.0])
+    assert np.isnan(stats.t_statistic(np.array([1.0])))
+
+
+def test_mean_z_test_statistic_and_exact_null_on_two_points():
+    # one stimulus with z = (-1, +1); P participants x 1 click. Under uniform clicking each
+    # participant's mean z is +-1 with probability 1/2, so t depends only on the number k of
+    # +1: the exact one-sided p is P(Binomial(P, 1/2) >= k) (t increases with k).
+    Z = np.array([[-1.0, 1.0]])
+    P = 8
+    unit = np.arange(P)
+    stim = np.zeros(P, np.int64)
+    z = np.array([1.0] * 6 + [-1.0] * 2)  # k = 6
+    g = stats.mean_z_test(Z, stim, unit, z, replicates=19999, rng=np.random.default_rng(0))
+    ref = scipy.stats.ttest_1samp(z, 0.0)
+    assert g["statistic"] == pytest.approx(ref.statistic)
+    assert g["p_value_parametric"] == pytest.approx(ref.pvalue / 2)
+    exact = scipy.stats.binom.sf(5, P, 0.5)  # 37/256 = 0.1445
+    assert abs(g["p_value"] - exact) < 4 * np.sqrt(exact * (1 - exact) / 19999)
+    assert g["alternative"] == "greater" and g["simulations"] == 19999 and g["n"] == P
+    # every participant on +1: t = +inf (no spread), p = P(all +1) = 1/256, never below 1/(1+R)
+    g = stats.mean_z_test(Z, stim, unit, np.ones(P), replicates=199, rng=np.random.default_rng(0))
+    assert g["statistic"] == np.inf and 1 / 200 <= g["p_value"] <= 0.05
+
+
+@pytest.fixture(scope="module")
+def spiky():
+    """Curved Attneave & Arnoult shapes through 6 random vertices: surprisal z up to ~9.5
+    at a few points, so that a participant's mean z over few clicks is strongly skewed."""
+    from stimuli.recipes import Canvas, make
+
+    shapes = {}
+    for i in range(4):
+        [_, curved] = make("attneave_polygon", 1954 + i, canvas=Canvas(width=256, height=256, margin=16),
+                           n_points=6, version="both")
+        shapes[f"a{i}"] = curved.contour.points
+    pred = predict(_set(shapes, size=(256, 256)), n=100)
+    return np.stack([p.z["surprisal"] for p in pred.values()])
+
+
+@pytest.mark.parametrize("P, K, stimuli", [(20, 1, [0, 1, 2, 3]), (30, 1, [1])])
+def test_calibrated_group_test_holds_its_level_with_few_clicks_on_spiky_stimuli(spiky, P, K, stimuli):
+    """False-positive rate of the group test under uniform clicking, small designs.
+
+    1000 simulated experiments, each with its own Monte Carlo null (R = 199), as
+    `analyze` does; reject when p <= 0.05. A correct test rejects with probability
+    10/200 = 0.05 (at most), so the count is Binomial(1000, 0.05): sd 6.9, and
+    P(rate in [0.02, 0.08]) = 0.99998. The old test (the t distribution, two-sided)
+    rejects here in 0.13-0.14 (20 x 1 x 4) and ~0.4 (30 x 1 x 1) of experiments;
+    P(Binomial(1000, 0.126) <= 80) = 2e-6, so the assertion fails for it -- checked
+    below on the same experiments."""
+    Z = spiky[stimuli]
+    S = len(stimuli)
+    rng = np.random.default_rng(2024)
+    stim = np.tile(np.repeat(np.arange(S), K), P)
+    unit = np.repeat(np.arange(P), S * K)
+    E = 1000
+    new = np.zeros(E, bool)
+    old = np.zeros(E, bool)
+    for e in range(E):
+        z = Z[stim, rng.integers(0, Z.shape[1], len(stim))]  # uniform clicking
+        g = stats.mean_z_test(Z, stim, unit, z, n_units=P, replicates=199, rng=rng)
+        new[e] = g["p_value"] <= 0.05
+        old[e] = scipy.stats.ttest_1samp(np.bincount(unit, weights=z) / np.bincount(unit), 0.0).pvalue < 0.05
+    assert 0.02 <= new.mean() <= 0.08, new.mean()
+    assert old.mean() > 0.1, old.mean()  # the stimuli do reproduce the liberal t-test
 
 
 # ------------------------------------------------------------ the predictors
@@ -306,6 +380,7 @@ def test_false_positive_rate_of_the_group_test(ten):
     table, info = power(pred, 0.0, participants=[20], clicks=10, simulations=2000, seed=5)
     fpr = table["power"].iloc[0]
     assert 0.02 <= fpr <= 0.08, fpr  # binomial sd at 0.05 is 0.005
+    assert "Monte Carlo" in info["test"] and info["group_simulations"] == 1999
 
 
 def test_power_rises_with_participants_and_beta(ten):

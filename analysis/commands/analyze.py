@@ -12,7 +12,8 @@ def add_parser(sub):
             "nearest point of its stimulus's contour in the stimulus set DIR (manifest.csv + contours/*.csv; "
             "images optional), and test whether clicks favour high-surprisal points: ML fit of "
             "p(j) ~ exp(beta*z_j) over n equally spaced points (z = standardised surprisal) with rivals, "
-            "per-participant effects tested across participants, Spearman correlation of click density "
+            "per-participant mean z tested across participants (t statistic calibrated by Monte Carlo under "
+            "uniform clicking, one-sided), Spearman correlation of click density "
             "with surprisal against circular shifts, peak hit rate, AUC, concave vs convex share. "
             "Writes OUT/clicks.csv (every row, with excluded and reason), per_stimulus.csv, "
             "per_participant.csv, models.csv, summary.json, figures/ and report.html; OUT appears "
@@ -43,7 +44,11 @@ def add_parser(sub):
     p.add_argument("--click-sd", type=float, default=None, metavar="PX",
                    help="localisation error of clicks along the contour (sd, px) built into the pooled fit of "
                         "beta; without it beta_hat is attenuated by click noise")
-    p.add_argument("--seed", type=int, default=0, help="seed of the null of the mean correlation (default 0)")
+    p.add_argument("--group-simulations", type=int, default=1999, metavar="R",
+                   help="Monte Carlo replicates of the null of the group and items tests: each used click is "
+                        "redrawn uniformly along its contour (default 1999; smallest p = 1/(R+1); 0 skips)")
+    p.add_argument("--seed", type=int, default=0,
+                   help="seed of the Monte Carlo nulls (mean correlation, group and items tests; default 0)")
     p.add_argument("--no-figures", action="store_true", help="skip the figures (report.html keeps the tables)")
     p.add_argument("--force", action="store_true", help="replace OUT if it exists")
     return p
@@ -64,6 +69,7 @@ def run(args):
         clicks, stimset, n=args.n, model=args.model, coords=args.coords, scale=args.scale,
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
         permutations=args.permutations, grid=args.grid, seed=args.seed, click_sd=args.click_sd,
+        group_simulations=args.group_simulations,
     )
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
                    inputs=dict(clicks=args.clicks, stimuli=args.stimuli))
@@ -78,7 +84,8 @@ def run(args):
         f"{s['n_clicks']} clicks, {s['n_used']} used, {s['n_excluded']} excluded"
         + (f" ({reasons})" if reasons else "")
         + f"; beta_hat = {f(s['beta_hat'])} [{f(s['beta_ci'][0])}, {f(s['beta_ci'][1])}]"
-        + f"; group t({g['df']}) = {f(g['statistic'])}, p = {f(g['p_value'])}; wrote {args.output}",
+        + f"; group t = {f(g['statistic'])} ({g['n']} participants), Monte Carlo p = {f(g['p_value'])} "
+        + f"(one-sided, R = {g['simulations']}); wrote {args.output}",
         file=sys.stdout,
     )
     for w in s["warnings"]:

@@ -22,8 +22,9 @@ def add_parser(sub):
         description=(
             "Simulate experiments with observers who follow the information model with weight beta "
             "(see 'attneave simulate') on the stimulus set DIR, analyse each as 'attneave analyze' does "
-            "(two-sided one-sample t-test across participants of per-participant mean z) and report, for "
-            "each number of participants, the share of experiments with p < alpha, and the smallest "
+            "(one-sample t statistic across participants of per-participant mean z, Monte Carlo null under "
+            "uniform clicking, one-sided) and report, for "
+            "each number of participants, the share of experiments with p <= alpha, and the smallest "
             "number reaching the target power."
         ),
     )
@@ -38,6 +39,8 @@ def add_parser(sub):
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--noise", type=float, default=0.0, metavar="PX", help="click noise sd in px (default 0; >0 is slower)")
     p.add_argument("--beta-sd", type=float, default=0.0, metavar="SD", help="between-participant sd of beta")
+    p.add_argument("--group-simulations", type=int, default=1999, metavar="R",
+                   help="Monte Carlo replicates of the group test's null, simulated once per design (default 1999)")
     p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
     p.add_argument("-o", "--output", default=None, metavar="OUT.csv", help="also write the table")
@@ -65,7 +68,7 @@ def run(args):
     pred = predict(stimset, n=args.n, model=args.model)
     table, info = power(pred, args.beta, participants=args.participants, clicks=args.clicks,
                         simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
-                        beta_sd=args.beta_sd, target=args.target)
+                        beta_sd=args.beta_sd, target=args.target, group_simulations=args.group_simulations)
     if args.output:
         write_table(table, args.output)
     print(f"beta = {info['beta']:g}, {info['stimuli']} stimuli x {info['clicks']} clicks, alpha = {info['alpha']:g}, "
