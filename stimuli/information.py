@@ -152,9 +152,17 @@ def find_peaks(u, closed=True, prominence=None):
         Indices of the peaks, highest value first.
     prominences : (K,) ndarray
         Their prominences, in the same order.
+
+    Raises
+    ------
+    InputError
+        A `prominence` that is negative, NaN or infinite.
     """
     import scipy.signal  # slow to import (about 1 s); only peak finding needs it
 
+    if prominence is not None and not (np.ndim(prominence) == 0 and 0 <= prominence < np.inf):
+        # max(nan, floor) is nan, which silently finds no peaks at all
+        raise InputError(f"prominence must be a finite number >= 0, got {prominence}")
     u = np.asarray(u, dtype=float)
     finite = np.isfinite(u)
     if not finite.any():

@@ -137,3 +137,19 @@ def test_bad_parameters():
         surprisal_paper(0.1, ds=1, n=10, A=0)
     with pytest.raises(InputError):
         surprisal(ellipse(n=100), model="bayes")
+
+
+@pytest.mark.parametrize("prominence", [float("nan"), -1.0, float("inf")])
+def test_bad_prominence_is_an_error_not_a_silent_peak_set(prominence, tmp_path, capsys):
+    # NaN used to find no peaks at all and -1 every wiggle, both with exit status 0
+    u = np.cos(np.linspace(0, 4 * np.pi, 64, endpoint=False))
+    with pytest.raises(InputError, match="prominence"):
+        find_peaks(u, prominence=prominence)
+    from analysis.cli import main
+
+    th = 2 * np.pi * np.arange(100) / 100
+    src = tmp_path / "c.csv"
+    src.write_text("x,y\n" + "".join(f"{100 + 60 * np.cos(t)},{100 + 30 * np.sin(t)}\n" for t in th))
+    out = tmp_path / "o.csv"
+    assert main(["surprisal", str(src), "-o", str(out), f"--prominence={prominence}"]) == 2
+    assert "prominence" in capsys.readouterr().err and not out.exists()
