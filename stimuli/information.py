@@ -45,10 +45,11 @@ _LN2 = np.log(2.0)
 def _check_params(n, A=None, b=None):
     if not (np.ndim(n) == 0 and n >= 1):
         raise InputError(f"n must be a positive number of points, got {n}")
-    if A is not None and not A > 0:
-        raise InputError(f"A (A') must be > 0, got {A}")
-    if b is not None and not b >= 0:
-        raise InputError(f"b must be >= 0, got {b}")
+    # infinite A or b would give -inf or NaN surprisal in every row
+    if A is not None and not 0 < A < np.inf:
+        raise InputError(f"A (A') must be a finite number > 0, got {A}")
+    if b is not None and not 0 <= b < np.inf:
+        raise InputError(f"b must be a finite number >= 0, got {b}")
 
 
 def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False):
