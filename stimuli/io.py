@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["atomic_write", "write_table", "read_table", "read_points", "as_points"]
+__all__ = ["atomic_write", "write_table", "read_text_csv", "read_table", "read_points", "as_points"]
 
 
 @contextlib.contextmanager
@@ -96,6 +96,104 @@ def write_table(table, path, float_format="%.10g"):
         df.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
 
 
+_NEWLINE = r"\r\n|\r|\n"
+
+
+def read_text_csv(path, what="a CSV file", empty="expected a header"):
+    """Read a CSV file as text, with the physical line of each row.
+
+    Every value is a ``str`` as written (leading spaces skipped). Unlike a bare
+    :func:`pandas.read_csv`, a data row with more fields than the header is
+    never read shifted (pandas would take its first field as an index):
+    empty extra fields (a delimiter at the end of every row, as some
+    exporters write) are ignored, and a non-empty one is an error naming the
+    line. Blank lines are not rows; a row of empty fields is.
+
+    Parameters
+    ----------
+    path : Path
+    what : str
+        What the file should be (for messages).
+    empty : str
+        What an empty file lacks (for messages).
+
+    Returns
+    -------
+    df : pandas.DataFrame
+        Columns as in the header (stripped), one row per non-blank record.
+    lines : (M,) ndarray of int
+        Line of the file on which each row starts (the header is line 1).
+
+    Raises
+    ------
+    InputError
+        Missing, a directory, empty, not UTF-8 text, not parseable, or a row
+        with values beyond the header.
+    """
+    import warnings
+
+    import pandas as pd
+
+    path = Path(path)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", pd.errors.ParserWarning)
+            # index_col=False: never take a first field as the index; blank lines
+            # are kept as rows here so that row i + 2 is a line number
+            df = pd.read_csv(path, dtype=str, keep_default_na=False, skipinitialspace=True, index_col=False,
+                             skip_blank_lines=False)
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a directory, expected {what}") from None
+    except OSError as exc:  # no permission, ...
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except pd.errors.EmptyDataError:
+        raise InputError(f"{path}: empty file ({empty})") from None
+    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: not a readable CSV file ({str(exc).splitlines()[0]})") from None
+    if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
+        _check_extra_fields(path)
+    df.columns = [str(c).strip() for c in df.columns]
+    # a row starts one line after the previous one ends; quoted values may hold line breaks
+    breaks = np.zeros(len(df), np.int64)
+    for c in df.columns:
+        col = df[c]
+        if len(col) and col.str.contains(r"[\r\n]", regex=True).any():
+            breaks += col.str.count(_NEWLINE).to_numpy(dtype=np.int64)
+    lines = 2 + np.arange(len(df), dtype=np.int64) + np.concatenate(([0], np.cumsum(breaks)[:-1]))[: len(df)]
+    empty_row = (df == "").all(axis=1).to_numpy() if len(df.columns) else np.ones(len(df), bool)
+    if empty_row.any():
+        blank = _blank_lines(path)
+        drop = empty_row & np.isin(lines, blank)
+        if drop.any():
+            df = df.loc[~drop].reset_index(drop=True)
+            lines = lines[~drop]
+    return df, lines
+
+
+def _blank_lines(path):
+    """Numbers (from 1) of the lines of `path` that hold only white space."""
+    import re
+
+    text = Path(path).read_text(encoding="utf-8-sig", errors="replace")
+    return np.array([i + 1 for i, ln in enumerate(re.split(_NEWLINE, text)) if not ln.strip()], dtype=np.int64)
+
+
+def _check_extra_fields(path):
+    """Raise for the first row with non-empty values beyond the header's columns."""
+    import csv
+
+    with open(path, newline="", encoding="utf-8-sig", errors="replace") as fh:
+        reader = csv.reader(fh, skipinitialspace=True)
+        n = len(next(reader, []))
+        for row in reader:
+            if len(row) > n and any(v.strip() for v in row[n:]):
+                extra = ", ".join(repr(v) for v in row[n:])
+                raise InputError(f"{path}: line {reader.line_num}: {len(row)} fields but the header has {n} "
+                                 f"(extra value(s) {extra}); add a column name to the header or remove them")
+
+
 def read_table(path, required=(), numeric=()):
     """Read a CSV file, checking that it has the columns it needs.
 
@@ -122,15 +220,7 @@ def read_table(path, required=(), numeric=()):
     import pandas as pd
 
     path = Path(path)
-    try:
-        df = pd.read_csv(path, skipinitialspace=True)
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except OSError as exc:  # a directory, no permission, ...
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except (pd.errors.ParserError, pd.errors.EmptyDataError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not a readable CSV file ({str(exc).splitlines()[0]})") from None
-    df.columns = [str(c).strip() for c in df.columns]
+    df, lines = read_text_csv(path)
     missing = [c for c in required if c not in df.columns]
     if missing:
         raise InputError(
@@ -142,7 +232,7 @@ def read_table(path, required=(), numeric=()):
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise InputError(
-                f"{path}: line {i + 2}: column {col!r} must be a finite number, got {df[col].iloc[i]!r}"
+                f"{path}: line {lines[i]}: column {col!r} must be a finite number, got {df[col].iloc[i]!r}"
             )
         df[col] = values.astype(float)
     return df

@@ -5,7 +5,7 @@ import pytest
 
 from analysis.cli import main
 from stimuli import Contour, InputError
-from stimuli.io import atomic_write, read_table
+from stimuli.io import atomic_write, read_points, read_table
 
 
 def _ellipse_csv(path):
@@ -30,7 +30,7 @@ def test_atomic_write_onto_a_directory_is_input_error(tmp_path):
 
 
 def test_read_table_of_a_directory_is_input_error(tmp_path):
-    with pytest.raises(InputError, match="cannot read"):
+    with pytest.raises(InputError, match="is a directory, expected a CSV file"):
         read_table(tmp_path)
 
 
@@ -57,3 +57,21 @@ def test_resample_refuses_absurd_point_counts(tmp_path, capsys):
     assert main(["surprisal", str(src), "-o", str(tmp_path / "o.csv"), "--spacing", "1e-9"]) == 2
     assert "n <=" in capsys.readouterr().err
     assert not (tmp_path / "o.csv").exists()
+
+
+def test_trailing_delimiters_never_shift_columns(tmp_path):
+    # pandas alone takes the first field as an index when rows are longer than the header
+    f = tmp_path / "trailing.csv"
+    f.write_text("x,y\n10,10,\n10,50,\n50,50,\n50,10,\n")
+    assert read_points(f).tolist() == [[10, 10], [10, 50], [50, 50], [50, 10]]
+    g = tmp_path / "extra.csv"
+    g.write_text("x,y\n10,10,1\n10,50,1\n50,50,1\n")
+    with pytest.raises(InputError, match=r"extra.csv: line 2: 3 fields but the header has 2"):
+        read_points(g)
+
+
+def test_line_numbers_count_blank_lines(tmp_path):
+    f = tmp_path / "blank.csv"
+    f.write_text("x,y\n10,10\n\n10,50\n50,zz\n")
+    with pytest.raises(InputError, match=r"line 5: column 'y' must be a finite number, got 'zz'"):
+        read_points(f)
