@@ -72,6 +72,8 @@ def test_analyze_writes_every_output(stimset, clicks, tmp_path, capsys):
     assert {"test", "statistic", "p_value", "effect_size", "p_value_parametric"} <= set(s["group"])
     assert "Monte Carlo" in s["group"]["test"] and s["group"]["simulations"] == 1999
     assert s["group"]["alternative"] == "greater" and "wilcoxon" not in s["group"]
+    # the t-test of per-participant betas is not calibrated: descriptive, without a p_value
+    assert "p_value" not in s["participant_beta"] and "p_value_parametric" in s["participant_beta"]
     assert s["group"]["p_value"] >= 1 / 2000 and s["by_stimulus"]["p_value"] >= 1 / 2000
     # the statistic is the one-sample t of the per-participant mean z in per_participant.csv
     mz = pd.read_csv(out / "per_participant.csv")["mean_z"].dropna()
