@@ -501,6 +501,15 @@ def place(contours, centre, canvas, placement="fit"):
     else:
         raise InputError(f"placement: expected 'fit' or 'native', got {placement!r}")
     placed = [c.transformed(scale, offset) for c in contours]
+    if placement == "native":
+        # a shape cut off by the image edge is not the stimulus the contour file describes
+        lo = np.min([c.points.min(axis=0) for c in placed], axis=0)
+        hi = np.max([c.points.max(axis=0) for c in placed], axis=0)
+        if lo[0] < -0.5 or lo[1] < -0.5 or hi[0] > canvas.width - 0.5 or hi[1] > canvas.height - 0.5:
+            raise InputError(
+                f"placement: native: the shape spans x {lo[0]:.1f}..{hi[0]:.1f}, y {lo[1]:.1f}..{hi[1]:.1f} px, "
+                f"outside the {canvas.width}x{canvas.height} canvas; make it smaller, the canvas larger, "
+                f"or use placement: fit")
     return placed, dict(placement=placement, scale=scale, offset=[float(offset[0]), float(offset[1])])
 
 

@@ -596,7 +596,10 @@ class PolynomialSpline:
     def sample(self, samples=32):
         """Sample each interval between consecutive points at `samples`
         equally spaced parameter values, both ends included; arc length by
-        5-point Gauss-Legendre quadrature of the speed between samples."""
+        5-point Gauss-Legendre quadrature of the speed between samples.
+
+        Curvature is NaN where the parametric speed vanishes (a cusp, e.g.
+        when points double back): it is undefined there."""
         samples = int(samples)
         if samples < 2:
             raise InputError(f"samples: expected at least 2 per segment, got {samples}")
@@ -607,7 +610,8 @@ class PolynomialSpline:
         d1 = self.spline(uf, 1)
         d2 = self.spline(uf, 2)
         speed2 = d1[:, 0] ** 2 + d1[:, 1] ** 2
-        k = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed2**1.5
+        with np.errstate(divide="ignore", invalid="ignore"):  # a cusp: k undefined, NaN
+            k = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed2**1.5
         # arc length between successive samples (per segment, then chained)
         g, w = np.polynomial.legendre.leggauss(5)
         a, b = u[:, :-1], u[:, 1:]

@@ -482,3 +482,13 @@ def test_cli_bad_arguments_exit_2(tmp_path, capsys):
     (sub / "good.png").write_bytes((tmp_path / "good.png").read_bytes())
     assert main(["extract", str(tmp_path / "good.png"), str(sub / "good.png"), "-o", str(tmp_path / "o")]) == 2
     assert "collide" in capsys.readouterr().err
+
+
+def test_cli_threshold_nan_is_a_usage_error(tmp_path):
+    from analysis.cli import main
+
+    img = tmp_path / "a.png"
+    import cv2
+
+    cv2.imwrite(str(img), np.full((20, 20), 255, np.uint8))
+    assert main(["extract", str(img), "-o", str(tmp_path / "out"), "--threshold", "nan"]) == 2

@@ -309,3 +309,11 @@ def test_from_image_recipe(tmp_path):
     x0, y0, x1, y1 = it.contour.bbox
     assert x1 - x0 == pytest.approx(100, abs=1e-6) and y1 - y0 == pytest.approx(100, rel=0.02)
     assert it.params["shape"]["path"] == str(path)
+
+
+def test_native_placement_outside_the_canvas_is_an_error():
+    from stimuli import recipes
+
+    canvas = recipes.Canvas(64, 64, 4)
+    with pytest.raises(InputError, match=r"placement: native: .* outside the 64x64 canvas"):
+        recipes.make("radial_frequency", 1, canvas=canvas, placement="native", r0=500)

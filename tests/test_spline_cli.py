@@ -128,3 +128,19 @@ def test_unwritable_summary_leaves_no_output(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "s.json" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.csv"]
+
+
+def test_cusp_in_a_polynomial_spline_is_nan_without_warnings(tmp_path):
+    import subprocess
+    import sys
+
+    src = tmp_path / "back.csv"
+    src.write_text("x,y\n0,0\n10,0\n0,0\n5,5\n")  # doubles back: the cubic has a cusp
+    out = tmp_path / "o.csv"
+    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "analysis.cli", "spline", str(src),
+                           "-o", str(out), "--method", "cubic"], capture_output=True, text=True)
+    assert "RuntimeWarning" not in proc.stderr
+    assert proc.returncode == 0, proc.stderr
+    import pandas as pd
+
+    assert pd.read_csv(out)["curvature"].isna().any()  # undefined at the cusp, and said so

@@ -33,6 +33,8 @@ same names). Every file is written under a temporary name and renamed.
 
 from __future__ import annotations
 
+import math
+
 OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
 SUMMARY_COLUMNS = (
     "image", "status", "reason", "n_points", "perimeter", "area",
@@ -90,6 +92,8 @@ def add_parser(sub):
 def _check_args(args):
     from stimuli.errors import InputError
 
+    if args.threshold is not None and not math.isfinite(args.threshold):
+        raise InputError(f"--threshold must be a finite number, got {args.threshold}")
     if args.method == "threshold" and args.threshold is None:
         raise InputError("--method threshold needs --threshold V (the edge grey level in the image's units)")
     if args.n is not None and args.n < 3:
