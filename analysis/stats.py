@@ -706,7 +706,8 @@ def group_test(values, level=0.95, alternative="two-sided"):
     if n >= 2:
         sd = float(v.std(ddof=1))
         out["sd"] = sd
-        if sd > 0:
+        # a spread at rounding level is no spread: the t statistic would be noise
+        if sd > 1e-12 * max(1.0, abs(float(v.mean()))):
             res = scipy.stats.ttest_1samp(v, 0.0, alternative=alternative)
             out["statistic"] = float(res.statistic)
             out["p_value"] = float(res.pvalue)
