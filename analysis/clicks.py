@@ -135,8 +135,6 @@ def read_clicks(path, columns=None):
         required column (the message names the file, the missing columns and
         the columns found).
     """
-    import pandas as pd
-
     path = Path(path)
     mapping = parse_columns(columns)
     df, lines = read_text_csv(path, what="a CSV click file",

@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.io import as_number
 
 from . import stats
 from .mapping import DEFAULT_TOLERANCE_FRACTION, PREDICTORS, REASONS, map_clicks, predict
@@ -98,13 +99,7 @@ class Analysis:
 def _positive(name, value, allow_none=True):
     if value is None and allow_none:
         return None
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a positive number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{name} must be a positive number, got {value!r}")
-    return v
+    return as_number(value, name, gt=0)
 
 
 def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, tolerance=None, bandwidth=None,

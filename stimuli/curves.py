@@ -51,6 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import InputError
+from .io import as_number
 
 __all__ = [
     "Curve",
@@ -125,14 +126,6 @@ class Curve:
 # --------------------------------------------------------------------------- helpers
 
 
-def _finite(name, value):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be a number, got {value!r}") from None
-    if not np.isfinite(v):
-        raise InputError(f"{name} must be finite, got {value!r}")
-    return v
 
 
 def _grid(s_start, s_end, num, s=None):
@@ -144,8 +137,8 @@ def _grid(s_start, s_end, num, s=None):
         if np.any(np.diff(s) <= 0):
             raise InputError("s must be strictly increasing")
         return s
-    s_start = _finite("s_start", s_start)
-    s_end = _finite("s_end", s_end)
+    s_start = as_number(s_start, "s_start")
+    s_end = as_number(s_end, "s_end")
     if not s_end > s_start:
         raise InputError(f"s_end must be greater than s_start, got s_start={s_start:g}, s_end={s_end:g}")
     if isinstance(num, bool) or not float(num).is_integer() or num < 2:
@@ -361,8 +354,8 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     """
     from scipy.special import fresnel
 
-    k0 = _finite("k0", k0)
-    c = _finite("c", c)
+    k0 = as_number(k0, "k0")
+    c = as_number(c, "c")
     grid = _grid(s_start, s_end, num, s)
     s0 = grid[0]
     theta = k0 * (grid - s0) + 0.5 * c * (grid - s0) * (grid + s0)
@@ -437,8 +430,8 @@ def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=
     ``m = 1/2``, ``rho = a sqrt(s)`` is the involute of a circle of radius
     ``R = a**2 / 2`` (``rho**2 = 2 R s``), unwound from the circle at s = 0.
     """
-    a = _finite("a", a)
-    m = _finite("m", m)
+    a = as_number(a, "a")
+    m = as_number(m, "m")
     if a == 0:
         raise InputError("pseudospiral: a must be nonzero (rho = a*s^m)")
     grid = _grid(s_start, s_end, num, s)
@@ -512,8 +505,8 @@ def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None
     InputError
         If the interval leaves the domain.
     """
-    alpha = _finite("alpha", alpha)
-    lam = _finite("lam", lam)
+    alpha = as_number(alpha, "alpha")
+    lam = as_number(lam, "lam")
     grid = _grid(s_start, s_end, num, s)
     s0, s1 = float(grid[0]), float(grid[-1])
 
@@ -612,10 +605,10 @@ def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, 
     from scipy.integrate import quad_vec
     from scipy.special import hyp2f1
 
-    a = _finite("a", a)
-    b = _finite("b", b)
-    c = _finite("c", c)
-    theta_end = _finite("theta_end", theta_end)
+    a = as_number(a, "a")
+    b = as_number(b, "b")
+    c = as_number(c, "c")
+    theta_end = as_number(theta_end, "theta_end")
     if not (c > b > 0 and a > 0):
         raise InputError(f"superspiral: need c > b > 0 and a > 0, got a={a:g}, b={b:g}, c={c:g}")
     if not theta_end > 0:
@@ -658,8 +651,8 @@ def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, 
 
 
 def _check_C_n(C, n):
-    C = _finite("C", C)
-    n = _finite("n", n)
+    C = as_number(C, "C")
+    n = as_number(n, "n")
     if not n > 0:
         raise InputError(f"constant-info: n must be > 0, got {n:g}")
     return C, n
@@ -769,7 +762,7 @@ def constant_info(C=0.0, n=10, s_start=None, s_end=5.0, num=201, *, s=None, rtol
     """
     C, n = _check_C_n(C, n)
     if s is None and s_start is None:
-        s_end_f = _finite("s_end", s_end)
+        s_end_f = as_number(s_end, "s_end")
         s_start = max(np.sqrt(abs(C)) * n, 1e-3 * s_end_f)
     grid = _grid(s_start, s_end, num, s)
     constant_info_curvature(grid, C, n)  # domain check with a clear message

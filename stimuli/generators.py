@@ -30,6 +30,7 @@ import numpy as np
 
 from .contour import Contour
 from .errors import InputError
+from .io import as_number
 
 __all__ = [
     "attneave_polygon",
@@ -62,24 +63,6 @@ def _int(value, name, lo=None, hi=None):
         raise InputError(f"{name}: must be >= {lo}, got {value!r}")
     if hi is not None and v > hi:
         raise InputError(f"{name}: must be <= {hi}, got {value!r}")
-    return v
-
-
-def _float(value, name, gt=None, ge=None, lt=None, le=None):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: must be a number, got {value!r}") from None
-    if not math.isfinite(v):
-        raise InputError(f"{name}: must be a finite number, got {value!r}")
-    if gt is not None and not v > gt:
-        raise InputError(f"{name}: must be > {gt}, got {value!r}")
-    if ge is not None and not v >= ge:
-        raise InputError(f"{name}: must be >= {ge}, got {value!r}")
-    if lt is not None and not v < lt:
-        raise InputError(f"{name}: must be < {lt}, got {value!r}")
-    if le is not None and not v <= le:
-        raise InputError(f"{name}: must be <= {le}, got {value!r}")
     return v
 
 
@@ -184,8 +167,8 @@ def _check_attneave(n_points, grid, min_angle, max_angle, max_tries):
     grid = _int(grid, "grid", lo=2)
     if n_points > grid * grid:
         raise InputError(f"n_points: a {grid}x{grid} grid has only {grid * grid} points, got {n_points}")
-    min_angle = _float(min_angle, "min_angle", ge=0, lt=180)
-    max_angle = _float(max_angle, "max_angle", gt=0, le=180)
+    min_angle = as_number(min_angle, "min_angle", ge=0, lt=180)
+    max_angle = as_number(max_angle, "max_angle", gt=0, le=180)
     if not min_angle < max_angle:
         raise InputError(f"min_angle: must be < max_angle ({max_angle}), got {min_angle}")
     max_tries = _int(max_tries, "max_tries", lo=1)
@@ -491,9 +474,9 @@ def radial_frequency(rng=None, r0=100.0, frequency=5, amplitude=0.1, phase=None,
     >>> float(np.hypot(*c.points[0])), p["frequency"]
     (100.0, [3])
     """
-    r0 = _float(r0, "r0", gt=0)
+    r0 = as_number(r0, "r0", gt=0)
     freqs = [_int(f, f"frequency[{i}]", lo=1) for i, f in enumerate(_as_list(frequency, "frequency"))]
-    amps = [_float(a, f"amplitude[{i}]", ge=0) for i, a in enumerate(_as_list(amplitude, "amplitude"))]
+    amps = [as_number(a, f"amplitude[{i}]", ge=0) for i, a in enumerate(_as_list(amplitude, "amplitude"))]
     if len(freqs) == 0:
         raise InputError("frequency: give at least one radial frequency")
     if len(amps) != len(freqs):
@@ -503,7 +486,7 @@ def radial_frequency(rng=None, r0=100.0, frequency=5, amplitude=0.1, phase=None,
     if phase is None:
         phases = [float(x) for x in _rng(rng).uniform(0.0, 2 * np.pi, size=len(freqs))]
     else:
-        phases = [_float(x, f"phase[{i}]") for i, x in enumerate(_as_list(phase, "phase"))]
+        phases = [as_number(x, f"phase[{i}]") for i, x in enumerate(_as_list(phase, "phase"))]
         if len(phases) != len(freqs):
             raise InputError(f"phase: give one phase per frequency ({len(freqs)}), got {len(phases)}")
     n = _int(n, "n", lo=8)
@@ -563,9 +546,9 @@ def fourier_shape(rng, kind="radial", r0=100.0, amplitude=0.1, falloff=1.5, harm
     rng = _rng(rng)
     if kind not in ("radial", "elliptic"):
         raise InputError(f"kind: expected 'radial' or 'elliptic', got {kind!r}")
-    r0 = _float(r0, "r0", gt=0)
-    amplitude = _float(amplitude, "amplitude", ge=0)
-    falloff = _float(falloff, "falloff", ge=0)
+    r0 = as_number(r0, "r0", gt=0)
+    amplitude = as_number(amplitude, "amplitude", ge=0)
+    falloff = as_number(falloff, "falloff", ge=0)
     K = _int(harmonics, "harmonics", lo=2)
     n = _int(n, "n", lo=8)
     max_tries = _int(max_tries, "max_tries", lo=1)
@@ -647,9 +630,9 @@ def superformula(m=5, n1=2.0, n2=7.0, n3=7.0, a=1.0, b=1.0, scale=100.0, n=1024)
            a wide range of natural and abstract shapes. American Journal of
            Botany 90(3), 333-338.
     """
-    m = _float(m, "m", ge=0)
-    n1, n2, n3, a, b = (_float(v, name, gt=0) for v, name in zip((n1, n2, n3, a, b), ("n1", "n2", "n3", "a", "b")))
-    scale = _float(scale, "scale", gt=0)
+    m = as_number(m, "m", ge=0)
+    n1, n2, n3, a, b = (as_number(v, name, gt=0) for v, name in zip((n1, n2, n3, a, b), ("n1", "n2", "n3", "a", "b")))
+    scale = as_number(scale, "scale", gt=0)
     n = _int(n, "n", lo=8)
     # one turn closes only if r and its one-sided slopes agree at 0 and 2*pi
     probe = np.array([0.0, 1e-3, 2 * np.pi, 2 * np.pi + 1e-3])
@@ -699,9 +682,9 @@ def blob(rng, r0=100.0, sigma=0.2, width=0.6, n=1024):
         drawn, before the scaling to `sigma`).
     """
     rng = _rng(rng)
-    r0 = _float(r0, "r0", gt=0)
-    sigma = _float(sigma, "sigma", ge=0)
-    width = _float(width, "width", gt=0)
+    r0 = as_number(r0, "r0", gt=0)
+    sigma = as_number(sigma, "sigma", ge=0)
+    width = as_number(width, "width", gt=0)
     n = _int(n, "n", lo=8)
     kmax = max(2, int(math.floor(math.sqrt(2 * math.log(1e3)) / width)))
     kmax = min(kmax, n // 4)

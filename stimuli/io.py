@@ -15,7 +15,7 @@ import numpy as np
 
 from .errors import InputError
 
-__all__ = ["atomic_write", "write_table", "read_text_csv", "read_table", "read_points", "as_points"]
+__all__ = ["atomic_write", "write_table", "read_text_csv", "read_table", "read_points", "as_points", "as_number"]
 
 
 @contextlib.contextmanager
@@ -271,3 +271,28 @@ def as_points(obj, what="points", min_points=1):
     if len(pts) < min_points:
         raise InputError(f"{what}: need at least {min_points} point(s), got {len(pts)}")
     return pts
+
+
+def as_number(value, name, gt=None, ge=None, lt=None, le=None):
+    """Check and convert one finite number, optionally bounded.
+
+    Raises
+    ------
+    InputError
+        One line naming `name`: not a number, not finite, or out of bounds.
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: must be a number, got {value!r}") from None
+    if not np.isfinite(v):
+        raise InputError(f"{name}: must be a finite number, got {value!r}")
+    if gt is not None and not v > gt:
+        raise InputError(f"{name}: must be > {gt}, got {value!r}")
+    if ge is not None and not v >= ge:
+        raise InputError(f"{name}: must be >= {ge}, got {value!r}")
+    if lt is not None and not v < lt:
+        raise InputError(f"{name}: must be < {lt}, got {value!r}")
+    if le is not None and not v <= le:
+        raise InputError(f"{name}: must be <= {le}, got {value!r}")
+    return v

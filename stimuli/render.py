@@ -65,7 +65,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import InputError
-from .io import as_points, atomic_write
+from .io import as_number, as_points, atomic_write
 
 __all__ = [
     "coverage",
@@ -590,18 +590,8 @@ def disc_coverage(centers, radius, shape):
     """
     h, w = _resolve_shape(shape=shape)
     centers = as_points(centers, "centers")
-    radius = _positive(radius, "radius")
+    radius = as_number(radius, "radius", gt=0)
     return _dense(_box_coverage(_disc_acc(centers, radius, h, w)), h, w)
-
-
-def _positive(value, name):
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: expected a number, got {value!r}") from None
-    if not (math.isfinite(v) and v > 0):
-        raise InputError(f"{name}: must be a finite number > 0, got {value!r}")
-    return v
 
 
 # ---------------------------------------------------------------------------
@@ -902,13 +892,13 @@ def render_outline(
     pts = as_points(points, "points", min_points=3 if closed else 2)
     if closed and len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
         pts = pts[:-1]
-    width = _positive(width, "width")
+    width = as_number(width, "width", gt=0)
     h, w = _resolve_shape(size, shape)
     f, g = _colours(figure, ground)
     dt = _resolve_dtype(dtype)
     join = _choice(join, _JOINS, "join")
     cap = _choice(cap, _CAPS, "cap")
-    mitre_limit = _positive(mitre_limit, "mitre_limit")
+    mitre_limit = as_number(mitre_limit, "mitre_limit", gt=0)
     q = _quad_segs(width / 2, quad_segs)
     geom = shapely.LinearRing(pts) if closed else shapely.LineString(pts)
     stroke = _stroke([geom], width, join, cap, mitre_limit, q)
@@ -975,13 +965,13 @@ def render_fragments(
     except TypeError:
         raise InputError("polylines: expected a list of (M, 2) arrays") from None
     lines = [as_points(p, f"polylines[{k}]", min_points=2) for k, p in enumerate(items)]
-    width = _positive(width, "width")
+    width = as_number(width, "width", gt=0)
     h, w = _resolve_shape(size, shape)
     f, g = _colours(figure, ground)
     dt = _resolve_dtype(dtype)
     cap = _choice(cap, _CAPS, "cap")
     join = _choice(join, _JOINS, "join")
-    mitre_limit = _positive(mitre_limit, "mitre_limit")
+    mitre_limit = as_number(mitre_limit, "mitre_limit", gt=0)
     q = _quad_segs(width / 2, quad_segs)
     if lines:
         stroke = _stroke([shapely.LineString(p) for p in lines], width, join, cap, mitre_limit, q)
@@ -1025,7 +1015,7 @@ def render_dots(points, radius, size=None, *, shape=None, figure=0.0, ground=1.0
     except in the few pixels that both circles cross.
     """
     centers = as_points(points, "points")
-    radius = _positive(radius, "radius")
+    radius = as_number(radius, "radius", gt=0)
     h, w = _resolve_shape(size, shape)
     f, g = _colours(figure, ground)
     dt = _resolve_dtype(dtype)
@@ -1090,7 +1080,7 @@ def fit_to_image(points, size, margin=None, scale=None):
         with np.errstate(divide="ignore"):
             scale = float(np.min(np.where(extent > 0, room / np.where(extent > 0, extent, 1.0), np.inf)))
     else:
-        scale = _positive(scale, "scale")
+        scale = as_number(scale, "scale", gt=0)
     centre = np.array([(w - 1) / 2.0, (h - 1) / 2.0])
     offset = centre - scale * (lo + hi) / 2.0
     return {
