@@ -1,8 +1,11 @@
 """The ``attneave`` command line.
 
-Each command lives in its own module under :mod:`analysis.commands`, which
-defines ``add_parser(subparsers)`` and ``run(args) -> int``. Heavy imports
-happen inside ``run`` so that ``attneave --help`` stays fast.
+Each package owns its commands: :mod:`stimuli.commands` those about shapes
+(surprisal, curve, spline, generate, extract), :mod:`analysis.commands` those
+about people (figures, analyze, simulate, power). Each command module defines
+``add_parser(subparsers)`` and ``run(args) -> int``; this module only
+assembles them. Heavy imports happen inside ``run`` so that ``attneave
+--help`` stays fast.
 
 Exit status: 0 on success, 1 when a batch finished but some items failed,
 2 on bad input (one line on stderr, no traceback), 130 on Ctrl-C.
@@ -16,17 +19,17 @@ import sys
 
 from stimuli.errors import InputError
 
-COMMANDS = (
-    "surprisal",
-    "curve",
-    "figures",
-    "spline",
-    "generate",
-    "extract",
-    "analyze",
-    "simulate",
-    "power",
-)
+COMMANDS = {
+    "surprisal": "stimuli.commands.surprisal",
+    "curve": "stimuli.commands.curve",
+    "figures": "analysis.commands.figures",
+    "spline": "stimuli.commands.spline",
+    "generate": "stimuli.commands.generate",
+    "extract": "stimuli.commands.extract",
+    "analyze": "analysis.commands.analyze",
+    "simulate": "analysis.commands.simulate",
+    "power": "analysis.commands.power",
+}
 
 
 class _Parser(argparse.ArgumentParser):
@@ -45,8 +48,8 @@ def build_parser():
 
     parser.add_argument("--version", action="version", version=f"attneave {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=_Parser)
-    for name in COMMANDS:
-        module = importlib.import_module(f"analysis.commands.{name}")
+    for name, module_name in COMMANDS.items():
+        module = importlib.import_module(module_name)
         p = module.add_parser(sub)
         p.set_defaults(func=module.run)
     return parser

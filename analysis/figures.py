@@ -68,7 +68,7 @@ def _ds():
 
 def _u(k, b):
     """Eq. 5 along curvature `k` with the paper's A', L, n."""
-    from stimuli.information import surprisal_paper
+    from stimuli.geometry.information import surprisal_paper
 
     ds = _ds()
     return surprisal_paper(turning_angle=np.asarray(k) * ds, ds=ds, n=PAPER["n"], A=PAPER["A"], b=b, closed=True)
@@ -194,7 +194,7 @@ def fig4(outdir, delta=0.01):
 
 
 def _eq7_s(C, n=EQ7_N, s_end=EQ7_S_END, num=2001):
-    from stimuli.curves import constant_info_domain
+    from stimuli.curves.natural import constant_info_domain
 
     s_min = constant_info_domain(C, n)
     if s_min == 0:
@@ -206,7 +206,7 @@ def _eq7_s(C, n=EQ7_N, s_end=EQ7_S_END, num=2001):
 
 
 def _eq7_figure(outdir, Cs, number, name):
-    from stimuli.curves import constant_info_curvature, constant_info_domain
+    from stimuli.curves.natural import constant_info_curvature, constant_info_domain
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4.2))
@@ -254,8 +254,8 @@ def fig6(outdir):
 
 def fig_eq7_u(outdir):
     """Eq. 5 along eq. 7's curvature with ds = s/n: constant u = -ln A' - b C."""
-    from stimuli.curves import constant_info_curvature
-    from stimuli.information import surprisal_paper
+    from stimuli.curves.natural import constant_info_curvature
+    from stimuli.geometry.information import surprisal_paper
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(8, 5))
@@ -283,7 +283,7 @@ def fig_eq7_u(outdir):
 
 def fig_curves(outdir):
     """Gallery of the paper's curve families (y-up coordinates)."""
-    from stimuli import curves
+    from stimuli.curves import natural as curves
 
     plt = _plt()
     fig, axes = plt.subplots(2, 3, figsize=(11, 8))
@@ -344,7 +344,7 @@ def fig_curves(outdir):
     fig.tight_layout()
     path = save_png(fig, Path(outdir) / "fig_curves.png")
     return [(path, (
-        "The curve families of sections 2.2 and 3 from `stimuli.curves` (y-up coordinates, each "
+        "The curve families of sections 2.2 and 3 from `stimuli.curves.natural` (y-up coordinates, each "
         "starting at the origin, grey dot, heading along +x): clothoids, pseudospirals (m = 1 "
         "logarithmic spiral, m = -1 Cornu spiral, m = 1/2 involute of a circle), log-aesthetic "
         "curves (alpha = -1 clothoid, 0 Nielsen's spiral, 1 logarithmic spiral, 2 involute), "
@@ -354,7 +354,7 @@ def fig_curves(outdir):
 
 #: Figure makers run by :func:`make_figures`, in order. Each takes the output
 #: directory and returns ``[(path, description), ...]``. Append new makers
-#: here (e.g. the QIC-spline Fig. 10 analogue from ``stimuli.splines``).
+#: here (e.g. the QIC-spline Fig. 10 analogue from ``stimuli.curves.splines``).
 FIGURE_MAKERS = [fig1, fig2, fig3, fig4, fig5, fig6, fig_eq7_u, fig_curves]
 
 from analysis.spline_plots import fig10_maker  # noqa: E402  (QIC-spline Fig. 10 analogue)

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.information import MODELS, surprisal
+from stimuli.geometry.information import MODELS, surprisal
 
 from .clicks import parse_coordinates, to_image_coords
 from .stats import midrank_percentile, point_index, standardize

@@ -128,7 +128,7 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
     Examples
     --------
     >>> import numpy as np
-    >>> from analysis.stimulus_set import StimulusSet
+    >>> from stimuli.stimulus_set import StimulusSet
     >>> from analysis.mapping import predict
     >>> from stimuli import Contour
     >>> th = np.linspace(0, 2 * np.pi, 200, endpoint=False)

@@ -113,7 +113,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         Columns ``participant, stimulus_id, x, y`` (text or numbers) and any
         others (kept), e.g. from :func:`analysis.clicks.read_clicks`.
     stimset : StimulusSet
-        From :func:`analysis.stimulus_set.read_stimulus_set`.
+        From :func:`stimuli.stimulus_set.read_stimulus_set`.
     n : int
         Equally spaced points per contour for the prediction.
     model : {'paper', 'vonmises'}

@@ -105,7 +105,7 @@ def plot_curvature(ax, curve, color="k", mark_extrema=True, label=None, rtol=1e-
     ax : matplotlib Axes
     curve : stimuli.curve_metrics.SampledCurve
     """
-    from stimuli.curve_metrics import extrema_indices, segment_slices
+    from stimuli.curves.metrics import extrema_indices, segment_slices
 
     for i, sl in enumerate(segment_slices(curve.segment)):
         ax.plot(curve.s[sl], curve.curvature[sl], color=color, lw=1.0, label=label if i == 0 else None)
@@ -124,7 +124,7 @@ def plot_curvature(ax, curve, color="k", mark_extrema=True, label=None, rtol=1e-
 def plot_spline(ax, curve, points, color="k", mark_extrema=True, rtol=1e-9):
     """The curve in image coordinates (y down), its points and its interior
     curvature extrema (red)."""
-    from stimuli.curve_metrics import extrema_indices
+    from stimuli.curves.metrics import extrema_indices
 
     ax.plot(curve.x, curve.y, color=color, lw=1.0)
     ax.plot(points[:, 0], points[:, 1], "o", ms=3, mfc="white", mec="tab:blue", zorder=3)
@@ -141,8 +141,8 @@ def plot_spline(ax, curve, points, color="k", mark_extrema=True, rtol=1e-9):
 
 def _fig10(outdir):
     from analysis.figures import _plt, save_png
-    from stimuli.curve_metrics import curve_metrics
-    from stimuli.splines import fit_spline
+    from stimuli.curves.metrics import curve_metrics
+    from stimuli.curves.splines import fit_spline
 
     plt = _plt()
     P = load_bird30()

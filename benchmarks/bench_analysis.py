@@ -56,7 +56,7 @@ from analysis.clicks import read_clicks
 from analysis.mapping import predict
 from analysis.observers import simulate
 from analysis.report import analyze
-from analysis.stimulus_set import read_stimulus_set, write_stimulus_set
+from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 from stimuli.io import write_table
 
 

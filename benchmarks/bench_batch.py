@@ -56,7 +56,7 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=3, help="interleaved runs of each; the best is kept (default 3)")
     args = ap.parse_args(argv)
 
-    from stimuli.batch import run_batch
+    from stimuli.batch.runner import run_batch
 
     r_poly = args.n // 12  # 4 cells
     r_rf = args.n // 12  # 4 cells

@@ -41,7 +41,7 @@ def photo_like(size=1000, seed=0, noise=6.0):
 
     Returns (uint8 RGB image, true outline as an (M, 2) ring in pixels).
     """
-    from stimuli.render import coverage
+    from stimuli.render.core import coverage
 
     rng = np.random.default_rng(seed)
     h = w = size
@@ -85,9 +85,9 @@ def main(argv=None):
     import cv2
     from skimage.measure import find_contours
 
-    from stimuli.extract import describe, extract
+    from stimuli.extraction.core import describe, extract
 
-    from stimuli.contour import Contour
+    from stimuli.geometry.contour import Contour
 
     img, ring = photo_like(args.size, noise=args.noise)
     grey = img[:, :, :3].astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)

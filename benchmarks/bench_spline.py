@@ -32,7 +32,7 @@ import time
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from stimuli.splines import qic_spline
+from stimuli.curves.splines import qic_spline
 
 
 def smooth_closed(rng, n, size=400.0):

@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from stimuli import Contour, surprisal
-from stimuli.information import surprisal_from_points
+from stimuli.geometry.information import surprisal_from_points
 
 
 def bare_numpy(p, A=0.25, b=1.0):

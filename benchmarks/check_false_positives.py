@@ -57,7 +57,7 @@ import scipy.stats
 from analysis.mapping import predict
 from analysis.observers import simulate
 from analysis.report import analyze
-from analysis.stimulus_set import StimulusSet, read_stimulus_set
+from stimuli.stimulus_set import StimulusSet, read_stimulus_set
 from stimuli import Contour
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -49,8 +49,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     from stimuli.errors import InputError
-    from stimuli.extract import IMAGE_SUFFIXES, describe, extract, read_image
-    from stimuli.render import coverage
+    from stimuli.extraction.core import IMAGE_SUFFIXES, describe, extract, read_image
+    from stimuli.render.core import coverage
 
     data = Path(args.data)
     files = sorted(p for p in data.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) if data.is_dir() else []

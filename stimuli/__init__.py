@@ -2,42 +2,51 @@
 
 Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down,
 pixel centres at integer coordinates). See DESIGN.md for every convention.
+
+Sub-packages, each named after what it holds:
+
+``geometry``
+    :class:`Contour` and the information model (eq. 4-7).
+``curves``
+    Natural-equation curves, Euler spirals, log-aesthetic curves, splines
+    and their metrics.
+``shapes``
+    Stimulus generators, deformations, information-guided stimuli.
+``render``
+    The exact-coverage rasteriser, strokes, placement, PNG and SVG files.
+``extraction``
+    Contours from images: reading, segmentation, sub-pixel tracing, scale
+    space.
+``batch``
+    YAML batch configs, recipes and the batch runner.
+
+:mod:`stimuli.stimulus_set` owns the stimulus-set directory format.
+Names below are imported on first use, so ``import stimuli`` is cheap.
 """
 
 __version__ = "0.1.0"
 
-from .contour import Contour, turning_angles  # noqa: E402
-from .errors import InputError  # noqa: E402
-from .information import (  # noqa: E402
-    find_peaks,
-    surprisal,
-    surprisal_paper,
-    surprisal_vonmises,
-)
-from .splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline  # noqa: E402
-from . import curves, recipes  # noqa: E402
-from .extract import describe, extract, extract_contours, read_image  # noqa: E402
-from .render import coverage, fit_to_image, render_silhouette  # noqa: E402
+from stimuli._lazy import attach as _attach
 
-__all__ = [
-    "ConvergenceError",
-    "Contour",
-    "coverage",
-    "curves",
-    "describe",
-    "extract",
-    "extract_contours",
-    "fit_to_image",
-    "read_image",
-    "recipes",
-    "render_silhouette",
-    "fit_spline",
-    "polynomial_spline",
-    "qic_spline",
-    "InputError",
-    "find_peaks",
-    "surprisal",
-    "surprisal_paper",
-    "surprisal_vonmises",
-    "turning_angles",
-]
+__getattr__, __dir__, __all__ = _attach(__name__, {
+    "Contour": ".geometry.contour",
+    "turning_angles": ".geometry.contour",
+    "InputError": ".errors",
+    "find_peaks": ".geometry.information",
+    "surprisal": ".geometry.information",
+    "surprisal_paper": ".geometry.information",
+    "surprisal_vonmises": ".geometry.information",
+    "ConvergenceError": ".curves.splines",
+    "fit_spline": ".curves.splines",
+    "polynomial_spline": ".curves.splines",
+    "qic_spline": ".curves.splines",
+    "curves": ".curves",
+    "recipes": ".batch.recipes",
+    "describe": ".extraction",
+    "extract": ".extraction",
+    "extract_contours": ".extraction",
+    "read_image": ".extraction",
+    "coverage": ".render",
+    "fit_to_image": ".render",
+    "render_silhouette": ".render",
+})

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
+from stimuli.errors import InputError
 
 __all__ = ["atomic_write", "write_table", "read_text_csv", "read_table", "read_points", "as_points", "as_number"]
 

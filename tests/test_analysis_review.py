@@ -50,7 +50,7 @@ def test_line_numbers_count_blank_lines_and_multiline_fields(tmp_path):
 
 
 def test_manifest_with_trailing_delimiters_and_blank_lines(tmp_path):
-    from analysis.stimulus_set import read_stimulus_set
+    from stimuli.stimulus_set import read_stimulus_set
 
     (tmp_path / "contours").mkdir()
     (tmp_path / "contours" / "sq.csv").write_text("x,y\n10,10\n10,50\n50,50\n50,10\n")
@@ -66,7 +66,7 @@ def test_manifest_with_trailing_delimiters_and_blank_lines(tmp_path):
 
 # ------------------------------------------------------------------ writing outputs
 def _tiny_set(d):
-    from analysis.stimulus_set import write_stimulus_set
+    from stimuli.stimulus_set import write_stimulus_set
 
     th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
     write_stimulus_set(d, {"ell": np.c_[100 + 60 * np.cos(th), 100 + 30 * np.sin(th)],
@@ -95,7 +95,7 @@ def test_participant_without_informative_clicks_has_no_effect(tmp_path):
     # the prediction: a participant who clicked only there has no measured effect,
     # not an effect of exactly 0 that would enter the group t-test as data
     from analysis.report import analyze
-    from analysis.stimulus_set import read_stimulus_set, write_stimulus_set
+    from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
     th = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     d = tmp_path / "set"

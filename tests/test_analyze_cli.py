@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 
 from analysis.cli import main
-from analysis.stimulus_set import write_stimulus_set
+from stimuli.stimulus_set import write_stimulus_set
 
 W, H = 480, 400
 

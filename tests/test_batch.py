@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from analysis.cli import main as cli
-from stimuli.batch import plan_jobs, run_batch, run_job
-from stimuli.config import load_config
+from stimuli.batch.runner import plan_jobs, run_batch, run_job
+from stimuli.batch.config import load_config
 from stimuli.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from analysis.clicks import from_image_coords, parse_columns, parse_coordinates, read_clicks, to_image_coords
 from analysis.mapping import map_clicks, predict
-from analysis.stimulus_set import read_stimulus_set, write_stimulus_set
+from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 from stimuli import InputError
 
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stimuli.config import load_config, stimulus_seed
+from stimuli.batch.config import load_config, stimulus_seed
 from stimuli.errors import InputError
 
 CONFIGS = sorted((Path(__file__).resolve().parents[1] / "configs").glob("*.yaml"))

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.special import fresnel, hyp2f1, sici, spence
 
-from stimuli.curves import (
+from stimuli.curves.natural import (
     clothoid,
     constant_info,
     constant_info_curvature,
@@ -21,7 +21,7 @@ from stimuli.curves import (
     superspiral,
 )
 from stimuli.errors import InputError
-from stimuli.information import surprisal_paper
+from stimuli.geometry.information import surprisal_paper
 
 TOL = 1e-9
 
@@ -444,7 +444,7 @@ def test_bad_arguments():
 def test_integrator_has_a_bounded_budget(monkeypatch):
     # a curve turning ~1e5 rad would take minutes (hours for 1e11 rad: clothoid c=1e6
     # on [0, 1000] fell back to this integrator and never returned); it must be a clear error
-    import stimuli.curves as curves
+    import stimuli.curves.natural as curves
 
     monkeypatch.setattr(curves, "_MAX_NFEV", 20_000, raising=False)
     with pytest.raises(InputError, match="turns too often"):

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from stimuli import Contour, InputError
-from stimuli import deformations as dm
-from stimuli import generators as g
-from stimuli import recipes
+from stimuli.shapes import deformations as dm
+from stimuli.shapes import generators as g
+from stimuli.batch import recipes
 
 
 def rng(seed=0):

@@ -22,9 +22,9 @@ import pytest
 import scipy.signal
 from scipy.spatial import cKDTree
 
-from stimuli.contour import Contour
+from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
-from stimuli.extract import (
+from stimuli.extraction.core import (
     contour_curvature,
     curvature_peaks,
     default_sigma,
@@ -33,7 +33,7 @@ from stimuli.extract import (
     extract_contours,
     read_image,
 )
-from stimuli.render import coverage, render_silhouette, write_png
+from stimuli.render.core import coverage, render_silhouette, write_png
 
 N = 512
 

@@ -9,9 +9,10 @@ import numpy as np
 import pytest
 
 from stimuli import Contour, InputError
-from stimuli import generators as g
-from stimuli import guided, recipes
-from stimuli.information import find_peaks, surprisal
+from stimuli.shapes import generators as g
+from stimuli.shapes import guided
+from stimuli.batch import recipes
+from stimuli.geometry.information import find_peaks, surprisal
 
 
 def rng(seed=0):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from stimuli import Contour, InputError, find_peaks, surprisal, surprisal_paper, surprisal_vonmises
-from stimuli.information import surprisal_from_points
+from stimuli.geometry.information import surprisal_from_points
 
 MODELS = ["paper", "vonmises"]
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import newton, root
 
-from stimuli.curve_metrics import (
+from stimuli.curves.metrics import (
     SampledCurve,
     bending_energy,
     curve_metrics,
@@ -17,7 +17,7 @@ from stimuli.curve_metrics import (
     segment_turning,
 )
 from stimuli.errors import InputError
-from stimuli.splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline
+from stimuli.curves.splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline
 
 
 def smooth_closed(rng, n):
@@ -348,8 +348,8 @@ def test_bird30_fig10_analogue(tmp_path):
 
 
 def test_lac_alpha_minus_one_is_the_g1_clothoid():
-    from stimuli.clothoid import g1_hermite
-    from stimuli.lac import LACNotDrawable, lac_segment, lac_segment_points
+    from stimuli.curves.euler import g1_hermite
+    from stimuli.curves.lac import LACNotDrawable, lac_segment, lac_segment_points
 
     rng = np.random.default_rng(8)
     done = 0
@@ -378,7 +378,7 @@ def test_lac_segment_has_a_straight_log_curvature_graph(alpha):
     # rho(s) = (lam alpha s + 1)**(1/alpha): rho**alpha (log rho for alpha 0)
     # is linear in arc length; and the segment joins its end points with
     # the given tangents
-    from stimuli.lac import lac_segment, lac_segment_points
+    from stimuli.curves.lac import lac_segment, lac_segment_points
 
     seg = lac_segment((0, 0), -0.6, (2, 0), 0.25, alpha=alpha)
     s, x, y, k = lac_segment_points(seg, 200)
@@ -395,7 +395,7 @@ def test_lac_segment_has_a_straight_log_curvature_graph(alpha):
 
 
 def test_lac_symmetric_triangle_is_a_circular_arc():
-    from stimuli.lac import lac_segment, lac_segment_points
+    from stimuli.curves.lac import lac_segment, lac_segment_points
 
     seg = lac_segment((0, 0), -0.5, (2, 0), 0.5, alpha=0.7)
     _, _, _, k = lac_segment_points(seg, 20)

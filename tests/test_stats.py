@@ -14,7 +14,7 @@ from analysis import stats
 from analysis.mapping import map_clicks, predict
 from analysis.observers import power, simulate, simulate_indices
 from analysis.report import analyze
-from analysis.stimulus_set import StimulusSet
+from stimuli.stimulus_set import StimulusSet
 from stimuli import Contour
 
 
@@ -250,7 +250,7 @@ def test_mean_z_test_statistic_and_exact_null_on_two_points():
 def spiky():
     """Curved Attneave & Arnoult shapes through 6 random vertices: surprisal z up to ~9.5
     at a few points, so that a participant's mean z over few clicks is strongly skewed."""
-    from stimuli.recipes import Canvas, make
+    from stimuli.batch.recipes import Canvas, make
 
     shapes = {}
     for i in range(4):

@@ -59,7 +59,7 @@ def run(args):
 
     from analysis.clicks import read_clicks
     from analysis.report import analyze, check_output_dir, write_analysis
-    from analysis.stimulus_set import read_stimulus_set
+    from stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written
     clicks = read_clicks(args.clicks, columns=args.columns)

@@ -50,7 +50,7 @@ def add_parser(sub):
 def run(args):
     from analysis.mapping import predict
     from analysis.observers import power
-    from analysis.stimulus_set import read_stimulus_set
+    from stimuli.stimulus_set import read_stimulus_set
     from stimuli.io import write_table
 
     if args.output:

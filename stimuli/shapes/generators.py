@@ -10,7 +10,7 @@ but in the generator's own units and around its own centre
 (``params["centre"]``): grid cells for the Attneave polygons, pixels of
 radius for the polar shapes (which are centred on ``(0, 0)``). Polar angles
 run counter-clockwise *as seen on the screen*: a polar point is
-``(r cos(theta), -r sin(theta))``. :mod:`stimuli.recipes` places a shape on an
+``(r cos(theta), -r sin(theta))``. :mod:`stimuli.batch.recipes` places a shape on an
 image canvas.
 
 Simplicity: every contour is checked with `Contour.is_simple`. Polar shapes
@@ -28,9 +28,9 @@ import math
 
 import numpy as np
 
-from .contour import Contour
-from .errors import InputError
-from .io import as_number
+from stimuli.geometry.contour import Contour
+from stimuli.errors import InputError
+from stimuli.io import as_number
 
 __all__ = [
     "attneave_polygon",
@@ -396,9 +396,9 @@ class _NoCurve(InputError):
 
 def _qic(p, m):
     try:
-        from . import splines
+        from stimuli.curves import splines
     except ImportError:  # pragma: no cover - only while the package is incomplete
-        raise InputError("method 'qic' needs stimuli.splines, which is not installed") from None
+        raise InputError("method 'qic' needs stimuli.curves.splines, which is not installed") from None
     try:
         spline = splines.qic_spline(p, closed=True)
     except splines.ConvergenceError as exc:

@@ -12,7 +12,7 @@ without its extension):
 * ``STEM.overlay.png``: the image with the contour coloured by surprisal
   (dark blue low, red high) and the peaks circled;
 * ``STEM.silhouette.png``: the contour rendered black on white with exact
-  coverage at the image's size (by :mod:`stimuli.render`);
+  coverage at the image's size (by :mod:`stimuli.render.core`);
 * ``STEM.holes.csv`` with ``--holes``: columns ``hole, x, y``.
 
 With ``--objects all`` every object of at least ``--min-area`` pixels gets
@@ -255,8 +255,8 @@ def _analyse(image, stem, opts):
     """Everything in memory first; return ({file name: writer}, summary values)."""
     import numpy as np
 
-    from stimuli.extract import describe, extract, read_image
-    from stimuli.render import render_silhouette
+    from stimuli.extraction.core import describe, extract, read_image
+    from stimuli.render.core import render_silhouette
 
     img = read_image(image)
     ex = extract(
@@ -297,7 +297,7 @@ def _table_writer(table, float_format="%.17g"):
 
 
 def _png_writer(img):
-    from stimuli.render import write_png
+    from stimuli.render.core import write_png
 
     return lambda path: write_png(path, img)
 

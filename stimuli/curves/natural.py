@@ -50,8 +50,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import InputError
-from .io import as_number
+from stimuli.errors import InputError
+from stimuli.io import as_number
 
 __all__ = [
     "Curve",

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InputError
-from .io import as_points
+from stimuli.errors import InputError
+from stimuli.io import as_points
 
 __all__ = ["Contour", "turning_angles", "gaussian_curvature"]
 
@@ -513,14 +513,14 @@ class Contour:
             Missing columns, non-numeric or NaN values (naming the line), or
             fewer than 3 distinct points.
         """
-        from .io import read_points
+        from stimuli.io import read_points
 
         kwargs.setdefault("name", str(path))
         return cls(read_points(path), closed, **kwargs)
 
     def to_csv(self, path):
         """Write columns ``x, y`` to `path` atomically, in stored order."""
-        from .io import write_table
+        from stimuli.io import write_table
 
         write_table({"x": self._points[:, 0], "y": self._points[:, 1]}, path)
 

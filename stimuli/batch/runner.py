@@ -57,9 +57,9 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from .config import ResolvedBatch, load_config, manifest_json, stimulus_seed
-from .errors import InputError
-from .io import atomic_write
+from stimuli.batch.config import ResolvedBatch, load_config, manifest_json, stimulus_seed
+from stimuli.errors import InputError
+from stimuli.io import atomic_write
 
 __all__ = ["BatchResult", "plan_jobs", "run_batch", "run_job", "MANIFEST_COLUMNS"]
 
@@ -162,9 +162,9 @@ def run_job(job, out_dir):
     """
     import numpy as np
 
-    from . import recipes
-    from .config import _jsonable, _unmap_paths
-    from .render import write_png
+    from stimuli.batch import recipes
+    from stimuli.batch.config import _jsonable, _unmap_paths
+    from stimuli.render.core import write_png
 
     delay = os.environ.get(_DELAY_ENV)
     if delay:

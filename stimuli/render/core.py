@@ -64,8 +64,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import InputError
-from .io import as_number, as_points, atomic_write
+from stimuli.errors import InputError
+from stimuli.io import as_number, as_points, atomic_write
 
 __all__ = [
     "coverage",

@@ -134,7 +134,7 @@ def add_parser(sub):
 
 def make_curve(args):
     """Build the :class:`stimuli.curves.Curve` that `args` describe."""
-    from stimuli import curves
+    from stimuli.curves import natural as curves
 
     fam = args.family
     if fam == "clothoid":

@@ -30,8 +30,8 @@ def add_parser(sub):
 
 
 def run(args):
-    from stimuli.contour import Contour
-    from stimuli.information import surprisal
+    from stimuli.geometry.contour import Contour
+    from stimuli.geometry.information import surprisal
     from stimuli.io import write_table
 
     c = Contour.from_csv(args.contour, closed=not args.open)

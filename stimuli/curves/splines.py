@@ -9,7 +9,7 @@ hence no spurious information, appears between the points.
 
 Method. The unknowns are the tangent angles at the points. Given them, each
 segment is the G1 Hermite clothoid of Bertolazzi & Frego (2015) between its
-two points (:mod:`stimuli.clothoid`), whose curvature at both ends is a
+two points (:mod:`stimuli.curves.euler`), whose curvature at both ends is a
 function of the two end angles; curvature continuity at every point is one
 equation per point. The whole system (node angles and, per segment, the
 Bertolazzi-Frego parameter A with its closure equation) is solved by damped
@@ -49,10 +49,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.linalg.lapack import dgtsv as _dgtsv
 
-from .clothoid import _segment_state, clothoid_points, guess_A, wrap_angle
-from .curve_metrics import SampledCurve, curve_metrics
-from .errors import InputError
-from .io import as_points
+from stimuli.curves.euler import _segment_state, clothoid_points, guess_A, wrap_angle
+from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.errors import InputError
+from stimuli.io import as_points
 
 __all__ = [
     "ConvergenceError",
@@ -734,7 +734,7 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         sp = polynomial_spline(points, int(method[-1]), closed, **kwargs)
         return replace(sp, method=method)
     if method == "lac-g1":
-        from .lac import lac_g1_spline
+        from stimuli.curves.lac import lac_g1_spline
 
         return lac_g1_spline(points, closed, **kwargs)
     raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")

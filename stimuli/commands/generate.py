@@ -35,8 +35,8 @@ def add_parser(sub):
 def run(args):
     import sys
 
-    from stimuli.batch import plan_jobs, run_batch
-    from stimuli.config import load_config
+    from stimuli.batch.runner import plan_jobs, run_batch
+    from stimuli.batch.config import load_config
     from stimuli.errors import InputError
 
     if args.workers < 1:

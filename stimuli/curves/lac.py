@@ -19,7 +19,7 @@ into place. Not every triangle is drawable for every alpha; such spans, and
 spans whose tangents need an inflection (no triangle), fall back to the G1
 clothoid of :func:`stimuli.clothoid.g1_hermite`, and are listed.
 
-Coordinates as in :mod:`stimuli.splines`: points ``(x, y)`` in image pixels
+Coordinates as in :mod:`stimuli.curves.splines`: points ``(x, y)`` in image pixels
 (y down); reported curvature uses the project's geometric sign.
 
 References
@@ -41,9 +41,9 @@ import numpy as np
 from scipy.integrate import IntegrationWarning, quad
 from scipy.optimize import brentq
 
-from .clothoid import clothoid_points, g1_hermite, wrap_angle
-from .curve_metrics import SampledCurve, curve_metrics
-from .errors import InputError
+from stimuli.curves.euler import clothoid_points, g1_hermite, wrap_angle
+from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.errors import InputError
 
 __all__ = [
     "LACNotDrawable",
@@ -323,7 +323,7 @@ class LACSpline:
 def _circle_tangents(P, closed):
     """Tangent angle at each point: the circle through it and its two
     neighbours (open ends: the parabola-like estimate phi0 = -phi1/2)."""
-    from .splines import _initial_angles
+    from stimuli.curves.splines import _initial_angles
 
     D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
     r = np.hypot(D[:, 0], D[:, 1])
@@ -362,7 +362,7 @@ def lac_g1_spline(points, closed=True, alpha=0.0, tangents=None, y_down=True):
     Curvature is monotone on every segment (LAC and clothoid alike) but only
     tangent-continuous (G1) at the points: curvature jumps there.
     """
-    from .splines import _as_points, _geometric_sign
+    from stimuli.curves.splines import _as_points, _geometric_sign
 
     t0 = time.perf_counter()
     P = _as_points(points, closed)

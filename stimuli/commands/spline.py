@@ -65,7 +65,7 @@ def _check_points(P, path, closed):
 def _summary(args, P, sp, curve, closed):
     import math
 
-    from stimuli.curve_metrics import curve_metrics
+    from stimuli.curves.metrics import curve_metrics
 
     m = curve_metrics(curve)
     summary = {
@@ -96,7 +96,7 @@ def run(args):
 
     from stimuli.errors import InputError
     from stimuli.io import atomic_write, read_points, write_table
-    from stimuli.splines import fit_spline
+    from stimuli.curves.splines import fit_spline
 
     if args.samples < 2:
         raise InputError(f"--samples: expected at least 2 per segment, got {args.samples}")

@@ -36,10 +36,10 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.contour import Contour
+from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
 
-from .clicks import read_text_csv
+from stimuli.io import read_text_csv
 
 __all__ = ["StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS"]
 

@@ -9,7 +9,7 @@ over many segments at once.
 Coordinates are plain Cartesian: angles are measured from the +x axis towards
 the +y axis and curvature is ``d theta / d s``. With image pixels (y down) that
 means positive angles and curvature turn clockwise *on the screen*; the spline
-layer (:mod:`stimuli.splines`) converts to the project's geometric sign.
+layer (:mod:`stimuli.curves.splines`) converts to the project's geometric sign.
 
 The G1 Hermite problem (given two points and a tangent angle at each, find
 ``k``, ``dk`` and the length ``L``) is solved as in Bertolazzi & Frego (2015):

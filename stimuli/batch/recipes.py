@@ -6,7 +6,7 @@ the key); ``fn(params, rng, canvas)`` draws everything it needs from the
 `numpy.random.Generator` `rng` and returns a list of :class:`Item`: the
 contour placed on the canvas in image pixels, what the image shows, and
 every resolved parameter. :func:`draw_item` renders an item with a
-:class:`Style` (exact area coverage, :mod:`stimuli.render`), and
+:class:`Style` (exact area coverage, :mod:`stimuli.render.core`), and
 :func:`item_svg` writes it as SVG in the same pixel coordinates.
 
 Recipes
@@ -17,17 +17,17 @@ Recipes
     ``polygon`` and ``curved``, placed with one transform so they overlay).
     The two names differ only in the default ``version``.
 ``radial_frequency``, ``fourier``, ``superformula``, ``blob``
-    See :mod:`stimuli.generators`.
+    See :mod:`stimuli.shapes.generators`.
 ``from_csv``, ``from_image``
     A contour from a CSV file (columns x, y) or the largest object of a
     photograph (:func:`stimuli.extract.extract_contours`).
 ``deformation``
     Barenholtz et al. (2003): items ``base``, ``concave``, ``convex`` (the
-    last two with parent ``base``); see :mod:`stimuli.deformations`.
+    last two with parent ``base``); see :mod:`stimuli.shapes.deformations`.
 ``guided``
     Information-guided items from one base shape: ``base``, ``cat``,
     ``peaks``, ``troughs``, ``dots``, ``dots_troughs`` (``kinds`` chooses);
-    see :mod:`stimuli.guided`.
+    see :mod:`stimuli.shapes.guided`.
 
 Placement
 ---------
@@ -51,9 +51,11 @@ from typing import Annotated, Any, Callable, Literal, Optional, Union
 import numpy as np
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator, model_validator
 
-from . import deformations, generators, guided
-from .contour import Contour
-from .errors import InputError
+from stimuli.shapes import deformations
+from stimuli.shapes import generators
+from stimuli.shapes import guided
+from stimuli.geometry.contour import Contour
+from stimuli.errors import InputError
 
 __all__ = [
     "Canvas",
@@ -372,7 +374,7 @@ class BaseShape(_Params):
 
 
 class DeformationParams(_Params):
-    """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`stimuli.deformations`."""
+    """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`stimuli.shapes.deformations`."""
 
     base: BaseShape = Field(default_factory=BaseShape)
     mode: Literal["edge", "vertex", "bump"] = "edge"
@@ -389,7 +391,7 @@ GUIDED_KINDS = ("base", "cat", "peaks", "troughs", "dots", "dots_troughs")
 
 
 class GuidedParams(_Params):
-    """Information-guided items from one base shape; see :mod:`stimuli.guided`."""
+    """Information-guided items from one base shape; see :mod:`stimuli.shapes.guided`."""
 
     base: BaseShape = Field(default_factory=BaseShape)
     kinds: list[Literal[GUIDED_KINDS]] = Field(  # type: ignore[valid-type]
@@ -452,7 +454,7 @@ def _shape(name, p, rng):
 
 
 def _from_image(p):
-    from .extract import extract_contours  # lazily: it pulls in OpenCV and scikit-image
+    from stimuli.extraction.core import extract_contours  # lazily: it pulls in OpenCV and scikit-image
 
     found = extract_contours(p.path, method=p.method, threshold=p.threshold, polarity=p.polarity,
                              objects="largest")
@@ -491,7 +493,7 @@ def place(contours, centre, canvas, placement="fit"):
         ``placement, scale, offset``.
     """
     if placement == "fit":
-        from .render import fit_to_image
+        from stimuli.render.core import fit_to_image
 
         allp = np.vstack([c.points for c in contours])
         f = fit_to_image(allp, size=canvas.size, margin=canvas.margin)
@@ -700,8 +702,8 @@ def make(recipe, rng, canvas=None, **params):
 
 
 def _render(item, style, canvas):
-    """The :mod:`stimuli.render` result dict of an item."""
-    from . import render
+    """The :mod:`stimuli.render.core` result dict of an item."""
+    from stimuli import render
 
     if not isinstance(style, Style):
         style = Style.model_validate(style)
@@ -748,6 +750,6 @@ def draw_item(item, style, canvas):
 
 def item_svg(item, style, canvas):
     """The item as a complete, deterministic SVG document (same pixel coordinates)."""
-    from .render import svg_text
+    from stimuli.render.core import svg_text
 
     return svg_text(_render(item, style, canvas))

@@ -58,7 +58,7 @@ from typing import Any, Literal, Optional
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from .errors import InputError
+from stimuli.errors import InputError
 
 __all__ = [
     "BatchConfig",
@@ -369,13 +369,13 @@ def _recipes():
     import importlib
 
     try:
-        return importlib.import_module("stimuli.recipes")
+        return importlib.import_module("stimuli.batch.recipes")
     except ImportError as exc:  # pragma: no cover - only while the package is incomplete
         raise InputError(f"the stimulus recipes are not available ({exc})") from None
 
 
 def _version():
-    from . import __version__
+    from stimuli import __version__
 
     return __version__
 

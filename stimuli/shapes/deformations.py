@@ -70,8 +70,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .contour import Contour
-from .errors import InputError
+from stimuli.geometry.contour import Contour
+from stimuli.errors import InputError
 
 __all__ = [
     "Deformation",

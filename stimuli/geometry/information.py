@@ -25,8 +25,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import scipy.special
 
-from .contour import Contour, turning_angles
-from .errors import InputError
+from stimuli.geometry.contour import Contour, turning_angles
+from stimuli.errors import InputError
 
 __all__ = [
     "surprisal_paper",

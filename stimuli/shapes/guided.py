@@ -41,9 +41,9 @@ import math
 
 import numpy as np
 
-from .contour import Contour
-from .errors import InputError
-from .information import find_peaks, surprisal
+from stimuli.geometry.contour import Contour
+from stimuli.errors import InputError
+from stimuli.geometry.information import find_peaks, surprisal
 
 __all__ = [
     "information",

@@ -93,8 +93,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .contour import Contour, gaussian_curvature
-from .errors import InputError
+from stimuli.geometry.contour import Contour, gaussian_curvature
+from stimuli.errors import InputError
 
 __all__ = [
     "METHODS",
@@ -1061,7 +1061,7 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     -------
     ContourInfo
     """
-    from .information import surprisal
+    from stimuli.geometry.information import surprisal
 
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if not c.closed:
@@ -1085,7 +1085,7 @@ def _with_default_prominence(res, model, A, bits):
     """Peaks again with prominence 5 % of max(range of u, u(2 mu) - u(mu)), mu = 2 pi / n."""
     import dataclasses
 
-    from .information import find_peaks, surprisal_paper, surprisal_vonmises
+    from stimuli.geometry.information import find_peaks, surprisal_paper, surprisal_vonmises
 
     n = res.params["n"]
     mu = 2 * np.pi / n
@@ -1125,7 +1125,7 @@ def curvature_peaks(contour, sigma=None, prominence=None, minima=False):
         the best sample, so that its place is not limited by the sampling or
         by pixel noise on a flat maximum.
     """
-    from .information import find_peaks
+    from stimuli.geometry.information import find_peaks
 
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if not c.closed:

@@ -1,0 +1,17 @@
+"""Contours and the information they carry: :class:`Contour` (curvature,
+resampling, orientation) and the quantity-of-information model (eq. 4-7)."""
+
+from stimuli._lazy import attach as _attach
+
+__getattr__, __dir__, __all__ = _attach(__name__, {
+    "Contour": ".contour",
+    "turning_angles": ".contour",
+    "gaussian_curvature": ".contour",
+    "surprisal": ".information",
+    "surprisal_paper": ".information",
+    "surprisal_vonmises": ".information",
+    "surprisal_from_points": ".information",
+    "find_peaks": ".information",
+    "SurprisalResult": ".information",
+    "MODELS": ".information",
+})
