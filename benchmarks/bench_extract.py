@@ -41,7 +41,7 @@ def photo_like(size=1000, seed=0, noise=6.0):
 
     Returns (uint8 RGB image, true outline as an (M, 2) ring in pixels).
     """
-    from stimuli.render.core import coverage
+    from stimuli.render import coverage
 
     rng = np.random.default_rng(seed)
     h = w = size

@@ -57,7 +57,7 @@ def spiky(rng, n=500, size=512):
 
 
 def _fit(pts, size):
-    from stimuli.render.core import fit_to_image
+    from stimuli.render import fit_to_image
 
     return fit_to_image(pts, size, margin=0.08 * size)["points"]
 
@@ -79,7 +79,7 @@ def run(kind, n, seed, tmp):
     import matplotlib.pyplot as plt
     from matplotlib.patches import Polygon
 
-    from stimuli.render.core import render_silhouette, write_png
+    from stimuli.render import render_silhouette, write_png
 
     size = 512
     make = {"blob": blob, "spiky": spiky}[kind]

@@ -50,7 +50,7 @@ def main(argv=None):
 
     from stimuli.errors import InputError
     from stimuli.extraction.core import IMAGE_SUFFIXES, describe, extract, read_image
-    from stimuli.render.core import coverage
+    from stimuli.render import coverage
 
     data = Path(args.data)
     files = sorted(p for p in data.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) if data.is_dir() else []

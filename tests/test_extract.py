@@ -33,7 +33,7 @@ from stimuli.extraction.core import (
     extract_contours,
     read_image,
 )
-from stimuli.render.core import coverage, render_silhouette, write_png
+from stimuli.render import coverage, render_silhouette, write_png
 
 N = 512
 

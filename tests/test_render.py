@@ -18,7 +18,7 @@ import pytest
 import shapely
 
 from stimuli.errors import InputError
-from stimuli.render.core import (
+from stimuli.render import (
     coverage,
     disc_coverage,
     fit_to_image,

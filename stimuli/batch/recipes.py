@@ -493,7 +493,7 @@ def place(contours, centre, canvas, placement="fit"):
         ``placement, scale, offset``.
     """
     if placement == "fit":
-        from stimuli.render.core import fit_to_image
+        from stimuli.render import fit_to_image
 
         allp = np.vstack([c.points for c in contours])
         f = fit_to_image(allp, size=canvas.size, margin=canvas.margin)
@@ -750,6 +750,6 @@ def draw_item(item, style, canvas):
 
 def item_svg(item, style, canvas):
     """The item as a complete, deterministic SVG document (same pixel coordinates)."""
-    from stimuli.render.core import svg_text
+    from stimuli.render import svg_text
 
     return svg_text(_render(item, style, canvas))

@@ -164,7 +164,7 @@ def run_job(job, out_dir):
 
     from stimuli.batch import recipes
     from stimuli.batch.config import _jsonable, _unmap_paths
-    from stimuli.render.core import write_png
+    from stimuli.render import write_png
 
     delay = os.environ.get(_DELAY_ENV)
     if delay:

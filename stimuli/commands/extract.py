@@ -256,7 +256,7 @@ def _analyse(image, stem, opts):
     import numpy as np
 
     from stimuli.extraction.core import describe, extract, read_image
-    from stimuli.render.core import render_silhouette
+    from stimuli.render import render_silhouette
 
     img = read_image(image)
     ex = extract(
@@ -297,7 +297,7 @@ def _table_writer(table, float_format="%.17g"):
 
 
 def _png_writer(img):
-    from stimuli.render.core import write_png
+    from stimuli.render import write_png
 
     return lambda path: write_png(path, img)
 

@@ -1,19 +1,27 @@
-"""Rendering contours to images: the exact-coverage rasteriser, strokes,
-fragments and dots, placement on a canvas, PNG and SVG files."""
+"""Rendering contours to images with exact area-coverage antialiasing.
+
+Modules: ``rings`` (shapes as oriented rings), ``raster`` (the exact
+rasteriser: coverage of rings and discs), ``paint`` (silhouettes and dots
+as images), ``strokes`` (outlines and fragments), ``placement`` (fitting
+points to an image), ``files`` (8/16-bit quantisation, PNG, SVG).
+
+Points are ``(x, y)`` in image pixels (x = column, y = row, y down, pixel
+centres at integer coordinates).
+"""
 
 from stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
-    "coverage": ".core",
-    "disc_coverage": ".core",
-    "fit_to_image": ".core",
-    "render_silhouette": ".core",
-    "render_outline": ".core",
-    "render_fragments": ".core",
-    "render_dots": ".core",
-    "to_uint8": ".core",
-    "to_uint16": ".core",
-    "write_png": ".core",
-    "svg_text": ".core",
-    "write_svg": ".core",
+    "coverage": ".raster",
+    "disc_coverage": ".raster",
+    "render_silhouette": ".paint",
+    "render_dots": ".paint",
+    "render_outline": ".strokes",
+    "render_fragments": ".strokes",
+    "fit_to_image": ".placement",
+    "to_uint8": ".files",
+    "to_uint16": ".files",
+    "write_png": ".files",
+    "svg_text": ".files",
+    "write_svg": ".files",
 })
