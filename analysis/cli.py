@@ -26,6 +26,7 @@ COMMANDS = (
     "analyze",
     "simulate",
     "power",
+    "experiment",
 )
 
 
