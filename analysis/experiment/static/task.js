@@ -204,6 +204,10 @@
     undoBtn.hidden = true;
     prompt.textContent = '';
   }
+  function hideScreen() {
+    screenEl.hidden = true;
+    screenEl.removeAttribute('data-screen');  // data-screen names the screen shown, and only that
+  }
   function fail(message) {
     showScreen([el('p', { 'class': 'error', text: message })], 'error');
     nextBtn.hidden = true;
@@ -294,7 +298,7 @@
   }
 
   function runTrial(stim, label, done) {
-    screenEl.hidden = true;
+    hideScreen();
     stage.hidden = false;
     frame.hidden = true;
     undoBtn.hidden = true;
@@ -316,7 +320,12 @@
       frame.hidden = false;
       undoBtn.hidden = !cfg.undo;
       var t = trial = { stim: stim, clicks: [], onset: null };
-      waitNext(function () { trial = null; frame.hidden = true; done(t); });
+      waitNext(function () {
+        trial = null;
+        frame.hidden = true;
+        img.removeAttribute('data-stimulus-id');  // present only while a stimulus is shown
+        done(t);
+      });
       updateControls();  // #next stays disabled until the clicks are in
       // onset = the first frame on which the image is painted
       root.requestAnimationFrame(function () { t.onset = root.performance.now(); });
@@ -386,7 +395,7 @@
   function pause(ms, then) {
     if (!(ms > 0)) { then(); return; }
     stage.hidden = false;
-    screenEl.hidden = true;
+    hideScreen();
     frame.hidden = true;
     fixation.hidden = true;
     undoBtn.hidden = true;
