@@ -243,3 +243,63 @@ def test_stimulus_measures_its_size_in_degrees(browser, setup, ppm, distance_cm)
     # the largest image's larger side (all are 160 x 120 here) is SIZE_DEG degrees
     ppd = calibration.px_per_degree(ppm, distance_cm * 10)   # computed here, not by the page
     assert width / ppd == pytest.approx(SIZE_DEG, rel=0.01)
+
+
+def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setup, tmp_path):
+    """Served over http (as by JATOS or any static host): POST the data, retrying after a server error."""
+    exp = tmp_path / "exp"
+    assert main(["experiment", str(setup["set"]), "-o", str(exp), "--clicks", "done", "--min-clicks", "2",
+                 "--max-clicks", "3", "--practice", "1", "--conditions", "peaks,filler", "--size-px", "320",
+                 "--fixation-ms", "0", "--iti-ms", "0", "--submit-url", "/submit", "--order", "fixed"]) == 0
+    posts = []
+
+    def handle(route):
+        req = route.request
+        path = urllib.parse.urlparse(req.url).path
+        if path == "/submit":
+            posts.append(req.post_data)
+            # the first attempt meets a server error, the second succeeds
+            route.fulfill(status=503 if len(posts) == 1 else 200, body="ok")
+        else:
+            f = exp / path.lstrip("/")
+            route.fulfill(path=str(f)) if f.is_file() else route.fulfill(status=404)
+
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    page.route("http://attneave.test/**", handle)
+    page.goto("http://attneave.test/index.html?participant=web-1")
+    page.click("#next")
+    shapes = setup["shapes"]
+    seen = []
+    for _ in range(4):  # 1 practice (a_peaks, the first selected) + 3 main trials
+        page.wait_for_selector("#frame:not([hidden]) #stimulus[data-stimulus-id]")
+        sid = page.get_attribute("#stimulus", "data-stimulus-id")
+        seen.append(sid)
+        t = _targets(shapes, sid)
+        page.mouse.click(*_client(page, t[0])[:2])
+        assert page.is_disabled("#next")                     # min_clicks = 2
+        page.mouse.click(*_client(page, (2.0, 2.0))[:2])      # a slip ...
+        page.click("#undo")                                   # ... undone with the button
+        page.mouse.click(*_client(page, (3.0, 3.0))[:2])      # another ...
+        page.keyboard.press("z")                              # ... undone with Z
+        page.mouse.click(*_client(page, t[1])[:2])
+        page.mouse.click(*_client(page, t[2])[:2])
+        page.mouse.click(*_client(page, (4.0, 4.0))[:2])      # a 4th click: ignored (max_clicks = 3)
+        page.click("#next")
+        if len(seen) == 1:
+            page.wait_for_selector("#screen:not([hidden])[data-screen=practice-end]")
+            page.click("#next")
+    page.wait_for_selector("#submit-status[data-state=ok]", timeout=8000)
+    practice = page.evaluate("window.attneavePractice")
+    data = page.evaluate("window.attneaveData")
+    page.close()
+
+    assert seen == ["a_peaks", "b_peaks", "c_peaks", "filler"]  # --order fixed
+    assert len(posts) == 2 and posts[0] == posts[1]
+    body = json.loads(posts[1])
+    assert body["participant"] == "web-1" and body["rows"] == data
+    assert len(practice) == 3 and {r["stimulus_id"] for r in practice} == {"a_peaks"}
+    assert [r["stimulus_id"] for r in data] == [s for s in seen[1:] for _ in range(3)]  # practice not in the data
+    (tmp_path / "clicks.csv").write_text(body["csv"])
+    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    assert summary["n_excluded"] == 0
+    _check_mapping(mapped, [(s, _targets(shapes, s), 0, 0) for s in seen[1:]], "web-1")
