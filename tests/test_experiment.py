@@ -419,3 +419,14 @@ def test_psychopy_units(stimset, tmp_path, units, size_w):
 def test_help_lists_the_command():
     r = subprocess.run([sys.executable, "-m", "analysis.cli", "experiment", "--help"], capture_output=True, text=True)
     assert r.returncode == 0 and "--submit-url" in r.stdout and "--psychopy" in r.stdout
+
+
+def test_an_image_path_outside_the_set_is_refused(stimset, tmp_path, capsys):
+    bad = tmp_path / "set"
+    shutil.copytree(stimset, bad)
+    shutil.copy(stimset / "images" / "filler.png", tmp_path / "outside.png")
+    m = pd.read_csv(bad / "manifest.csv", dtype=str, keep_default_na=False)
+    m.loc[m.stimulus_id == "filler", "image"] = "../outside.png"
+    m.to_csv(bad / "manifest.csv", index=False)
+    assert _build(bad, tmp_path / "exp") == 2
+    assert "filler" in capsys.readouterr().err and not (tmp_path / "exp").exists()

@@ -141,6 +141,10 @@ def _stimulus(stimset, mpath, row, lists):
     if source is None:
         raise InputError(f"{where}: no image file (column 'image' must name an existing file; the experiment "
                          f"shows the images)")
+    root = Path(stimset.directory).resolve()
+    if root not in Path(source).resolve().parents:
+        # a manifest path must not lead outside the set (DESIGN.md, Files)
+        raise InputError(f"{where}: image path leads outside the stimulus set {stimset.directory}")
     suffix = Path(source).suffix.lower()
     if suffix not in (".png", ".jpg", ".jpeg", ".gif", ".webp", ".svg"):
         raise InputError(f"{where}: image {Path(source).name!r} is not a format browsers show (png, jpg, gif, webp, svg)")

@@ -249,7 +249,7 @@ def latin_square_lists(stimulus_ids, items, conditions, n_lists):
         if len(ms) > K:
             raise InputError(
                 f"--lists {K}: item {item!r} has {len(ms)} stimuli ({', '.join(s for _, s in ms)}), which cannot "
-                f"all go to different lists; use at least {len(ms)} lists or select conditions with 'conditions'"
+                f"all go to different lists; use at least {len(ms)} lists or select conditions (--conditions)"
             )
         for r, (_, sid) in enumerate(sorted(ms, key=lambda m: m[0])):
             out[sid] = [(r + i) % K + 1]

@@ -157,6 +157,8 @@
   // #next runs the current screen's action; one handler, so hosts and tests need one element
   var onNext = null;
   nextBtn.addEventListener('click', function () {
+    // a focused button would also take the space bar's own click: keep focus off it
+    nextBtn.blur();
     if (nextBtn.disabled || !onNext) return;
     var f = onNext;
     onNext = null;
@@ -173,7 +175,7 @@
     var typing = e.target && (e.target.tagName === 'INPUT' || e.target.tagName === 'TEXTAREA');
     if ((e.key === ' ' || e.code === 'Space') && !typing) {
       e.preventDefault();  // no page scroll
-      nextBtn.click();
+      if (!e.repeat) nextBtn.click();  // a held space bar advances once
     } else if (e.key === 'Enter' && typing) {
       e.preventDefault();
       nextBtn.click();
@@ -369,7 +371,7 @@
     if (marks.lastChild) marks.removeChild(marks.lastChild);
     updateControls();
   }
-  undoBtn.addEventListener('click', undo);
+  undoBtn.addEventListener('click', function () { undoBtn.blur(); undo(); });
 
   function round(v, digits) {
     var f = Math.pow(10, digits);
