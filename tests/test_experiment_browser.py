@@ -303,3 +303,16 @@ def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setu
     mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0
     _check_mapping(mapped, [(s, _targets(shapes, s), 0, 0) for s in seen[1:]], "web-1")
+
+
+@pytest.mark.parametrize("query, message", [
+    ({"participant": "p", "list": "3"}, "list must be a whole number from 1 to 2"),
+    ({"participant": "p", "px_per_mm": "wide"}, "px_per_mm must be a positive number"),
+])
+def test_bad_url_parameters_stop_with_a_message(browser, setup, query, message):
+    page = browser.new_page()
+    page.goto(_url(setup["cal"], **query))
+    assert page.get_attribute("#screen", "data-screen") == "error"
+    assert message in page.inner_text("#screen")
+    assert page.is_hidden("#next")
+    page.close()
