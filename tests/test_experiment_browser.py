@@ -6,11 +6,9 @@ Needs Debian's ``chromium`` and the Python ``playwright`` package (no
 """
 
 import json
-import math
 import os
 import shutil
 import urllib.parse
-from pathlib import Path
 
 import numpy as np
 import pandas as pd

@@ -413,7 +413,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
 
             write_psychopy(tmp / "psychopy", options, practice, main, config)
         files = _listing(tmp)
-        marker = dict(attneave_experiment=__version__, stimulus_set=str(Path(stimset.directory).resolve()),
+        marker = dict(attneave_experiment=__version__, stimulus_set=str(stimset.directory),
                       practice=[s.id for s in practice], stimuli=[s.id for s in main], lists=options.lists,
                       background=background, options=options.model_dump(mode="json"), files=files + [MARKER])
         (tmp / MARKER).write_text(json.dumps(marker, indent=1) + "\n", encoding="utf-8")
