@@ -17,6 +17,8 @@
  *     #undo             removes the last click of the trial (also Backspace or Z).
  *     #download         on the final screen, a link whose href holds the CSV (data: URL).
  *     #submit-status    with --submit-url: data-state = pending | ok | failed.
+ *     #screen           the text screen; data-screen names it while shown: participant,
+ *                       calibration, instructions, break, practice-end, end, error.
  *   Data
  *     window.attneaveData   the rows so far (objects with the CSV's columns), one per click,
  *                           main trials only (practice rows are in window.attneavePractice).
