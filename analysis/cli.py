@@ -2,7 +2,7 @@
 
 Each package owns its commands: :mod:`stimuli.commands` those about shapes
 (surprisal, curve, spline, generate, extract), :mod:`analysis.commands` those
-about people (figures, analyze, simulate, power). Each command module defines
+about people (figures, analyze, simulate, power, experiment). Each command module defines
 ``add_parser(subparsers)`` and ``run(args) -> int``; this module only
 assembles them. Heavy imports happen inside ``run`` so that ``attneave
 --help`` stays fast.
@@ -29,6 +29,7 @@ COMMANDS = {
     "analyze": "analysis.commands.analyze",
     "simulate": "analysis.commands.simulate",
     "power": "analysis.commands.power",
+    "experiment": "analysis.commands.experiment",
 }
 
 

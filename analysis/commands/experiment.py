@@ -1,0 +1,75 @@
+"""``attneave experiment``: a self-contained browser experiment that collects clicks on a stimulus set."""
+
+from __future__ import annotations
+
+
+def _flag(p, name, **kw):
+    # every setting is also a YAML key (dashes -> underscores); None means "not given"
+    p.add_argument(f"--{name}", default=None, dest=name.replace("-", "_"), **kw)
+
+
+def add_parser(sub):
+    p = sub.add_parser(
+        "experiment",
+        help="write a browser experiment (and optionally a PsychoPy script) that collects clicks",
+        description=(
+            "Write DIR/index.html with task.js, task.css and copies of the set's images: a point-selection "
+            "experiment that runs from file:// or any static host (JATOS, Pavlovia, a web server) and gives "
+            "each participant a CSV of clicks in image pixels that 'attneave analyze' reads as it is. "
+            "Settings come from --config YAML (keys = the flags' names with underscores) and flags, which "
+            "win. See the README for the page contract (URL parameters, element ids)."
+        ),
+    )
+    p.add_argument("stimuli", metavar="SET", help="stimulus-set directory (manifest.csv, images/, contours/)")
+    p.add_argument("-o", "--output", required=True, metavar="DIR", help="experiment directory to write")
+    p.add_argument("--config", default=None, metavar="EXP.yaml", help="YAML file of settings (see configs/experiment.yaml)")
+    _flag(p, "title", metavar="TEXT")
+    _flag(p, "instructions", metavar="TEXT", help="instructions shown before the first trial")
+    _flag(p, "end-text", metavar="TEXT")
+    _flag(p, "practice", metavar="K|ID,ID", help="practice trials: the first K stimuli or these ids (default 0)")
+    _flag(p, "clicks", metavar="K|done", help="K clicks per stimulus, or 'done': until Next (default 5)")
+    _flag(p, "min-clicks", metavar="N", help="with --clicks done: fewest clicks (default 1)")
+    _flag(p, "max-clicks", metavar="N", help="with --clicks done: most clicks (default none)")
+    p.add_argument("--no-undo", dest="undo", action="store_const", const=False, default=None,
+                   help="no Undo button (default: Undo, Backspace and Z remove the last click)")
+    _flag(p, "order", choices=("random", "blocked", "fixed"),
+          help="random per participant (seeded by the id; default), blocked by condition, or manifest order")
+    _flag(p, "seed", metavar="TEXT", help="study seed mixed into each participant's order (default '')")
+    _flag(p, "conditions", metavar="C,C", help="only stimuli of these conditions")
+    _flag(p, "lists", metavar="K", help="K counterbalanced participant lists (Latin square over conditions; default 1)")
+    _flag(p, "fixation-ms", metavar="MS", help="fixation cross before each stimulus (default 500; 0: none)")
+    _flag(p, "iti-ms", metavar="MS", help="blank inter-trial interval (default 300)")
+    _flag(p, "break-every", metavar="N", help="a break screen every N trials (default 0: none)")
+    _flag(p, "size-deg", type=float, metavar="DEG",
+          help="visual angle of the largest image's larger side (default 10; needs calibration or --px-per-deg)")
+    _flag(p, "size-px", type=float, metavar="PX", help="instead of --size-deg: that side in CSS pixels")
+    _flag(p, "px-per-deg", type=float, metavar="F", help="fixed CSS px per degree (skips the card calibration)")
+    _flag(p, "viewing-distance-cm", type=float, metavar="CM", help="viewing distance (default 57)")
+    _flag(p, "background", metavar="auto|#rrggbb|G", help="page colour (default auto: the images' ground)")
+    _flag(p, "submit-url", metavar="URL", help="POST the data as JSON {participant, rows, csv} at the end")
+    p.add_argument("--psychopy", action="store_true", help="also write DIR/psychopy/ (conditions.csv, attneave_task.py)")
+    _flag(p, "psychopy-units", choices=("deg", "pix", "height"), help="units of the PsychoPy export (default deg)")
+    p.add_argument("--force", action="store_true",
+                   help="DIR exists with other content: move it aside to DIR.old-N (nothing is deleted)")
+    return p
+
+
+_SETTINGS = ("title", "instructions", "end_text", "practice", "clicks", "min_clicks", "max_clicks", "undo", "order",
+             "seed", "conditions", "lists", "fixation_ms", "iti_ms", "break_every", "size_deg", "size_px",
+             "px_per_deg", "viewing_distance_cm", "background", "submit_url", "psychopy_units")
+
+
+def run(args):
+    from analysis.experiment.build import build_experiment
+    from analysis.experiment.options import load_options
+    from stimuli.stimulus_set import read_stimulus_set
+
+    options = load_options(args.config, {k: getattr(args, k) for k in _SETTINGS})
+    stimset = read_stimulus_set(args.stimuli)
+    res = build_experiment(stimset, args.output, options, psychopy=args.psychopy, force=args.force)
+    if res["moved_aside"] is not None:
+        print(f"attneave experiment: the old {args.output} is now {res['moved_aside']}")
+    lists = f", {res['lists']} lists" if res["lists"] > 1 else ""
+    print(f"{res['stimuli']} trials + {res['practice']} practice{lists}, background {res['background']} -> "
+          f"{res['out']}/index.html" + (" and psychopy/" if args.psychopy else ""))
+    return 0

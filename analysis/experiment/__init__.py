@@ -1,0 +1,27 @@
+"""The point-selection experiment: a self-contained browser page (and a PsychoPy export).
+
+``attneave experiment SET -o DIR`` turns a stimulus set into a directory that
+runs in any browser from ``file://`` or a static host, collects the points
+participants select on each contour (Attneave 1954; Norman et al. 2001;
+De Winter & Wagemans 2008) and offers them as a click file in image pixels
+that ``attneave analyze`` reads as it is.
+
+Modules
+-------
+options
+    The validated settings (pydantic) and how they are read from YAML and flags.
+calibration
+    Screen calibration and visual-angle arithmetic.
+order
+    The seeded PRNG, trial order and the Latin square of participant lists,
+    identical to the page's JavaScript.
+build
+    Writing the experiment directory atomically.
+psychopy
+    The PsychoPy Coder export.
+"""
+
+from .build import build_experiment
+from .options import ExperimentOptions
+
+__all__ = ["build_experiment", "ExperimentOptions"]

@@ -1,0 +1,450 @@
+"""Writing the experiment directory.
+
+``DIR/index.html`` (the trial list and settings embedded as a JSON block, so
+the page needs no request and runs from ``file://``), ``DIR/task.js``,
+``DIR/task.css`` (the project's own, no CDN), ``DIR/images/<id>.<ext>`` (copies
+of the set's images), ``DIR/experiment.json`` (what was built, from what; it
+also marks the directory as one this module wrote) and, on request,
+``DIR/psychopy/``.
+
+The directory is built in a temporary directory beside it and renamed into
+place, so it appears complete or not at all. An existing ``DIR`` is replaced
+only when it is empty or holds exactly a previous experiment's files; any
+other content is the user's, and is moved aside (never deleted) with
+``force=True``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import tempfile
+from collections import Counter
+from dataclasses import dataclass, field
+from importlib import resources
+from pathlib import Path
+
+from stimuli.errors import InputError
+
+from .options import ExperimentOptions
+from .order import latin_square_lists
+
+__all__ = ["Stimulus", "select_stimuli", "background_colour", "page_config", "build_experiment", "MARKER"]
+
+#: File that marks a directory written by :func:`build_experiment`.
+MARKER = "experiment.json"
+_STATIC = ("task.js", "task.css")
+
+
+@dataclass(frozen=True)
+class Stimulus:
+    """One stimulus as the experiment uses it.
+
+    Attributes
+    ----------
+    id : str
+    source : Path
+        The set's image file.
+    src : str
+        Its copy, relative to the experiment directory (``images/<id>.png``).
+    width, height : int
+        Image size in pixels (the click coordinates' frame).
+    condition, parent_id : str
+        From the manifest ('' when absent).
+    lists : tuple of int
+        The participant lists (1-based) that see it.
+    """
+
+    id: str
+    source: Path
+    src: str
+    width: int
+    height: int
+    condition: str = ""
+    parent_id: str = ""
+    lists: tuple = field(default=(1,))
+
+
+def _column(manifest, name, i):
+    if name not in manifest.columns:
+        return ""
+    v = manifest[name].iloc[i]
+    return "" if v is None else str(v).strip()
+
+
+def select_stimuli(stimset, options):
+    """The practice and main stimuli of the experiment, with their lists.
+
+    Parameters
+    ----------
+    stimset : stimuli.stimulus_set.StimulusSet
+    options : ExperimentOptions
+
+    Returns
+    -------
+    practice, main : list of Stimulus
+        Manifest order. Practice stimuli are seen by every list.
+
+    Raises
+    ------
+    InputError
+        A stimulus without an image file, an image whose size differs from the
+        manifest's, an unknown condition or practice id, no main trials left,
+        or a set that cannot be split into `options.lists` lists.
+    """
+    manifest = stimset.manifest
+    mpath = Path(stimset.directory) / "manifest.csv"
+    rows = []
+    for i, sid in enumerate(stimset.ids):
+        rows.append(dict(id=sid, condition=_column(manifest, "condition", i),
+                         parent_id=_column(manifest, "parent_id", i), index=i))
+    if options.conditions is not None:
+        known = list(dict.fromkeys(r["condition"] for r in rows))
+        for j, c in enumerate(options.conditions):
+            if c not in known:
+                raise InputError(f"conditions[{j}]: no stimulus of {mpath} has condition {c!r}; "
+                                 f"conditions there: {', '.join(map(repr, known))}")
+        rows = [r for r in rows if r["condition"] in options.conditions]
+    if isinstance(options.practice, int):
+        if options.practice >= len(rows):
+            raise InputError(f"practice: {options.practice} practice stimuli would leave no main trials "
+                             f"({len(rows)} stimuli selected)")
+        practice_ids = [r["id"] for r in rows[: options.practice]]
+    else:
+        practice_ids = list(options.practice)
+        for j, sid in enumerate(practice_ids):
+            if sid not in stimset:
+                raise InputError(f"practice[{j}]: stimulus {sid!r} is not in {mpath}")
+    by_id = {sid: dict(id=sid, condition=_column(manifest, "condition", i), parent_id=_column(manifest, "parent_id", i),
+                       index=i) for i, sid in enumerate(stimset.ids)}
+    main_rows = [r for r in rows if r["id"] not in set(practice_ids)]
+    if not main_rows:
+        raise InputError("practice: every selected stimulus is a practice stimulus; no main trials are left")
+    # an item is a base shape and what derives from it: the rows sharing parent_id (or the base itself)
+    lists = latin_square_lists([r["id"] for r in main_rows],
+                               [r["parent_id"] or r["id"] for r in main_rows],
+                               [r["condition"] for r in main_rows], options.lists)
+
+    def make(r, ls):
+        return _stimulus(stimset, mpath, r, ls)
+
+    practice = [make(by_id[sid], tuple(range(1, options.lists + 1))) for sid in practice_ids]
+    main = [make(r, tuple(lists[r["id"]])) for r in main_rows]
+    return practice, main
+
+
+def _stimulus(stimset, mpath, row, lists):
+    sid = row["id"]
+    where = f"{mpath}: line {row['index'] + 2} ({sid})"
+    source = stimset.images.get(sid)
+    if source is None:
+        raise InputError(f"{where}: no image file (column 'image' must name an existing file; the experiment "
+                         f"shows the images)")
+    root = Path(stimset.directory).resolve()
+    if root not in Path(source).resolve().parents:
+        # a manifest path must not lead outside the set (DESIGN.md, Files)
+        raise InputError(f"{where}: image path leads outside the stimulus set {stimset.directory}")
+    suffix = Path(source).suffix.lower()
+    if suffix not in (".png", ".jpg", ".jpeg", ".gif", ".webp", ".svg"):
+        raise InputError(f"{where}: image {Path(source).name!r} is not a format browsers show (png, jpg, gif, webp, svg)")
+    w, h = stimset.sizes[sid]
+    return Stimulus(sid, Path(source), f"images/{sid}{suffix}", w, h, row["condition"], row["parent_id"], lists)
+
+
+def _read_rgba(path):
+    """An image as 8-bit RGBA (H, W, 4), or None when cv2 cannot decode it (e.g. SVG)."""
+    import cv2
+    import numpy as np
+
+    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    if img is None:
+        return None
+    if img.dtype == np.uint16:
+        img = np.round(img / 257.0).astype(np.uint8)
+    elif img.dtype != np.uint8:
+        return None
+    if img.ndim == 2:
+        img = np.dstack([img, img, img, np.full_like(img, 255)])
+    elif img.shape[2] == 3:
+        img = np.dstack([img[..., ::-1], np.full(img.shape[:2], 255, np.uint8)])
+    else:
+        img = img[..., [2, 1, 0, 3]]
+    return img
+
+
+def check_image_sizes(stimuli, mpath):
+    """Raise InputError when an image's pixel size differs from its manifest size.
+
+    Clicks are converted with the manifest's width and height (what
+    ``analyze`` uses) and the page with the image's natural size; the two must
+    agree.
+    """
+    import cv2
+
+    for s in stimuli:
+        img = cv2.imread(str(s.source), cv2.IMREAD_UNCHANGED) if s.source.suffix.lower() != ".svg" else None
+        if img is None:
+            continue
+        h, w = img.shape[:2]
+        if (w, h) != (s.width, s.height):
+            raise InputError(f"{mpath}: {s.id}: image {s.source.name} is {w} x {h} px but the manifest says "
+                             f"{s.width} x {s.height}")
+
+
+def background_colour(paths):
+    """The background colour of a set of images: the commonest opaque corner pixel.
+
+    Stimuli are figures on a uniform ground, so the four corner pixels of
+    every image show the ground; their mode is robust to a figure that
+    touches a corner.
+
+    Parameters
+    ----------
+    paths : sequence of Path
+        Image files (those that cannot be decoded, e.g. SVG, are skipped).
+
+    Returns
+    -------
+    str
+        ``'#rrggbb'`` (sRGB, 8 bit; 16-bit images are rounded), or
+        ``'#808080'`` when no opaque corner pixel was found (transparent
+        images show the page's colour, so any grey matches them).
+    """
+    votes = Counter()
+    for p in paths:
+        img = _read_rgba(p)
+        if img is None:
+            continue
+        for y, x in ((0, 0), (0, -1), (-1, 0), (-1, -1)):
+            r, g, b, a = (int(v) for v in img[y, x])
+            if a == 255:
+                votes[(r, g, b)] += 1
+    if not votes:
+        return "#808080"
+    r, g, b = votes.most_common(1)[0][0]
+    return f"#{r:02x}{g:02x}{b:02x}"
+
+
+def page_config(options, practice, main, background, version):
+    """The settings and trial list the page reads (embedded in index.html as JSON).
+
+    Parameters
+    ----------
+    options : ExperimentOptions
+    practice, main : list of Stimulus
+    background : str
+        ``'#rrggbb'``.
+    version : str
+
+    Returns
+    -------
+    dict
+        JSON-serialisable. ``scale.max_side`` is the larger side of the
+        largest image: it is shown at ``size_deg`` degrees (or ``size_px`` CSS
+        px) and every image at the same scale.
+    """
+    def entry(s):
+        return dict(id=s.id, src=s.src, width=s.width, height=s.height, condition=s.condition,
+                    parent_id=s.parent_id, lists=list(s.lists))
+
+    every = practice + main
+    o = options
+    return dict(
+        attneave_experiment=version,
+        title=o.title,
+        instructions=o.instructions,
+        end_text=o.end_text,
+        clicks=o.clicks,
+        min_clicks=o.clicks if o.clicks != "done" else o.min_clicks,
+        max_clicks=o.clicks if o.clicks != "done" else o.max_clicks,
+        undo=o.undo,
+        order=o.order,
+        seed=o.seed,
+        lists=o.lists,
+        fixation_ms=o.fixation_ms,
+        iti_ms=o.iti_ms,
+        break_every=o.break_every,
+        scale=dict(max_side=max(max(s.width, s.height) for s in every), size_deg=o.size_deg, size_px=o.size_px),
+        px_per_deg=o.px_per_deg,
+        viewing_distance_cm=o.viewing_distance_cm,
+        background=background,
+        submit_url=o.submit_url,
+        practice=[entry(s) for s in practice],
+        stimuli=[entry(s) for s in main],
+    )
+
+
+def _static(name):
+    return resources.files("analysis.experiment").joinpath("static", name)
+
+
+def render_index(config):
+    """index.html with `config` embedded as a JSON script block.
+
+    ``</`` is escaped inside the JSON (as ``<\\/``, still the same JSON) so
+    that no text from a config (instructions, ids) can close the script
+    element.
+    """
+    import html
+
+    blob = json.dumps(config, indent=1, ensure_ascii=False, allow_nan=False).replace("</", "<\\/")
+    template = _static("index.html").read_text(encoding="utf-8")
+    return (template.replace("{{TITLE}}", html.escape(config["title"]))
+            .replace("{{BACKGROUND}}", config["background"])
+            .replace("{{CONFIG}}", blob))
+
+
+def _listing(directory):
+    return sorted(p.relative_to(directory).as_posix() for p in Path(directory).rglob("*") if p.is_file())
+
+
+def _is_previous_experiment(out):
+    """True when `out` holds exactly the files of an experiment this module wrote."""
+    try:
+        marker = json.loads((out / MARKER).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    if not isinstance(marker, dict) or "attneave_experiment" not in marker:
+        return False
+    return set(_listing(out)) <= set(marker.get("files", [])) | {MARKER}
+
+
+def check_output(out, force=False):
+    """What to do with an existing output directory: None (absent/empty/previous) or 'move-aside'.
+
+    Raises
+    ------
+    InputError
+        `out` is a file, or a non-empty directory that is not a previous
+        experiment and `force` is not set.
+    """
+    out = Path(out)
+    if not out.exists():
+        return None
+    if not out.is_dir():
+        raise InputError(f"{out}: exists and is not a directory")
+    if not any(out.iterdir()) or _is_previous_experiment(out):
+        return None
+    if not force:
+        raise InputError(f"{out}: directory exists, is not empty and is not an experiment attneave wrote "
+                         f"(or holds other files too); choose another -o or pass --force (which moves it aside)")
+    return "move-aside"
+
+
+def _aside_name(out):
+    i = 1
+    while True:
+        cand = out.with_name(f"{out.name}.old-{i}")
+        if not cand.exists():
+            return cand
+        i += 1
+
+
+def build_experiment(stimset, out, options=None, psychopy=False, force=False):
+    """Write the browser experiment for a stimulus set.
+
+    Parameters
+    ----------
+    stimset : stimuli.stimulus_set.StimulusSet
+    out : str or Path
+        The experiment directory. Created; replaced when it is empty or a
+        previous experiment; otherwise refused unless `force`, which renames
+        it to ``<out>.old-N`` first (nothing is deleted).
+    options : ExperimentOptions, optional
+    psychopy : bool
+        Also write ``out/psychopy/`` (see :mod:`analysis.experiment.psychopy`).
+    force : bool
+
+    Returns
+    -------
+    dict
+        ``out`` (Path), ``moved_aside`` (Path or None), ``practice`` and
+        ``stimuli`` (counts), ``lists``, ``background``, ``files``.
+
+    Raises
+    ------
+    InputError
+        Bad options for this set, missing images, an output that cannot be
+        written; nothing is written then.
+
+    References
+    ----------
+    .. [1] Attneave, F. (1954). Some informational aspects of visual
+           perception. Psychological Review, 61(3), 183-193.
+    .. [2] Norman, J. F., Phillips, F. & Ross, H. E. (2001). Information
+           concentration along the boundary contours of naturally shaped
+           solid objects. Perception, 30(11), 1285-1294.
+    .. [3] De Winter, J. & Wagemans, J. (2008). Perceptual saliency of points
+           along the contour of everyday objects: A large-scale study.
+           Perception & Psychophysics, 70(1), 50-64.
+    """
+    from stimuli import __version__
+
+    options = options or ExperimentOptions()
+    out = Path(out)
+    mpath = Path(stimset.directory) / "manifest.csv"
+    # every check on the inputs happens before anything is written
+    practice, main = select_stimuli(stimset, options)
+    every = practice + main
+    check_image_sizes(every, mpath)
+    background = options.grey or background_colour([s.source for s in every])
+    config = page_config(options, practice, main, background, __version__)
+    if psychopy:
+        from .psychopy import conditions_rows
+
+        conditions_rows(options, practice, main)  # its units' checks, before anything is written
+    action = check_output(out, force)
+
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
+    except OSError as exc:
+        raise InputError(f"{out}: cannot be created ({exc.strerror or exc})") from None
+    try:
+        (tmp / "images").mkdir()
+        for s in every:
+            shutil.copyfile(s.source, tmp / s.src)
+        for name in _STATIC:
+            (tmp / name).write_bytes(_static(name).read_bytes())
+        (tmp / "index.html").write_text(render_index(config), encoding="utf-8")
+        if psychopy:
+            from .psychopy import write_psychopy
+
+            write_psychopy(tmp / "psychopy", options, practice, main, config)
+        files = _listing(tmp)
+        marker = dict(attneave_experiment=__version__, stimulus_set=str(stimset.directory),
+                      practice=[s.id for s in practice], stimuli=[s.id for s in main], lists=options.lists,
+                      background=background, options=options.model_dump(mode="json"), files=files + [MARKER])
+        (tmp / MARKER).write_text(json.dumps(marker, indent=1) + "\n", encoding="utf-8")
+        for p in [tmp, *tmp.rglob("*")]:
+            # mkdtemp makes the directory private; a static host must be able to read it
+            os.chmod(p, 0o755 if p.is_dir() else 0o644)
+        moved = _swap_into_place(tmp, out, action)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return dict(out=out, moved_aside=moved, practice=len(practice), stimuli=len(main), lists=options.lists,
+                background=background, files=files + [MARKER])
+
+
+def _swap_into_place(tmp, out, action):
+    """Rename `tmp` to `out`; an old `out` is removed (empty or ours) or moved aside (the user's)."""
+    if not out.exists():
+        os.replace(tmp, out)
+        return None
+    if action == "move-aside":
+        aside = _aside_name(out)
+        os.replace(out, aside)
+        os.replace(tmp, out)
+        return aside
+    old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
+    os.rmdir(old)
+    os.replace(out, old)
+    try:
+        os.replace(tmp, out)
+    except BaseException:
+        os.replace(old, out)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
+    return None

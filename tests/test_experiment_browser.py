@@ -1,0 +1,316 @@
+"""The experiment page in real headless Chromium: clicks in, a click file out, analysed as it is.
+
+Needs Debian's ``chromium`` and the Python ``playwright`` package (no
+``playwright install``). Skipped when they are missing, unless
+``ATTNEAVE_REQUIRE_BROWSER=1`` (CI), which turns the skip into a failure.
+"""
+
+import json
+import os
+import shutil
+import urllib.parse
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from analysis.cli import main
+from analysis.experiment import calibration, order
+from test_experiment import H, W, make_set
+
+CHROMIUM = "/usr/bin/chromium"
+ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+PX_PER_DEG = 40.0
+SIZE_DEG = 6.0  # the 160-px side is 240 CSS px: 1.5 CSS px per image px
+
+
+def _missing():
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "the playwright package is not installed (pip install playwright)"
+    if not (os.path.exists(CHROMIUM) or shutil.which("chromium")):
+        return f"{CHROMIUM} is not installed (apt-get install chromium)"
+    return None
+
+
+def _with_timeout(make):
+    def wrapped(*args, **kwargs):
+        obj = make(*args, **kwargs)
+        obj.set_default_timeout(8000)
+        return obj
+    return wrapped
+
+
+@pytest.fixture(scope="module")
+def browser():
+    why = _missing()
+    if why:
+        if os.environ.get("ATTNEAVE_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"ATTNEAVE_REQUIRE_BROWSER=1 but {why}")
+        pytest.skip(why)
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        exe = CHROMIUM if os.path.exists(CHROMIUM) else shutil.which("chromium")
+        b = p.chromium.launch(executable_path=exe, args=ARGS)
+        # the page answers in milliseconds: a wait of seconds means a bug, not a slow machine
+        b.new_context = _with_timeout(b.new_context)
+        b.new_page = _with_timeout(b.new_page)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def setup(tmp_path_factory):
+    """A set of 7 stimuli (3 items x peaks/troughs + a filler) and its experiment, 2 lists, 3 clicks each."""
+    root = tmp_path_factory.mktemp("browser")
+    shapes = make_set(root / "set")
+    exp = root / "exp"
+    assert main(["experiment", str(root / "set"), "-o", str(exp), "--lists", "2", "--clicks", "3",
+                 "--px-per-deg", str(PX_PER_DEG), "--size-deg", str(SIZE_DEG), "--fixation-ms", "50",
+                 "--iti-ms", "0", "--break-every", "2", "--seed", "test"]) == 0
+    # the same without a fixed scale: the page calibrates (card) or takes ?px_per_mm=
+    cal = root / "exp_cal"
+    assert main(["experiment", str(root / "set"), "-o", str(cal), "--lists", "2", "--clicks", "3",
+                 "--size-deg", str(SIZE_DEG), "--fixation-ms", "0", "--iti-ms", "0", "--seed", "test"]) == 0
+    return dict(root=root, set=root / "set", exp=exp, cal=cal, shapes=shapes)
+
+
+def _url(exp, **query):
+    return (exp / "index.html").as_uri() + ("?" + urllib.parse.urlencode(query) if query else "")
+
+
+def _targets(shapes, sid):
+    """Three vertices of the stimulus's polygon: the points the participant means to select."""
+    v = shapes[sid]
+    return [tuple(v[k]) for k in (0, len(v) // 3, 2 * len(v) // 3)]
+
+
+def _client(page, p):
+    """Client (CSS px) coordinates of image pixel p on the current #stimulus."""
+    r = page.evaluate("""() => { const e = document.getElementById('stimulus'); const b = e.getBoundingClientRect();
+                      return [b.left, b.top, b.width, b.height, e.naturalWidth, e.naturalHeight]; }""")
+    left, top, w, h, nw, nh = r
+    return left + (p[0] + 0.5) * w / nw, top + (p[1] + 0.5) * h / nh, w, h
+
+
+def _run(page, shapes, tap=False, wrong_first=False):
+    """Do every trial: click (or tap) the three targets; returns [(stimulus_id, targets)] in shown order."""
+    shown = []
+    while True:
+        state = page.wait_for_function("""() => document.getElementById('download') ? 'end'
+            : document.querySelector('#screen:not([hidden])[data-screen=break]') ? 'break'
+            : document.querySelector('#frame:not([hidden]) #stimulus[data-stimulus-id]') ? 'trial' : null""").json_value()
+        if state == "end":
+            return shown
+        if state == "break":
+            page.click("#next")
+            continue
+        sid = page.get_attribute("#stimulus", "data-stimulus-id")
+        targets = _targets(shapes, sid)
+        assert page.is_disabled("#next")
+        if wrong_first and not shown:
+            x, y, _, _ = _client(page, (5.0, 5.0))  # a slip: undone with Backspace
+            page.mouse.click(x, y)
+            page.keyboard.press("Backspace")
+        for p in targets:
+            x, y, w, h = _client(page, p)
+            if tap:
+                page.touchscreen.tap(x, y)
+            else:
+                page.mouse.click(x, y)
+        assert not page.is_disabled("#next")
+        shown.append((sid, targets, w, h))
+        if len(shown) % 2:
+            page.keyboard.press("Space")  # the keyboard contract: space = next
+        else:
+            page.click("#next")
+        page.wait_for_function(f"() => document.getElementById('stimulus').getAttribute('data-stimulus-id') !== "
+                               f"{json.dumps(sid)} || document.getElementById('download')")
+
+
+def _csv(page, path):
+    href = page.get_attribute("#download", "href")
+    assert href.startswith("data:text/csv")
+    text = urllib.parse.unquote(href.split(",", 1)[1])
+    path.write_text(text, encoding="utf-8")
+    return text
+
+
+def _analyze(clicks, stimset, out):
+    assert main(["analyze", str(clicks), "--stimuli", str(stimset), "-o", str(out), "--no-figures",
+                 "--permutations", "20", "--group-simulations", "0", "-n", "64"]) == 0
+    return pd.read_csv(out / "clicks.csv", keep_default_na=False), json.loads((out / "summary.json").read_text())
+
+
+def _expected_order(setup, participant, lst):
+    mine = [s for s in json.loads(_page_config(setup["exp"]))["stimuli"] if lst in s["lists"]]
+    return order.trial_order(participant, [s["id"] for s in mine], [s["condition"] for s in mine], "random", "test")
+
+
+def _page_config(exp):
+    html = (exp / "index.html").read_text()
+    start = html.index('id="attneave-config">') + len('id="attneave-config">')
+    return html[start:html.index("</script>", start)]
+
+
+def _check_mapping(mapped, shown, participant):
+    mine = mapped[mapped.participant == participant]
+    assert len(mine) == 3 * len(shown)
+    assert (mine.excluded.astype(str) == "False").all() and (mine.reason == "").all()
+    for sid, targets, _, _ in shown:
+        rows = mine[mine.stimulus_id == sid].sort_values("click")
+        got = rows[["x_image", "y_image"]].to_numpy(float)
+        err = np.hypot(*(got - np.array(targets)).T)
+        assert err.max() < 0.5, (sid, got, targets)      # the intended contour point, in image pixels
+        assert rows.distance.astype(float).max() < 0.5   # and on the contour
+
+
+def test_desktop_clicks_become_image_pixels_and_analyze_reads_them(browser, setup, tmp_path):
+    participant = 'P,01 "x"'   # a comma and quotes: the CSV must quote them
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    page.goto(_url(setup["exp"], participant=participant))
+    assert page.get_attribute("#screen", "data-screen") == "instructions"  # px_per_deg fixed: no calibration
+    page.click("#next")
+    shown = _run(page, setup["shapes"], wrong_first=True)
+    rows = page.evaluate("window.attneaveData")
+    text = _csv(page, tmp_path / "clicks.csv")
+    page.close()
+
+    lst = order.participant_list(participant, 2, "test")
+    assert [s for s, *_ in shown] == _expected_order(setup, participant, lst)  # Python predicts the JS order
+    # CSS size != image size: 160 x 120 px shown at 240 x 180 CSS px
+    assert all(abs(w - W * SIZE_DEG * PX_PER_DEG / W) < 0.1 and abs(h - H * 1.5) < 0.1 for _, _, w, h in shown)
+    assert len(rows) == 3 * len(shown) == 12
+    assert text.splitlines()[0].startswith("participant,stimulus_id,x,y,click,trial,rt_ms,condition,list,")
+    df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
+    assert set(df.participant) == {participant} and set(df.list) == {str(lst)}
+    assert df.user_agent.str.contains("Chrome").all()
+    assert df.trial.astype(int).tolist() == [t for t in range(1, 5) for _ in range(3)]
+    assert df.click.astype(int).tolist() == [1, 2, 3] * 4
+    assert (df.rt_ms.astype(float) > 0).all() and df.px_per_deg.astype(float).eq(PX_PER_DEG).all()
+
+    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    assert summary["n_excluded"] == 0 and summary["n_clicks"] == 12
+    _check_mapping(mapped, shown, participant)
+
+
+def test_phone_touch_with_card_calibration(browser, setup, tmp_path):
+    ctx = browser.new_context(viewport={"width": 390, "height": 844}, has_touch=True, is_mobile=True,
+                              device_scale_factor=3)
+    page = ctx.new_page()
+    page.goto(_url(setup["cal"], list=2, distance_cm=40))
+    # no ?participant=: a screen asks for it
+    assert page.get_attribute("#screen", "data-screen") == "participant"
+    assert page.is_disabled("#next")
+    page.fill("#participant-input", "phone-1")
+    page.tap("#next")
+    assert page.get_attribute("#screen", "data-screen") == "calibration"
+    page.fill("#card-size", "400")              # the on-screen card now matches a real one: 400 CSS px
+    assert page.evaluate("document.getElementById('card').getBoundingClientRect().width") == 400
+    page.tap("#next")
+    page.tap("#next")                           # instructions
+    shown = _run(page, setup["shapes"], tap=True)
+    _csv(page, tmp_path / "clicks.csv")
+    ctx.close()
+
+    df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
+    assert set(df.pointer_type) == {"touch"} and set(df.device_pixel_ratio) == {"3"} and set(df.list) == {"2"}
+    ppm = 400 / calibration.CARD_WIDTH_MM
+    ppd = calibration.px_per_degree(ppm, 400.0)
+    assert df.px_per_mm.astype(float).to_numpy() == pytest.approx(ppm, abs=1e-4)
+    assert df.px_per_deg.astype(float).to_numpy() == pytest.approx(ppd, abs=1e-4)
+    # the 160-px side is SIZE_DEG degrees wide on the phone too
+    assert df.shown_w.astype(float).to_numpy() == pytest.approx(SIZE_DEG * ppd, rel=1e-3)
+    assert [s for s, *_ in shown] == _expected_order(setup, "phone-1", 2)
+    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    assert summary["n_excluded"] == 0
+    _check_mapping(mapped, shown, "phone-1")
+
+
+@pytest.mark.parametrize("ppm, distance_cm", [(4.0, 60.0), (2.5, 80.0)])
+def test_stimulus_measures_its_size_in_degrees(browser, setup, ppm, distance_cm):
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    page.goto(_url(setup["cal"], participant="size", px_per_mm=ppm, distance_cm=distance_cm))
+    page.click("#next")                         # ?px_per_mm= skips the calibration
+    page.wait_for_selector("#stimulus[data-stimulus-id]:visible")
+    width = page.evaluate("document.getElementById('stimulus').getBoundingClientRect().width")
+    page.close()
+    # the largest image's larger side (all are 160 x 120 here) is SIZE_DEG degrees
+    ppd = calibration.px_per_degree(ppm, distance_cm * 10)   # computed here, not by the page
+    assert width / ppd == pytest.approx(SIZE_DEG, rel=0.01)
+
+
+def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setup, tmp_path):
+    """Served over http (as by JATOS or any static host): POST the data, retrying after a server error."""
+    exp = tmp_path / "exp"
+    assert main(["experiment", str(setup["set"]), "-o", str(exp), "--clicks", "done", "--min-clicks", "2",
+                 "--max-clicks", "3", "--practice", "1", "--conditions", "peaks,filler", "--size-px", "320",
+                 "--fixation-ms", "0", "--iti-ms", "0", "--submit-url", "/submit", "--order", "fixed"]) == 0
+    posts = []
+
+    def handle(route):
+        req = route.request
+        path = urllib.parse.urlparse(req.url).path
+        if path == "/submit":
+            posts.append(req.post_data)
+            # the first attempt meets a server error, the second succeeds
+            route.fulfill(status=503 if len(posts) == 1 else 200, body="ok")
+        else:
+            f = exp / path.lstrip("/")
+            route.fulfill(path=str(f)) if f.is_file() else route.fulfill(status=404)
+
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    page.route("http://attneave.test/**", handle)
+    page.goto("http://attneave.test/index.html?participant=web-1")
+    page.click("#next")
+    shapes = setup["shapes"]
+    seen = []
+    for _ in range(4):  # 1 practice (a_peaks, the first selected) + 3 main trials
+        page.wait_for_selector("#frame:not([hidden]) #stimulus[data-stimulus-id]")
+        sid = page.get_attribute("#stimulus", "data-stimulus-id")
+        seen.append(sid)
+        t = _targets(shapes, sid)
+        page.mouse.click(*_client(page, t[0])[:2])
+        assert page.is_disabled("#next")                     # min_clicks = 2
+        page.mouse.click(*_client(page, (2.0, 2.0))[:2])      # a slip ...
+        page.click("#undo")                                   # ... undone with the button
+        page.mouse.click(*_client(page, (3.0, 3.0))[:2])      # another ...
+        page.keyboard.press("z")                              # ... undone with Z
+        page.mouse.click(*_client(page, t[1])[:2])
+        page.mouse.click(*_client(page, t[2])[:2])
+        page.mouse.click(*_client(page, (4.0, 4.0))[:2])      # a 4th click: ignored (max_clicks = 3)
+        page.click("#next")
+        if len(seen) == 1:
+            page.wait_for_selector("#screen:not([hidden])[data-screen=practice-end]")
+            page.click("#next")
+    page.wait_for_selector("#submit-status[data-state=ok]", timeout=8000)
+    practice = page.evaluate("window.attneavePractice")
+    data = page.evaluate("window.attneaveData")
+    page.close()
+
+    assert seen == ["a_peaks", "b_peaks", "c_peaks", "filler"]  # --order fixed
+    assert len(posts) == 2 and posts[0] == posts[1]
+    body = json.loads(posts[1])
+    assert body["participant"] == "web-1" and body["rows"] == data
+    assert len(practice) == 3 and {r["stimulus_id"] for r in practice} == {"a_peaks"}
+    assert [r["stimulus_id"] for r in data] == [s for s in seen[1:] for _ in range(3)]  # practice not in the data
+    (tmp_path / "clicks.csv").write_text(body["csv"])
+    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    assert summary["n_excluded"] == 0
+    _check_mapping(mapped, [(s, _targets(shapes, s), 0, 0) for s in seen[1:]], "web-1")
+
+
+@pytest.mark.parametrize("query, message", [
+    ({"participant": "p", "list": "3"}, "list must be a whole number from 1 to 2"),
+    ({"participant": "p", "px_per_mm": "wide"}, "px_per_mm must be a positive number"),
+])
+def test_bad_url_parameters_stop_with_a_message(browser, setup, query, message):
+    page = browser.new_page()
+    page.goto(_url(setup["cal"], **query))
+    assert page.get_attribute("#screen", "data-screen") == "error"
+    assert message in page.inner_text("#screen")
+    assert page.is_hidden("#next")
+    page.close()
