@@ -20,7 +20,8 @@ from stimuli.batch.config import load_config
 from stimuli.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
-CONFIGS = sorted((ROOT / "configs").glob("*.yaml"))
+# batch configs; configs/experiment.yaml holds the experiment page settings
+CONFIGS = sorted(p for p in (ROOT / "configs").glob("*.yaml") if p.stem != "experiment")
 
 # 9 recipe calls, 15 stimuli, 64 px: polygons and their curved versions (a
 # parent/child pair), RF shapes on a grid, and one Barenholtz triple

@@ -11,7 +11,8 @@ import pytest
 from stimuli.batch.config import load_config, stimulus_seed
 from stimuli.errors import InputError
 
-CONFIGS = sorted((Path(__file__).resolve().parents[1] / "configs").glob("*.yaml"))
+# batch configs; configs/experiment.yaml holds the experiment page settings
+CONFIGS = sorted(p for p in (Path(__file__).resolve().parents[1] / "configs").glob("*.yaml") if p.stem != "experiment")
 
 GOOD = """\
 seed: 5
