@@ -20,14 +20,9 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.io import as_points
 
-__all__ = ["Contour", "turning_angles", "gaussian_curvature"]
+__all__ = ["Contour", "turning_angles", "gaussian_curvature", "shoelace"]
 
 _MAX_RESAMPLE = 10**8  # points; 1.6 GB of coordinates, far beyond any stimulus
-
-
-def _wrap(a):
-    """Wrap angles to (-pi, pi]."""
-    return np.pi - np.mod(np.pi - a, 2 * np.pi)
 
 
 def turning_angles(points, closed=True):
@@ -56,16 +51,16 @@ def turning_angles(points, closed=True):
     polygon and finite at corners, where curvature is not (the paper's eq. 6).
     """
     p = np.asarray(points, dtype=float)
+    d = _edges(p, closed)  # d[i] = p[i+1] - p[i]
     if closed:
-        d = np.roll(p, -1, axis=0) - p  # d[i] = p[i+1] - p[i]
-        dp = np.roll(d, 1, axis=0)  # segment arriving at vertex i
+        dp = np.concatenate((d[-1:], d[:-1]))  # segment arriving at vertex i
         dn = d
     else:
-        d = np.diff(p, axis=0)
         dp, dn = d[:-1], d[1:]
     cross = dp[:, 0] * dn[:, 1] - dp[:, 1] * dn[:, 0]
     dot = dp[:, 0] * dn[:, 0] + dp[:, 1] * dn[:, 1]
-    a = np.arctan2(-cross, dot)
+    # minus: y points down, so a left turn on the screen has a negative cross product
+    a = np.arctan2(np.negative(cross, out=cross), dot)
     if not closed:
         a = np.concatenate(([np.nan], a, [np.nan]))
     return a
@@ -173,7 +168,7 @@ class Contour:
         distinct = _count_distinct_upto3(z)
         if distinct < 3:
             raise InputError(f"{where}a contour needs at least 3 distinct points, got {distinct}")
-        if self.closed and orient and _shoelace(p) > 0:
+        if self.closed and orient and shoelace(p) > 0:
             # y down: a positive shoelace sum is clockwise on the screen
             p = np.concatenate([p[:1], p[:0:-1]])
         p.setflags(write=False)
@@ -210,15 +205,12 @@ class Contour:
         return f"Contour({self.n} points, {kind}, length={self.perimeter:.4g} px)"
 
     def _segments(self):
-        p = self._points
-        if self.closed:
-            return np.roll(p, -1, axis=0) - p
-        return np.diff(p, axis=0)
+        return _edges(self._points, self.closed)
 
     def segment_lengths(self):
         """Lengths of the N (closed) or N-1 (open) segments, in pixels."""
         d = self._segments()
-        return np.hypot(d[:, 0], d[:, 1])
+        return np.abs(d.view(np.complex128).ravel())  # hypot of the rows, in one pass
 
     def _cumulative(self):
         if self._cum is None:
@@ -235,7 +227,7 @@ class Contour:
     @property
     def signed_area(self):
         """Area in px^2, positive when the points run counter-clockwise on the screen."""
-        return -_shoelace(self._points)
+        return -shoelace(self._points)
 
     @property
     def area(self):
@@ -286,13 +278,18 @@ class Contour:
         """
         t = np.atleast_1d(np.asarray(t, dtype=float))
         t = np.mod(t, 1.0) if self.closed else np.clip(t, 0.0, 1.0)
+        return self._at_arclength(t * self.perimeter)
+
+    def _at_arclength(self, s):
+        """Points at arc lengths `s` in [0, perimeter] (px), by linear interpolation."""
         cum = self._cumulative()
         p = self._points
-        ring = np.vstack([p, p[:1]]) if self.closed else p
-        s = t * cum[-1]
-        x = np.interp(s, cum, ring[:, 0])
-        y = np.interp(s, cum, ring[:, 1])
-        return np.column_stack([x, y])
+        ring = np.concatenate((p, p[:1])) if self.closed else p
+        out = np.empty((len(s), 2))
+        # np.interp on contiguous columns: a strided column would be copied first
+        out[:, 0] = np.interp(s, cum, np.ascontiguousarray(ring[:, 0]))
+        out[:, 1] = np.interp(s, cum, np.ascontiguousarray(ring[:, 1]))
+        return out
 
     def resample(self, n=None, spacing=None):
         """Equally spaced points along the arc, starting at the first point.
@@ -318,12 +315,10 @@ class Contour:
             When both or neither of `n`, `spacing` are given, or n < 3.
         """
         n = self._resolve_n(n, spacing)
-        if self.closed:
-            t = np.arange(n) / n
-        else:
-            t = np.linspace(0.0, 1.0, n)
+        L = self.perimeter
+        s = np.arange(n) * (L / n) if self.closed else np.linspace(0.0, L, n)
         # equal arc steps of a valid contour are distinct: no need to re-validate
-        return Contour._trusted(self.point_at(t), self.closed, name=self.name)
+        return Contour._trusted(self._at_arclength(s), self.closed, name=self.name)
 
     def _resolve_n(self, n, spacing):
         if (n is None) == (spacing is None):
@@ -496,12 +491,6 @@ class Contour:
             raise InputError(f"scale must be > 0, got {scale}")
         return Contour(self._points * scale + np.asarray(offset, float), self.closed, orient=False, name=self.name)
 
-    def with_start(self, index):
-        """The same closed curve with point `index` first."""
-        if not self.closed:
-            raise InputError("only a closed contour can change its first point")
-        return Contour(np.roll(self._points, -int(index), axis=0), True, orient=False, name=self.name)
-
     # --------------------------------------------------------------------- io
     @classmethod
     def from_csv(cls, path, closed=True, **kwargs):
@@ -536,6 +525,36 @@ def _count_distinct_upto3(z):
     return 3 if np.any(other & (z != second)) else 2
 
 
-def _shoelace(p):
-    x, y = p[:, 0], p[:, 1]
-    return 0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+def shoelace(points):
+    """Signed shoelace area of a closed polygon in the coordinates given.
+
+    Parameters
+    ----------
+    points : (N, 2) ndarray
+        Vertices ``(x, y)``, first point not repeated.
+
+    Returns
+    -------
+    float
+        ``0.5 * sum(x_i y_{i+1} - x_{i+1} y_i)``: positive for a polygon
+        running counter-clockwise in a y-up frame, which is *clockwise on the
+        screen* for image coordinates (y down); :attr:`Contour.signed_area`
+        flips the sign so that counter-clockwise on the screen is positive.
+
+    Examples
+    --------
+    >>> shoelace(np.array([(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]))
+    2.0
+    """
+    x, y = points[:, 0], points[:, 1]
+    return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1] + x[-1] * y[0] - x[0] * y[-1])
+
+
+def _edges(p, closed):
+    """Segment vectors ``p[i+1] - p[i]`` (closed: including the closing one)."""
+    if not closed:
+        return p[1:] - p[:-1]
+    d = np.empty_like(p)
+    np.subtract(p[1:], p[:-1], out=d[:-1])
+    np.subtract(p[0], p[-1], out=d[-1])
+    return d

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.geometry.contour import shoelace
 from stimuli.io import as_points
 
 def resolve_shape(size=None, shape=None):
@@ -108,13 +109,6 @@ def rings_from_geometry(geom):
     return rings
 
 
-def _shoelace(p):
-    """Raw shoelace sum of a closed ring in the coordinates given."""
-    x, y = p[:, 0], p[:, 1]
-    s = (x[:-1] * y[1:]).sum() - (x[1:] * y[:-1]).sum() + x[-1] * y[0] - x[0] * y[-1]
-    return 0.5 * float(s)
-
-
 def orient_rings(rings):
     """Orient rings so that nesting depth parity decides fill (holes subtract).
 
@@ -124,7 +118,7 @@ def orient_rings(rings):
     """
     if len(rings) == 1:
         r = rings[0]
-        return [r if _shoelace(r) >= 0 else r[::-1]]
+        return [r if shoelace(r) >= 0 else r[::-1]]
     from matplotlib.path import Path as MplPath
 
     paths = [MplPath(r) for r in rings]
@@ -134,5 +128,5 @@ def orient_rings(rings):
             1 for j, p in enumerate(paths) if j != i and p.contains_point(r[0], radius=0.0)
         )
         want = 1.0 if depth % 2 == 0 else -1.0
-        out.append(r if _shoelace(r) * want >= 0 else r[::-1])
+        out.append(r if shoelace(r) * want >= 0 else r[::-1])
     return out

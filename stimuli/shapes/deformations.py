@@ -88,9 +88,8 @@ __all__ = [
 
 MODES = ("edge", "vertex", "bump")
 _BUMP_POWER = 6
-# curvature of the profile (1 - u^2)^6 at its centre and its largest on the flanks, times width^2
+# curvature of the profile (1 - u^2)^6 at its centre, times width^2
 _BUMP_CENTRE = 2.0 * _BUMP_POWER
-_BUMP_FLANK = 6.714295791105542
 _EPS = 1e-9  # turning angles within this of 0 count as straight
 
 
