@@ -1,0 +1,81 @@
+"""Start-up cost of the command line against a bare interpreter.
+
+Anchor: ``python -c pass`` (the interpreter and ``site``). Project, each in a
+fresh process: ``import stimuli``, ``import analysis``, ``attneave --help``,
+and ``attneave surprisal`` on a 200-point contour (the whole call: import,
+read, compute, write). For every case the script prints the median wall time
+of repeated runs and the median import time beyond the anchor's, read from
+``python -X importtime`` (the sum of top-level cumulative times), which is
+less sensitive to machine load than wall time.
+
+Target (issue 13): ``attneave --help`` and a ``surprisal`` call in well under
+0.3 s of import time.
+Usage: python benchmarks/bench_import.py [--repeats 7]
+"""
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from _machine import header
+
+
+def import_us(stderr):
+    """Total import time (us) from -X importtime output: the sum of top-level entries."""
+    total = 0
+    for line in stderr.splitlines():
+        if not line.startswith("import time:") or "cumulative" in line:
+            continue
+        _, cum_us, name = line[len("import time:"):].split("|", 2)
+        if len(name) - len(name.lstrip(" ")) == 1:  # top level; deeper ones are inside it
+            total += int(cum_us)
+    return total
+
+
+def run(argv, repeats):
+    walls, imports = [], []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        p = subprocess.run([sys.executable, "-X", "importtime", *argv], capture_output=True, text=True)
+        walls.append(time.perf_counter() - t0)
+        if p.returncode != 0:
+            raise SystemExit(f"{argv}: exit {p.returncode}: {p.stderr[-500:]}")
+        imports.append(import_us(p.stderr))
+    return statistics.median(walls), statistics.median(imports) / 1e6
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=7)
+    args = ap.parse_args()
+    header("start-up: attneave commands against python -c pass", packages=("numpy", "scipy"))
+    with tempfile.TemporaryDirectory() as d:
+        th = 2 * np.pi * np.arange(200) / 200
+        src = os.path.join(d, "c.csv")
+        np.savetxt(src, np.c_[100 + 50 * np.cos(th), 100 + 30 * np.sin(th)], delimiter=",",
+                   header="x,y", comments="")
+        cli = ["-c", "import sys; from analysis.cli import main; sys.exit(main())"]
+        cases = [
+            ("python -c pass (anchor)", ["-c", "pass"]),
+            ("import stimuli", ["-c", "import stimuli"]),
+            ("import analysis", ["-c", "import analysis"]),
+            ("attneave --help", [*cli, "--help"]),
+            ("attneave surprisal (200 points)", [*cli, "surprisal", src, "-o", os.path.join(d, "u.csv")]),
+        ]
+        base_wall, base_imp = run(cases[0][1], args.repeats)
+        print(f"median of {args.repeats} runs; import = -X importtime total beyond the anchor's")
+        print(f"  {'case':34s} {'wall s':>8s} {'x anchor':>9s} {'import s':>9s}")
+        for name, argv in cases:
+            wall, imp = run(argv, args.repeats)
+            print(f"  {name:34s} {wall:8.3f} {wall / base_wall:8.2f}x {imp - base_imp:9.3f}")
+    print("target: --help and a surprisal call well under 0.3 s of import time")
+
+
+if __name__ == "__main__":
+    main()
