@@ -29,7 +29,10 @@ the file.
 
 from __future__ import annotations
 
+import csv
+import io
 import json
+import math
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,10 +44,99 @@ from stimuli.errors import InputError
 
 from stimuli.io import read_text_csv
 
-__all__ = ["StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS"]
+__all__ = [
+    "StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS",
+    "MANIFEST_COLUMNS", "FILE_COLUMNS", "to_jsonable", "encode_json", "write_manifest", "read_manifest_rows",
+]
 
 ID_PATTERN = re.compile(r"^[A-Za-z0-9_.-]+$")
 REQUIRED_COLUMNS = ("stimulus_id", "contour", "width", "height")
+# every column a manifest written by this package may have, in their order
+MANIFEST_COLUMNS = (
+    "stimulus_id", "image", "contour", "svg", "width", "height", "generator", "seed", "params",
+    "condition", "parent_id", "batch_condition", "cell", "rep", "style",
+)
+# the columns that name files, relative to the set's directory
+FILE_COLUMNS = ("image", "contour", "svg")
+
+
+def to_jsonable(obj):
+    """Plain JSON types, the same whatever produced the values.
+
+    numpy scalars and arrays become Python numbers and lists, tuples lists,
+    paths and other objects strings; NaN and infinities become ``None``
+    (JSON ``null``): strict JSON has no NaN, and a missing value is what they
+    mean in a record.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> to_jsonable({"a": np.float32(0.5), "b": (1, np.nan), "c": np.arange(2)})
+    {'a': 0.5, 'b': [1, None], 'c': [0, 1]}
+    """
+    if isinstance(obj, dict):
+        return {str(k): to_jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [to_jsonable(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return to_jsonable(obj.tolist())
+    if isinstance(obj, (bool, np.bool_)):
+        return bool(obj)
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        v = float(obj)
+        return v if math.isfinite(v) else None
+    if obj is None or isinstance(obj, str):
+        return obj
+    return str(obj)
+
+
+def encode_json(obj):
+    """Deterministic compact JSON of a manifest cell (``params``, ``style``).
+
+    Examples
+    --------
+    >>> encode_json({"b": [1, 2.5], "a": float("nan")})
+    '{"a":null,"b":[1,2.5]}'
+    """
+    return json.dumps(to_jsonable(obj), sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
+def write_manifest(path, rows):
+    """Write ``manifest.csv`` atomically (fsync'd: it marks a set complete).
+
+    Parameters
+    ----------
+    path : str or Path
+    rows : list of dict
+        One per stimulus, values already strings or numbers. The columns are
+        those of `MANIFEST_COLUMNS` that some row has, in that order, then any
+        other keys in order of appearance.
+    """
+    from stimuli.io import atomic_write
+
+    keys = dict.fromkeys(k for r in rows for k in r)
+    cols = [c for c in MANIFEST_COLUMNS if c in keys] + [k for k in keys if k not in MANIFEST_COLUMNS]
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n", restval="")
+    w.writeheader()
+    w.writerows(rows)
+    with atomic_write(path, "w", fsync=True, encoding="utf-8", newline="") as fh:
+        fh.write(buf.getvalue())
+
+
+def read_manifest_rows(path):
+    """The rows of a manifest as dicts of strings, or ``[]`` if it cannot be read.
+
+    For resuming a batch (a damaged manifest is remade, not an error); analysis
+    reads a set with :func:`read_stimulus_set`, which checks everything.
+    """
+    try:
+        with open(path, encoding="utf-8", newline="") as fh:
+            return [{k: v for k, v in row.items() if k in MANIFEST_COLUMNS} for row in csv.DictReader(fh)]
+    except (OSError, csv.Error, UnicodeDecodeError):
+        return []
 
 
 @dataclass
@@ -185,8 +277,6 @@ def write_stimulus_set(directory, contours, size=(512, 512), generator="by_hand"
     Path
         The manifest file.
     """
-    from stimuli.io import write_table
-
     directory = Path(directory)
     (directory / "contours").mkdir(parents=True, exist_ok=True)
     rows = []
@@ -206,11 +296,11 @@ def write_stimulus_set(directory, contours, size=(512, 512), generator="by_hand"
                 height=int(h),
                 generator=generator[sid] if isinstance(generator, dict) else generator,
                 seed="",
-                params=json.dumps((params or {}).get(sid, {}), sort_keys=True),
+                params=encode_json((params or {}).get(sid, {})),
                 condition=condition[sid] if isinstance(condition, dict) else condition,
                 parent_id="",
             )
         )
     path = directory / "manifest.csv"
-    write_table(rows and {k: [r[k] for r in rows] for k in rows[0]}, path, float_format="%.17g")
+    write_manifest(path, rows)
     return path

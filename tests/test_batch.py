@@ -15,13 +15,15 @@ import numpy as np
 import pytest
 
 from analysis.cli import main as cli
-from stimuli.batch.runner import plan_jobs, run_batch, run_job
+from stimuli.batch.job import plan_jobs, run_job
+from stimuli.batch.runner import run_batch
 from stimuli.batch.config import load_config
 from stimuli.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
 # batch configs; configs/experiment.yaml holds the experiment page settings
 CONFIGS = sorted(p for p in (ROOT / "configs").glob("*.yaml") if p.stem != "experiment")
+SLOW_GENERATE = Path(__file__).with_name("slow_generate.py")
 
 # 9 recipe calls, 15 stimuli, 64 px: polygons and their curved versions (a
 # parent/child pair), RF shapes on a grid, and one Barenholtz triple
@@ -141,11 +143,11 @@ def _journaled(dest):
 def test_kill_9_mid_way_then_rerun_gives_the_uninterrupted_files(tiny, tmp_path, capsys):
     cfg, out, ref = tiny
     dest = tmp_path / "killed"
-    env = dict(os.environ, ATTNEAVE_BATCH_JOB_DELAY="0.25")  # each job sleeps, so the kill lands mid-way
+    # each job sleeps 0.4 s (tests/slow_generate.py), so that the kill lands mid-way even under load
     proc = subprocess.Popen(
-        [sys.executable, "-m", "analysis.cli", "generate", str(cfg), "-o", str(dest), "--workers", "2",
+        [sys.executable, str(SLOW_GENERATE), "0.4", "generate", str(cfg), "-o", str(dest), "--workers", "2",
          "--no-progress"],
-        env=env, cwd=tmp_path, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+        cwd=tmp_path, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
     )
     try:
         deadline = time.monotonic() + 60

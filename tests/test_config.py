@@ -100,9 +100,9 @@ def test_dotted_grid_keys_reach_nested_parameters(tmp_path):
          "cfg.yaml:6: conditions[0].grid.base.params.n_points[1]: must be >= 3, got 1"),
         # condition-level overrides are blamed, not the top-level values
         ("seed: 1\nconditions:\n  - name: a\n    recipe: blob\n    style: {figure: 2}\n",
-         "cfg.yaml:5: conditions[0].style.figure: must be <= 1.0, got 2"),
+         "cfg.yaml:5: conditions[0].style.figure: must be a grey level in [0, 1] or an [r, g, b] triple of them, got 2"),
         ("seed: 1\nstyle: {figure: abc}\nconditions:\n  - name: a\n    recipe: blob\n",
-         "cfg.yaml:2: style.figure: must be a number or a list of 3 numbers, got 'abc'"),
+         "cfg.yaml:2: style.figure: must be a grey level in [0, 1] or an [r, g, b] triple of them, got 'abc'"),
         ("seed: 1\ncanvas: {width: 64}\nconditions:\n  - name: a\n    recipe: blob\n    canvas: {margin: 40}\n",
          "cfg.yaml:6: conditions[0].canvas.margin: must be < 32"),
         ("seed: 1\nconditions:\n  - name: a\n    recipe: blobb\n",

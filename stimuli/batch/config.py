@@ -44,13 +44,11 @@ depends on worker order or on the number of workers.
 from __future__ import annotations
 
 import copy
-import difflib
 import hashlib
 import itertools
-import json
+import math
 import os
 import re
-import typing
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal, Optional
@@ -58,7 +56,12 @@ from typing import Any, Literal, Optional
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
+from stimuli.batch.config_file import dumper, parse_yaml, read_text, yaml_line
+from stimuli.batch.errors import describe, loc_str, suggest
+from stimuli.batch.params import Style
+from stimuli.batch.placement import Canvas
 from stimuli.errors import InputError
+from stimuli.stimulus_set import to_jsonable
 
 __all__ = [
     "BatchConfig",
@@ -163,6 +166,12 @@ class ResolvedCondition:
     path_map : dict
         Absolute path -> path as written, to undo the path resolution in
         whatever the recipe records.
+    models : list of RecipeParams
+        Per grid cell, the validated parameter model: what the recipe gets
+        (validated here once, never again on the way).
+    style_model : Style
+    canvas_model : Canvas
+        The validated style and canvas, as the recipes and drawing get them.
     """
 
     index: int
@@ -176,6 +185,9 @@ class ResolvedCondition:
     style: dict
     canvas: dict
     path_map: dict = field(default_factory=dict)
+    models: list = field(default_factory=list)
+    style_model: Any = None
+    canvas_model: Any = None
 
     @property
     def n_jobs(self):
@@ -235,23 +247,9 @@ def load_config(path):
         One line: ``FILE:LINE: key.path: what was expected`` (or the YAML
         syntax error with its line).
     """
-    import yaml
-
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read ({exc})") from None
-    try:
-        data = yaml.safe_load(text)
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
-        where = f"{path}:{mark.line + 1}:{mark.column + 1}" if mark is not None else f"{path}"
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise InputError(f"{where}: invalid YAML: {problem}") from None
+    text = read_text(path)
+    root, data = parse_yaml(text, path)
     if data is None:
         raise InputError(f"{path}: the config is empty")
     if not isinstance(data, dict):
@@ -277,25 +275,23 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
     -------
     ResolvedBatch
     """
-    recipes_mod = _recipes()
     src = str(source)
     base_dir = Path(os.path.abspath(base_dir))
 
     def fail(loc, msg):
-        line = _yaml_line(yaml_root, loc)
+        line = yaml_line(yaml_root, loc)
         where = f"{src}:{line}" if line else src
-        raise InputError(f"{where}: {_loc_str(loc)}: {msg}")
+        raise InputError(f"{where}: {loc_str(loc)}: {msg}")
 
     def check(model, value, loc_prefix, strict=None):
         try:
             return model.model_validate(value, strict=strict)
         except ValidationError as exc:
-            loc, msg = _first_error(exc, model)
+            loc, msg = describe(exc, value, model)
             fail(tuple(loc_prefix) + tuple(loc), msg)
 
     cfg = check(BatchConfig, data, ())
-    registry = recipes_mod.RECIPES
-    Style = recipes_mod.Style
+    registry = _recipes()
 
     top_style = check(Style, cfg.style, ("style",)).model_dump(mode="json", by_alias=True)
     top_canvas = cfg.canvas.model_dump(mode="json")
@@ -307,7 +303,7 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
         if any(c.name == cond.name for c in cfg.conditions[:ci]):
             fail(loc0 + ("name",), f"condition name {cond.name!r} is used twice")
         if cond.recipe not in registry:
-            fail(loc0 + ("recipe",), f"unknown recipe {cond.recipe!r}{_suggest(cond.recipe, registry)}"
+            fail(loc0 + ("recipe",), f"unknown recipe {cond.recipe!r}{suggest(cond.recipe, registry)}"
                  f" (expected one of: {', '.join(sorted(registry))})")
         params_model = registry[cond.recipe][0]
 
@@ -315,20 +311,19 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
         canvas = _check_override(CanvasConfig, top_canvas, cond.canvas, loc0 + ("canvas",), ("canvas",),
                                  fail, strict=True)
         style = _check_override(Style, top_style, cond.style, loc0 + ("style",), ("style",), fail)
+        canvas_model = Canvas(**canvas.model_dump())
 
         for key in cond.grid:
             if _has_path(cond.params, key.split(".")):
                 fail(loc0 + ("grid", key), f"{key!r} is also in params; give it in one place only")
 
         keys = list(cond.grid)
-        n_cells = 1
-        for key in keys:
-            n_cells *= len(cond.grid[key])
+        n_cells = math.prod(len(cond.grid[key]) for key in keys)
         n_jobs += n_cells * cond.repeats
         if n_jobs > MAX_JOBS:
             fail(loc0 + ("grid",), f"the batch would have more than {MAX_JOBS} recipe calls")
 
-        cells, recorded, path_map = [], [], {}
+        cells, recorded, models, path_map = [], [], [], {}
         for combo in itertools.product(*(range(len(cond.grid[k])) for k in keys)):
             written = copy.deepcopy(cond.params)
             origin = {}  # dotted key -> loc of the value in the YAML
@@ -340,11 +335,12 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
             try:
                 model = params_model.model_validate(call)
             except ValidationError as exc:
-                loc, msg = _first_error(exc, params_model)
+                loc, msg = describe(exc, call, params_model)
                 fail(_value_loc(tuple(loc), origin, loc0), msg)
-            dumped = _jsonable(model.model_dump(mode="json", by_alias=True))
+            dumped = to_jsonable(model.model_dump(mode="json", by_alias=True))
+            models.append(model)
             cells.append(dumped)
-            recorded.append(_unmap_paths(dumped, pmap))
+            recorded.append(record_paths(dumped, pmap))
 
         params = copy.deepcopy(recorded[0])
         for key in keys:
@@ -353,7 +349,8 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
             ResolvedCondition(
                 index=ci, name=cond.name, recipe=cond.recipe, repeats=cond.repeats, cells=cells,
                 recorded_cells=recorded, axes=copy.deepcopy(cond.grid), params=params,
-                style=style, canvas=canvas, path_map=path_map,
+                style=style.model_dump(mode="json", by_alias=True), canvas=canvas.model_dump(mode="json"),
+                path_map=path_map, models=models, style_model=style, canvas_model=canvas_model,
             )
         )
 
@@ -366,12 +363,10 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
 
 
 def _recipes():
-    import importlib
+    # imported when a config is resolved, not when this module is: recipes pull in the generators
+    from stimuli.batch.recipes import RECIPES
 
-    try:
-        return importlib.import_module("stimuli.batch.recipes")
-    except ImportError as exc:  # pragma: no cover - only while the package is incomplete
-        raise InputError(f"the stimulus recipes are not available ({exc})") from None
+    return RECIPES
 
 
 def _version():
@@ -384,9 +379,9 @@ def _check_override(model, base, override, loc_override, loc_base, fail, strict=
     """Validate `base` updated by `override`; blame the override when it is involved."""
     merged = {**base, **override}
     try:
-        return model.model_validate(merged, strict=strict).model_dump(mode="json", by_alias=True)
+        return model.model_validate(merged, strict=strict)
     except ValidationError as exc:
-        loc, msg = _first_error(exc, model)
+        loc, msg = describe(exc, merged, model)
         # `base` alone is valid (checked before), so the override is what broke it
         fail((loc_override if override else loc_base) + tuple(loc), msg)
 
@@ -430,37 +425,24 @@ def _resolve_paths(params, base_dir, loc_of, fail):
     return out, pmap
 
 
-def _unmap_paths(obj, pmap):
+def record_paths(obj, path_map):
+    """`obj` with the absolute file paths of `path_map` put back as written in the config.
+
+    Examples
+    --------
+    >>> record_paths({"path": "/abs/shapes/a.csv", "n": 3}, {"/abs/shapes/a.csv": "shapes/a.csv"})
+    {'path': 'shapes/a.csv', 'n': 3}
+    """
+    pmap = path_map
     if not pmap:
         return obj
     if isinstance(obj, dict):
-        return {k: _unmap_paths(v, pmap) for k, v in obj.items()}
+        return {k: record_paths(v, pmap) for k, v in obj.items()}
     if isinstance(obj, list):
-        return [_unmap_paths(v, pmap) for v in obj]
+        return [record_paths(v, pmap) for v in obj]
     if isinstance(obj, str) and obj in pmap:
         return pmap[obj]
     return obj
-
-
-def _jsonable(obj):
-    """Plain JSON types, so that dumps are the same whatever produced them."""
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, (bool, np.bool_)):
-        return bool(obj)
-    if isinstance(obj, (int, np.integer)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        return float(obj)
-    if obj is None or isinstance(obj, str):
-        return obj
-    if isinstance(obj, Path):
-        return str(obj)
-    return str(obj)
 
 
 def _has_path(d, keys):
@@ -514,222 +496,6 @@ def _resolved_text(seed, output, canvas, style, conditions):
         "# Resolved batch config written by `attneave generate` (defaults filled in).\n"
         "# Rerunning it gives the same files: attneave generate config.yaml -o DIR\n"
     )
-    body = yaml.dump(_jsonable(doc), Dumper=_dumper(), sort_keys=False, default_flow_style=False,
+    body = yaml.dump(to_jsonable(doc), Dumper=dumper(), sort_keys=False, default_flow_style=False,
                      allow_unicode=True, width=4096)
     return header + body
-
-
-def _dumper():
-    import yaml
-
-    class Dumper(yaml.SafeDumper):
-        """Safe dumper that writes lists of scalars on one line: ``[3, 5]``."""
-
-    def represent_list(dumper, data):
-        flow = all(not isinstance(v, (dict, list)) for v in data)
-        return dumper.represent_sequence("tag:yaml.org,2002:seq", data, flow_style=flow)
-
-    Dumper.add_representer(list, represent_list)
-    return Dumper
-
-
-def _loc_str(loc):
-    out = ""
-    for p in loc:
-        if isinstance(p, int):
-            out += f"[{p}]"
-        else:
-            out += ("." if out else "") + str(p)
-    return out or "(top level)"
-
-
-def _suggest(word, choices):
-    close = difflib.get_close_matches(str(word), list(choices), n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
-def _first_error(exc, model):
-    """(loc, message) of the first pydantic error, in plain words."""
-    errors = exc.errors(include_url=False)
-    # an unknown key (a typo) usually explains a missing one: report it first
-    e = min(errors, key=lambda err: err["type"] != "extra_forbidden")
-    raw = tuple(e["loc"])
-    loc = tuple(p for p in raw if not _is_union_tag(p))
-    msg = _message(e, model, loc)
-    tag_at = next((i for i, p in enumerate(raw) if isinstance(p, str) and _is_union_tag(p)), None)
-    if tag_at is not None and e["type"] != "extra_forbidden":
-        # a value that fits none of the members of a union: name the members
-        members = [err for err in errors if tuple(err["loc"])[:tag_at] == raw[:tag_at]
-                   and len(err["loc"]) > tag_at and _is_union_tag(str(err["loc"][tag_at]))]
-        tags = list(dict.fromkeys(str(err["loc"][tag_at]) for err in members))
-        whole = next((err for err in members if len(err["loc"]) == tag_at + 1), e)
-        if len(tags) > 1:
-            fitting = [err for err in members if not _is_type_mismatch(err)]
-            if fitting:
-                # the value has the type of one member but breaks its constraint: say which
-                e = fitting[0]
-                loc = tuple(p for p in e["loc"] if not _is_union_tag(p))
-                msg = _message(e, model, loc)
-            else:
-                loc = tuple(p for p in raw[:tag_at] if not _is_union_tag(p))
-                msg = f"must be {' or '.join(_plain_type(t) for t in tags)}, got {_got(whole)}"
-            errors = [err for err in errors if err not in members] + [e]
-    if len(errors) > 1:
-        msg += f" (and {len(errors) - 1} more problem{'s' if len(errors) > 2 else ''})"
-    return loc, msg
-
-
-def _plain_type(tag):
-    words = {"float": "a number", "int": "an integer", "str": "a string", "bool": "true or false"}
-    if tag in words:
-        return words[tag]
-    m = re.fullmatch(r"tuple\[(.*)\]", tag)
-    if m:
-        parts = [x.strip().removeprefix("constrained-") for x in m.group(1).split(",")]
-        if len(set(parts)) == 1 and parts[0] in words:
-            return f"a list of {len(parts)} {'numbers' if parts[0] == 'float' else parts[0] + 's'}"
-    m = re.fullmatch(r"constrained-(\w+)", tag)
-    if m:
-        return _plain_type(m.group(1))
-    return tag
-
-
-_TYPE_WORDS = {"int", "float", "str", "bool", "bytes", "list", "tuple", "dict", "set", "none", "decimal",
-               "date", "datetime", "any"}
-_TAG_PREFIXES = ("constrained-", "function-", "lax-", "strict-", "json-or-python", "nullable", "chain",
-                 "default", "union", "tagged-union", "literal", "is-instance", "enum")
-
-
-def _is_union_tag(p):
-    # pydantic puts the union member ('float', 'constrained-float', 'tuple[float, float, float]')
-    # into loc; these are not keys anyone wrote
-    return isinstance(p, str) and (p in _TYPE_WORDS or "[" in p or p.startswith(_TAG_PREFIXES))
-
-
-def _is_type_mismatch(err):
-    t = err["type"]
-    return t.endswith(("_type", "_parsing")) or t in ("is_instance_of", "literal_error", "union_tag_invalid")
-
-
-def _got(e):
-    v = e.get("input")
-    if isinstance(v, (dict, list)) and len(repr(v)) > 60:
-        return f"a {type(v).__name__}"
-    return repr(v)
-
-
-def _message(e, model, loc):
-    t = e["type"]
-    ctx = e.get("ctx") or {}
-    if t == "extra_forbidden":
-        key = loc[-1] if loc else "?"
-        fields = _fields_at(model, loc[:-1])
-        hint = _suggest(key, fields) if fields else ""
-        expected = f" (expected one of: {', '.join(fields)})" if fields else ""
-        return f"unknown key{hint}{expected}"
-    if t == "missing":
-        return "required key is missing"
-    if t in ("greater_than", "greater_than_equal", "less_than", "less_than_equal", "multiple_of"):
-        op = {"greater_than": ">", "greater_than_equal": ">=", "less_than": "<", "less_than_equal": "<=",
-              "multiple_of": "a multiple of"}[t]
-        bound = next(iter(ctx.values())) if ctx else "?"
-        return f"must be {op} {bound}, got {_got(e)}"
-    if t in ("int_type", "int_parsing", "int_from_float"):
-        return f"must be an integer, got {_got(e)}"
-    if t in ("float_type", "float_parsing", "finite_number"):
-        return f"must be a finite number, got {_got(e)}" if t == "finite_number" else \
-            f"must be a number, got {_got(e)}"
-    if t in ("bool_type", "bool_parsing"):
-        return f"must be true or false, got {_got(e)}"
-    if t in ("string_type",):
-        return f"must be a string, got {_got(e)}"
-    if t in ("dict_type", "model_type", "model_attributes_type"):
-        return f"must be a mapping of keys, got {_got(e)}"
-    if t in ("list_type", "tuple_type"):
-        return f"must be a list, got {_got(e)}"
-    if t == "literal_error":
-        return f"must be {ctx.get('expected', 'one of the allowed values')}, got {_got(e)}"
-    if t == "string_pattern_mismatch":
-        return f"must match {ctx.get('pattern')}, got {_got(e)}"
-    if t == "too_short":
-        return f"must have at least {ctx.get('min_length')} item(s), got {ctx.get('actual_length')}"
-    if t == "too_long":
-        return f"must have at most {ctx.get('max_length')} item(s), got {ctx.get('actual_length')}"
-    if t == "string_too_long":
-        return f"must be at most {ctx.get('max_length')} characters long"
-    msg = e["msg"]
-    if msg.startswith("Value error, "):
-        msg = msg[len("Value error, "):]
-    msg = msg[:1].lower() + msg[1:]
-    return msg if t in ("value_error", "assertion_error") else f"{msg}, got {_got(e)}"
-
-
-def _fields_at(model, loc):
-    """Field names of the pydantic model reached by following `loc` from `model`."""
-    tp = model
-    for p in loc:
-        tp = _descend(tp, p)
-        if tp is None:
-            return []
-    if isinstance(tp, type) and issubclass(tp, BaseModel):
-        return list(tp.model_fields)
-    return []
-
-
-def _descend(tp, p):
-    tp = _unwrap(tp)
-    if isinstance(tp, type) and issubclass(tp, BaseModel):
-        f = tp.model_fields.get(p) if isinstance(p, str) else None
-        return f.annotation if f is not None else None
-    origin = typing.get_origin(tp)
-    args = typing.get_args(tp)
-    if origin in (list, tuple) and isinstance(p, int) and args:
-        return args[0] if origin is list or len(args) == 2 and args[1] is Ellipsis else (
-            args[p] if p < len(args) else None)
-    if origin is dict and len(args) == 2:
-        return args[1]
-    return None
-
-
-def _unwrap(tp):
-    # Optional[X] / Annotated[X, ...] -> X (first model-like member)
-    origin = typing.get_origin(tp)
-    if origin is typing.Annotated:
-        return _unwrap(typing.get_args(tp)[0])
-    if origin in (typing.Union, getattr(__import__("types"), "UnionType", None)):
-        for a in typing.get_args(tp):
-            if isinstance(a, type) and issubclass(a, BaseModel):
-                return a
-    return tp
-
-
-def _yaml_line(root, loc):
-    """1-based line of the YAML node at `loc` (or of its deepest existing parent)."""
-    if root is None:
-        return None
-    import yaml
-
-    node = root
-    line = node.start_mark.line + 1
-    for p in loc:
-        if isinstance(node, yaml.MappingNode) and isinstance(p, str):
-            for k, v in node.value:
-                if getattr(k, "value", None) == p:
-                    line = k.start_mark.line + 1
-                    node = v
-                    break
-            else:
-                return line
-        elif isinstance(node, yaml.SequenceNode) and isinstance(p, int) and 0 <= p < len(node.value):
-            node = node.value[p]
-            line = node.start_mark.line + 1
-        else:
-            return line
-    if not isinstance(node, (yaml.MappingNode, yaml.SequenceNode)):
-        line = node.start_mark.line + 1
-    return line
-
-
-def manifest_json(obj):
-    """Deterministic compact JSON used for the manifest's ``params``/``style`` columns."""
-    return json.dumps(_jsonable(obj), sort_keys=True, separators=(",", ":"), allow_nan=False)

@@ -5,9 +5,9 @@ pydantic model (unknown keys and out-of-range values are errors that name
 the key); ``fn(params, rng, canvas)`` draws everything it needs from the
 `numpy.random.Generator` `rng` and returns a list of :class:`Item`: the
 contour placed on the canvas in image pixels, what the image shows, and
-every resolved parameter. :func:`draw_item` renders an item with a
-:class:`Style` (exact area coverage, :mod:`stimuli.render.core`), and
-:func:`item_svg` writes it as SVG in the same pixel coordinates.
+every resolved parameter. The parameter models live in
+:mod:`stimuli.batch.params`, placement on the canvas in
+:mod:`stimuli.batch.placement`, drawing in :mod:`stimuli.batch.drawing`.
 
 Recipes
 -------
@@ -31,84 +31,32 @@ Recipes
 
 Placement
 ---------
-Every shape is made in its generator's own units and then placed on the
-canvas: ``placement='fit'`` (default) scales it uniformly so that its
-bounding box fills the canvas less ``margin`` on the tighter side and
-centres the box on the image centre ``((width - 1) / 2, (height - 1) / 2)``
-(:func:`stimuli.render.fit_to_image`); ``placement='native'`` keeps the
-generator's units as pixels (e.g. an RF pattern's ``r0`` in px) and puts
-the generator's centre (the polar origin, the grid centre) on the image
-centre. Deformation displacements and fragment gaps are in pixels of the
-placed shape. Points are ``(x, y)`` in image pixels, y down, pixel centres
-at integers.
+See :mod:`stimuli.batch.placement` (``placement='fit'`` or ``'native'``).
+Deformation displacements and fragment gaps are in pixels of the placed
+shape. Points are ``(x, y)`` in image pixels, y down, pixel centres at
+integers.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Annotated, Any, Callable, Literal, Optional, Union
+from typing import Callable, Literal, Optional
 
 import numpy as np
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+from pydantic import BaseModel, Field, field_validator
 
+from stimuli.batch.drawing import draw_item, item_svg
+from stimuli.batch.params import SHAPES, BaseShape, DeformationParams, Style
+from stimuli.batch.params import RecipeParams as _Params
+from stimuli.batch.placement import Canvas, place
+from stimuli.errors import InputError
+from stimuli.geometry.contour import Contour
 from stimuli.shapes import deformations
 from stimuli.shapes import generators
 from stimuli.shapes import guided
-from stimuli.geometry.contour import Contour
-from stimuli.errors import InputError
 
-__all__ = [
-    "Canvas",
-    "Item",
-    "Style",
-    "RECIPES",
-    "SHAPES",
-    "draw_item",
-    "item_svg",
-    "make",
-    "place",
-]
-
-
-# --------------------------------------------------------------------------- canvas, item, style
-
-
-@dataclass(frozen=True)
-class Canvas:
-    """The image a stimulus is drawn on.
-
-    Attributes
-    ----------
-    width, height : int
-        Image size in pixels.
-    margin : float
-        Pixels between the shape's bounding box and the image edge (for
-        ``placement='fit'``).
-    """
-
-    width: int = 512
-    height: int = 512
-    margin: float = 32.0
-
-    def __post_init__(self):
-        for name in ("width", "height"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, np.integer)) and v > 0):
-                raise InputError(f"canvas.{name}: must be a positive integer, got {v!r}")
-        if not (np.isfinite(self.margin) and 0 <= self.margin and 2 * self.margin < min(self.width, self.height)):
-            raise InputError(
-                f"canvas.margin: must be >= 0 and less than half the smaller side, got {self.margin!r}"
-            )
-
-    @property
-    def size(self):
-        """``(width, height)``."""
-        return (int(self.width), int(self.height))
-
-    @property
-    def centre(self):
-        """The image centre ``((width - 1) / 2, (height - 1) / 2)`` in pixel coordinates."""
-        return np.array([(self.width - 1) / 2.0, (self.height - 1) / 2.0])
+# Canvas, Style, place, draw_item and item_svg are kept here too: callers make, place and draw in one place
+__all__ = ["Canvas", "Item", "Style", "RECIPES", "SHAPES", "draw_item", "item_svg", "make", "place"]
 
 
 @dataclass
@@ -144,247 +92,6 @@ class Item:
     draw: dict
     params: dict = field(default_factory=dict)
 
-
-def _check_colour(v):
-    if isinstance(v, (list, tuple)):
-        if len(v) != 3:
-            raise ValueError(f"a colour is a grey level or an [r, g, b] triple, got {len(v)} values")
-        for c in v:
-            if not 0 <= c <= 1:
-                raise ValueError(f"colour values must be in [0, 1], got {c}")
-        return tuple(float(c) for c in v)
-    return v
-
-
-Unit = Annotated[float, Field(ge=0, le=1)]
-Colour = Annotated[Union[Unit, tuple[Unit, Unit, Unit]], BeforeValidator(_check_colour)]
-
-
-class Style(BaseModel):
-    """How items are drawn; shared by a whole condition.
-
-    Attributes
-    ----------
-    figure, ground : float or [r, g, b]
-        Grey levels (or RGB) in [0, 1] of the shape and of the background.
-    line_width : float
-        Stroke width in px of outlines, fragments and outlined polygons.
-    dot_radius : float
-        Radius in px of dots.
-    polygon_fill : bool
-        Attneave's cat (mode ``polygon``) filled (True) or outlined (False).
-    join : {'round', 'mitre', 'bevel'}
-        Stroke joins.
-    cap : {'flat', 'round', 'square'}
-        Ends of fragments. 'flat' (default) makes the visible length equal
-        the fragment length; 'round' and 'square' add ``line_width / 2`` at
-        each end.
-    """
-
-    model_config = ConfigDict(extra="forbid")
-
-    figure: Colour = 0.0
-    ground: Colour = 1.0
-    line_width: float = Field(3.0, gt=0, le=1000)
-    dot_radius: float = Field(4.0, gt=0, le=1000)
-    polygon_fill: bool = False
-    join: Literal["round", "mitre", "bevel"] = "round"
-    cap: Literal["flat", "round", "square"] = "flat"
-
-
-# --------------------------------------------------------------------------- params models
-
-
-class _Params(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class _ShapeParams(_Params):
-    placement: Literal["fit", "native"] = Field("fit", description="'fit' scales to the canvas, 'native' keeps units as px")
-    draw: Literal["silhouette", "outline"] = Field("silhouette", description="filled shape or its outline")
-
-
-PosInt = Annotated[int, Field(ge=1)]
-NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
-
-
-def _one_or_list(item_type):
-    """Before-validator: a lone value becomes a one-element list.
-
-    The lone value is checked here against `item_type` so that its error is
-    reported at the key itself (``amplitude: must be >= 0``), not at an
-    index the user never wrote.
-    """
-    from pydantic import TypeAdapter
-
-    adapter = TypeAdapter(item_type)
-
-    def convert(v):
-        if v is None or isinstance(v, (list, tuple)):
-            return v
-        adapter.validate_python(v)
-        return [v]
-
-    return BeforeValidator(convert)
-
-
-class AttneavePolygonParams(_ShapeParams):
-    """Attneave & Arnoult (1956) Method 1; see :func:`stimuli.generators.attneave_polygon`."""
-
-    n_points: int = Field(12, ge=3, le=1000, description="number of vertices")
-    grid: int = Field(100, ge=2, le=100_000, description="side of the lattice the points are drawn from")
-    min_angle: float = Field(10.0, ge=0, lt=180, description="smallest angle between sides at a vertex (deg)")
-    max_angle: float = Field(170.0, gt=0, le=180, description="largest angle between sides at a vertex (deg)")
-    max_tries: int = Field(1000, ge=1, le=1_000_000)
-    version: Literal["polygon", "curved", "both"] = "polygon"
-    smooth_method: Literal["cubic", "bspline", "qic"] = "cubic"
-    samples_per_edge: int = Field(32, ge=2, le=10_000)
-
-    @model_validator(mode="after")
-    def _check(self):
-        if not self.min_angle < self.max_angle:
-            raise ValueError(f"min_angle ({self.min_angle:g}) must be < max_angle ({self.max_angle:g})")
-        if self.n_points > self.grid * self.grid:
-            raise ValueError(f"n_points ({self.n_points}) exceeds the {self.grid}x{self.grid} grid")
-        return self
-
-
-class AttneaveCurvedParams(AttneavePolygonParams):
-    """As ``attneave_polygon`` with ``version='curved'`` by default."""
-
-    version: Literal["polygon", "curved", "both"] = "curved"
-
-
-class RadialFrequencyParams(_ShapeParams):
-    """Radial-frequency pattern; see :func:`stimuli.generators.radial_frequency`."""
-
-    r0: float = Field(100.0, gt=0, allow_inf_nan=False, description="mean radius (px when placement is native)")
-    frequency: Annotated[list[PosInt], _one_or_list(PosInt), Field(min_length=1)] = Field(
-        default_factory=lambda: [5], description="radial frequencies (one or a list)")
-    amplitude: Annotated[list[NonNeg], _one_or_list(NonNeg), Field(min_length=1)] = Field(
-        default_factory=lambda: [0.1], description="amplitudes, one per frequency")
-    phase: Annotated[Optional[list[Finite]], _one_or_list(Finite)] = Field(
-        None, description="phases in radians, one per frequency; null draws them")
-    n: int = Field(1024, ge=8, le=1_000_000)
-
-    @model_validator(mode="after")
-    def _check(self):
-        if len(self.amplitude) != len(self.frequency):
-            raise ValueError(f"give one amplitude per frequency ({len(self.frequency)}), got {len(self.amplitude)}")
-        if self.phase is not None and len(self.phase) != len(self.frequency):
-            raise ValueError(f"give one phase per frequency ({len(self.frequency)}), got {len(self.phase)}")
-        if sum(self.amplitude) >= 1:
-            raise ValueError(f"the amplitudes must sum to < 1 so the radius stays positive, got {sum(self.amplitude):g}")
-        return self
-
-
-class FourierParams(_ShapeParams):
-    """Random Fourier shape; see :func:`stimuli.generators.fourier_shape`."""
-
-    kind: Literal["radial", "elliptic"] = "radial"
-    r0: float = Field(100.0, gt=0, allow_inf_nan=False)
-    amplitude: float = Field(0.1, ge=0, allow_inf_nan=False)
-    falloff: float = Field(1.5, ge=0, allow_inf_nan=False)
-    harmonics: int = Field(8, ge=2, le=1000)
-    n: int = Field(1024, ge=8, le=1_000_000)
-    max_tries: int = Field(100, ge=1, le=1_000_000)
-
-    @model_validator(mode="after")
-    def _check(self):
-        if self.n < 4 * self.harmonics:
-            raise ValueError(f"n ({self.n}) must be at least 4 * harmonics ({4 * self.harmonics})")
-        return self
-
-
-class SuperformulaParams(_ShapeParams):
-    """Gielis' superformula; see :func:`stimuli.generators.superformula`."""
-
-    m: float = Field(5.0, ge=0, allow_inf_nan=False)
-    n1: float = Field(2.0, gt=0, allow_inf_nan=False)
-    n2: float = Field(7.0, gt=0, allow_inf_nan=False)
-    n3: float = Field(7.0, gt=0, allow_inf_nan=False)
-    a: float = Field(1.0, gt=0, allow_inf_nan=False)
-    b: float = Field(1.0, gt=0, allow_inf_nan=False)
-    scale: float = Field(100.0, gt=0, allow_inf_nan=False)
-    n: int = Field(1024, ge=8, le=1_000_000)
-
-
-class BlobParams(_ShapeParams):
-    """Smooth random blob; see :func:`stimuli.generators.blob`."""
-
-    r0: float = Field(100.0, gt=0, allow_inf_nan=False)
-    sigma: float = Field(0.2, ge=0, allow_inf_nan=False, description="RMS of the log-radius")
-    width: float = Field(0.6, gt=0, allow_inf_nan=False, description="correlation width in radians")
-    n: int = Field(1024, ge=8, le=1_000_000)
-
-
-class FromCsvParams(_ShapeParams):
-    """A contour from a CSV file with columns x, y; rescaled and centred."""
-
-    path: str = Field(min_length=1)
-    resample: Optional[int] = Field(None, ge=3, le=1_000_000)
-
-
-class FromImageParams(_ShapeParams):
-    """The largest object of an image, via :func:`stimuli.extract.extract_contours`."""
-
-    path: str = Field(min_length=1)
-    method: Literal["otsu", "threshold", "mask", "alpha", "grabcut"] = "otsu"
-    threshold: Optional[float] = Field(None, allow_inf_nan=False,
-                                       description="grey level for method 'threshold' (image units)")
-    polarity: Literal["auto", "dark", "light"] = "auto"
-    resample: Optional[int] = Field(None, ge=3, le=1_000_000)
-
-    @model_validator(mode="after")
-    def _threshold_given(self):
-        if (self.method == "threshold") != (self.threshold is not None):
-            raise ValueError("threshold: give a value with method 'threshold' and only then")
-        return self
-
-
-SHAPES: dict[str, type[_ShapeParams]] = {
-    "attneave_polygon": AttneavePolygonParams,
-    "attneave_curved": AttneaveCurvedParams,
-    "radial_frequency": RadialFrequencyParams,
-    "fourier": FourierParams,
-    "superformula": SuperformulaParams,
-    "blob": BlobParams,
-    "from_csv": FromCsvParams,
-    "from_image": FromImageParams,
-}
-
-
-class BaseShape(_Params):
-    """The shape a deformation or guided set starts from: a generator and its params."""
-
-    generator: Literal[tuple(SHAPES)] = "attneave_polygon"  # type: ignore[valid-type]
-    params: dict[str, Any] = Field(default_factory=dict)
-
-    @field_validator("params")
-    @classmethod
-    def _valid_params(cls, v, info: ValidationInfo):
-        gen = info.data.get("generator")
-        if gen is None:
-            return v
-        model = SHAPES[gen].model_validate(v)
-        if getattr(model, "version", None) == "both":
-            raise ValueError("version 'both' makes two shapes; a base shape needs 'polygon' or 'curved'")
-        return model.model_dump(mode="json")
-
-
-class DeformationParams(_Params):
-    """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`stimuli.shapes.deformations`."""
-
-    base: BaseShape = Field(default_factory=BaseShape)
-    mode: Literal["edge", "vertex", "bump"] = "edge"
-    displacement: float = Field(10.0, gt=0, allow_inf_nan=False, description="px the moved point travels")
-    position: float = Field(0.5, gt=0, lt=1, description="where on the side the new vertex goes (edge mode)")
-    width: Optional[float] = Field(None, gt=0, allow_inf_nan=False, description="bump half-width in px; null: automatic")
-    min_turn: float = Field(0.0, ge=0, lt=180, description="minimum |turning angle| at the moved vertex (deg)")
-    resample: Optional[int] = Field(None, ge=8, le=1_000_000, description="resample the placed base first (bump mode)")
-    draw: Literal["silhouette", "outline"] = "silhouette"
-    max_tries: int = Field(100, ge=1, le=100_000, description="base shapes drawn before giving up")
 
 
 GUIDED_KINDS = ("base", "cat", "peaks", "troughs", "dots", "dots_troughs")
@@ -471,48 +178,6 @@ def _from_image(p):
                    n_points=int(n_read), n=int(c.n),
                    centre=[(x0 + x1) / 2.0, (y0 + y1) / 2.0])
 
-
-def place(contours, centre, canvas, placement="fit"):
-    """Place contours (one transform for all) on the canvas.
-
-    Parameters
-    ----------
-    contours : list of Contour
-        In the generator's units (y down).
-    centre : (2,) array_like
-        The generator's centre (used by ``'native'``).
-    canvas : Canvas
-    placement : {'fit', 'native'}
-        See the module docstring.
-
-    Returns
-    -------
-    placed : list of Contour
-        In image pixels: ``points * scale + offset``.
-    params : dict
-        ``placement, scale, offset``.
-    """
-    if placement == "fit":
-        from stimuli.render import fit_to_image
-
-        allp = np.vstack([c.points for c in contours])
-        f = fit_to_image(allp, size=canvas.size, margin=canvas.margin)
-        scale, offset = float(f["scale"]), np.asarray(f["offset"], float)
-    elif placement == "native":
-        scale, offset = 1.0, canvas.centre - np.asarray(centre, float)
-    else:
-        raise InputError(f"placement: expected 'fit' or 'native', got {placement!r}")
-    placed = [c.transformed(scale, offset) for c in contours]
-    if placement == "native":
-        # a shape cut off by the image edge is not the stimulus the contour file describes
-        lo = np.min([c.points.min(axis=0) for c in placed], axis=0)
-        hi = np.max([c.points.max(axis=0) for c in placed], axis=0)
-        if lo[0] < -0.5 or lo[1] < -0.5 or hi[0] > canvas.width - 0.5 or hi[1] > canvas.height - 0.5:
-            raise InputError(
-                f"placement: native: the shape spans x {lo[0]:.1f}..{hi[0]:.1f}, y {lo[1]:.1f}..{hi[1]:.1f} px, "
-                f"outside the {canvas.width}x{canvas.height} canvas; make it smaller, the canvas larger, "
-                f"or use placement: fit")
-    return placed, dict(placement=placement, scale=scale, offset=[float(offset[0]), float(offset[1])])
 
 
 def _validated(model, params):
@@ -696,60 +361,3 @@ def make(recipe, rng, canvas=None, **params):
     if not isinstance(rng, np.random.Generator):
         rng = np.random.default_rng(rng)
     return fn(p, rng, canvas if canvas is not None else Canvas())
-
-
-# --------------------------------------------------------------------------- drawing
-
-
-def _render(item, style, canvas):
-    """The :mod:`stimuli.render.core` result dict of an item."""
-    from stimuli import render
-
-    if not isinstance(style, Style):
-        style = Style.model_validate(style)
-    size = canvas.size
-    colours = dict(figure=style.figure, ground=style.ground)
-    d = item.draw
-    mode = d.get("mode")
-    width = float(d.get("width") or style.line_width)
-    if mode == "silhouette":
-        return render.render_silhouette(item.contour.points, size=size, **colours)
-    if mode == "outline":
-        return render.render_outline(item.contour.points, width, size=size, closed=True, join=style.join, **colours)
-    if mode == "fragments":
-        return render.render_fragments([np.asarray(q, float) for q in d["polylines"]], width, size=size,
-                                       cap=style.cap, join=style.join, **colours)
-    if mode == "dots":
-        radius = float(d.get("radius") or style.dot_radius)
-        return render.render_dots(np.asarray(d["points"], float), radius, size=size, **colours)
-    if mode == "polygon":
-        pts = np.asarray(d["points"], float)
-        if style.polygon_fill:
-            return render.render_silhouette(pts, size=size, **colours)
-        return render.render_outline(pts, width, size=size, closed=True, join=style.join, **colours)
-    raise InputError(f"item {item.suffix!r}: unknown draw mode {mode!r}")
-
-
-def draw_item(item, style, canvas):
-    """Render an item: a float image in [0, 1] with exact area coverage.
-
-    Parameters
-    ----------
-    item : Item
-    style : Style (or a mapping of its fields)
-    canvas : Canvas
-
-    Returns
-    -------
-    ndarray
-        ``(height, width)`` for grey colours, ``(height, width, 3)`` for RGB;
-        pixel ``(i, j)`` is the square centred on ``(x, y) = (j, i)``.
-    """
-    return _render(item, style, canvas)["img"]
-
-
-def item_svg(item, style, canvas):
-    """The item as a complete, deterministic SVG document (same pixel coordinates)."""
-    from stimuli.render import svg_text
-
-    return svg_text(_render(item, style, canvas))

@@ -35,19 +35,18 @@ def add_parser(sub):
 def run(args):
     import sys
 
-    from stimuli.batch.runner import plan_jobs, run_batch
     from stimuli.batch.config import load_config
+    from stimuli.batch.runner import run_batch
     from stimuli.errors import InputError
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     batch = load_config(args.config)
     if args.dry_run:
-        jobs = plan_jobs(batch)
         for c in batch.conditions:
             print(f"{c.name}: recipe {c.recipe}, {len(c.cells)} cell(s) x {c.repeats} repeat(s) "
                   f"= {c.n_jobs} call(s)")
-        print(f"{len(jobs)} recipe call(s); config sha256 {batch.sha256[:12]}")
+        print(f"{batch.n_jobs} recipe call(s); config sha256 {batch.sha256[:12]}")
         return 0
     res = run_batch(
         batch, args.output, workers=args.workers, scheduler=args.scheduler, resume=args.resume,

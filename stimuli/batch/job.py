@@ -1,0 +1,153 @@
+"""One job of a batch: plan the recipe calls, make one and write its files.
+
+A *job* is one recipe call: condition ``c``, grid cell ``k``, repeat ``r``.
+Its id prefix is ``<name>_<kkk>_<rrr>`` (zero-padded to at least 3 digits)
+and its seed comes from :func:`stimuli.batch.config.stimulus_seed`, never
+from the order in which workers pick jobs up. A recipe call may return
+several items (e.g. ``base``/``concave``/``convex``); item ``s`` gets the
+id ``<prefix>_<s>``, or ``<prefix>`` when its suffix is empty.
+
+A job writes its images and contours first (each atomically) and then
+appends its manifest rows as one JSON line to a journal of its own process
+and thread, ``.rows/<host>-<pid>-<thread>.jsonl`` (one file per writer, so
+lines never interleave; a line cut short by a kill is ignored). One journal
+per writer rather than one file per job saves two file-system operations
+per job, which on this kind of disk cost more than making the stimulus.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import socket
+import threading
+from pathlib import Path
+
+from stimuli.batch.config import record_paths, stimulus_seed
+from stimuli.io import atomic_write
+from stimuli.stimulus_set import encode_json, to_jsonable
+
+__all__ = ["ROWS_DIR", "plan_jobs", "run_job", "journal_path"]
+
+ROWS_DIR = ".rows"
+_SUFFIX_RE = re.compile(r"[A-Za-z0-9_.-]*")
+
+
+def plan_jobs(batch):
+    """List the recipe calls of a resolved batch, in a fixed order.
+
+    Parameters
+    ----------
+    batch : ResolvedBatch
+
+    Returns
+    -------
+    list of dict
+        Picklable job descriptions: ``key`` (the id prefix), ``condition``,
+        ``index``, ``cell``, ``rep``, ``seed``, ``recipe``, ``params`` (the
+        validated parameter model the recipe gets), ``style`` (a validated
+        Style), ``canvas`` (a Canvas), ``output`` and ``path_map``.
+    """
+    jobs = []
+    for cond in batch.conditions:
+        wk = max(3, len(str(len(cond.cells) - 1)))
+        wr = max(3, len(str(cond.repeats - 1)))
+        for k, params in enumerate(cond.models):
+            for r in range(cond.repeats):
+                jobs.append({
+                    "key": f"{cond.name}_{k:0{wk}d}_{r:0{wr}d}",
+                    "condition": cond.name,
+                    "index": cond.index,
+                    "cell": k,
+                    "rep": r,
+                    "seed": stimulus_seed(batch.seed, cond.index, k, r),
+                    "recipe": cond.recipe,
+                    "params": params,
+                    "style": cond.style_model,
+                    "canvas": cond.canvas_model,
+                    "output": batch.output,
+                    "path_map": cond.path_map,
+                })
+    return jobs
+
+
+def run_job(job, out_dir):
+    """Make one recipe call and write its files; return its manifest rows.
+
+    The job's parameters, style and canvas were validated when the config
+    was read; they are used as they are.
+
+    Parameters
+    ----------
+    job : dict
+        One entry of :func:`plan_jobs`.
+    out_dir : str or Path
+        The stimulus-set directory (``images/``, ``contours/`` and ``.rows/``
+        must exist).
+
+    Returns
+    -------
+    list of dict
+        Manifest rows (all values strings), one per item the recipe returned.
+    """
+    import numpy as np
+
+    from stimuli.batch.drawing import draw_item, item_svg
+    from stimuli.batch.recipes import RECIPES
+    from stimuli.render import write_png
+
+    out = Path(out_dir)
+    fn = RECIPES[job["recipe"]][1]
+    canvas, style = job["canvas"], job["style"]
+    items = fn(job["params"], np.random.default_rng(job["seed"]), canvas)
+
+    key = job["key"]
+    suffixes = [it.suffix for it in items]
+    if len(set(suffixes)) != len(suffixes) or not all(_SUFFIX_RE.fullmatch(s) for s in suffixes):
+        raise RuntimeError(f"recipe {job['recipe']!r} returned bad or repeated item suffixes {suffixes!r}")
+
+    def sid(suffix):
+        return f"{key}_{suffix}" if suffix else key
+
+    style_json = encode_json(style.model_dump(mode="json", by_alias=True))
+    svg = bool(job["output"].get("svg"))
+    rows = []
+    for it in items:
+        stim = sid(it.suffix)
+        image = f"images/{stim}.png"
+        contour = f"contours/{stim}.csv"
+        write_png(out / image, draw_item(it, style, canvas), job["output"]["png_bit_depth"])
+        row = {"stimulus_id": stim, "image": image, "contour": contour}
+        if svg:
+            row["svg"] = f"images/{stim}.svg"
+            with atomic_write(out / row["svg"], "w", encoding="utf-8", newline="\n") as fh:
+                fh.write(item_svg(it, style, canvas))
+        it.contour.to_csv(out / contour)
+        if it.parent_suffix is not None and it.parent_suffix not in suffixes:
+            raise RuntimeError(f"recipe {job['recipe']!r}: item {it.suffix!r} names a parent "
+                               f"{it.parent_suffix!r} it did not return")
+        row.update({
+            "width": str(canvas.width),
+            "height": str(canvas.height),
+            "generator": job["recipe"],
+            "seed": str(job["seed"]),
+            "params": encode_json(record_paths(to_jsonable(it.params), job["path_map"])),
+            "condition": it.condition or job["condition"],
+            "parent_id": sid(it.parent_suffix) if it.parent_suffix is not None else "",
+            "batch_condition": job["condition"],
+            "cell": str(job["cell"]),
+            "rep": str(job["rep"]),
+            "style": style_json,
+        })
+        rows.append(row)
+    line = json.dumps({"job": key, "rows": rows}, sort_keys=True) + "\n"
+    with open(journal_path(out), "a", encoding="utf-8") as fh:
+        fh.write(line)  # one write of one line, after the job's files are in place
+    return rows
+
+
+def journal_path(out):
+    """The journal of this process and thread in the set directory `out`."""
+    host = re.sub(r"[^A-Za-z0-9_.-]", "_", socket.gethostname())
+    return Path(out) / ROWS_DIR / f"{host}-{os.getpid()}-{threading.get_ident()}.jsonl"

@@ -1,0 +1,277 @@
+"""Parameter schemas of the batch recipes: what a config may say, checked once.
+
+Each recipe of :mod:`stimuli.batch.recipes` takes one pydantic model of this
+module (unknown keys and out-of-range values are errors that name the key).
+The config validates every grid cell with it when the file is read
+(:mod:`stimuli.batch.config`); the validated models are what the workers
+get, so nothing is parsed twice. :class:`Style` says how items are drawn.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal, Optional, Union
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+
+__all__ = [
+    "Style", "RecipeParams", "ShapeParams", "AttneavePolygonParams", "AttneaveCurvedParams",
+    "RadialFrequencyParams", "FourierParams", "SuperformulaParams", "BlobParams", "FromCsvParams",
+    "FromImageParams", "SHAPES", "BaseShape", "DeformationParams",
+]
+
+
+def _check_colour(v):
+    # one message for every wrong colour, rather than one per member of the union below
+    def level(c):
+        return isinstance(c, (int, float)) and not isinstance(c, bool) and 0 <= c <= 1
+
+    if isinstance(v, (list, tuple)):
+        if len(v) != 3 or not all(level(c) for c in v):
+            raise ValueError(f"must be a grey level in [0, 1] or an [r, g, b] triple of them, got {list(v)!r}")
+        return tuple(float(c) for c in v)
+    if not level(v):
+        raise ValueError(f"must be a grey level in [0, 1] or an [r, g, b] triple of them, got {v!r}")
+    return v
+
+
+Unit = Annotated[float, Field(ge=0, le=1)]
+Colour = Annotated[Union[Unit, tuple[Unit, Unit, Unit]], BeforeValidator(_check_colour)]
+
+
+class Style(BaseModel):
+    """How items are drawn; shared by a whole condition.
+
+    Attributes
+    ----------
+    figure, ground : float or [r, g, b]
+        Grey levels (or RGB) in [0, 1] of the shape and of the background.
+    line_width : float
+        Stroke width in px of outlines, fragments and outlined polygons.
+    dot_radius : float
+        Radius in px of dots.
+    polygon_fill : bool
+        Attneave's cat (mode ``polygon``) filled (True) or outlined (False).
+    join : {'round', 'mitre', 'bevel'}
+        Stroke joins.
+    cap : {'flat', 'round', 'square'}
+        Ends of fragments. 'flat' (default) makes the visible length equal
+        the fragment length; 'round' and 'square' add ``line_width / 2`` at
+        each end.
+    """
+
+    model_config = ConfigDict(extra="forbid")
+
+    figure: Colour = 0.0
+    ground: Colour = 1.0
+    line_width: float = Field(3.0, gt=0, le=1000)
+    dot_radius: float = Field(4.0, gt=0, le=1000)
+    polygon_fill: bool = False
+    join: Literal["round", "mitre", "bevel"] = "round"
+    cap: Literal["flat", "round", "square"] = "flat"
+
+
+
+# --------------------------------------------------------------------------- params models
+
+
+class RecipeParams(BaseModel):
+    """Base of every recipe's parameters: unknown keys are errors."""
+
+    model_config = ConfigDict(extra="forbid")
+
+
+class ShapeParams(RecipeParams):
+    placement: Literal["fit", "native"] = Field("fit", description="'fit' scales to the canvas, 'native' keeps units as px")
+    draw: Literal["silhouette", "outline"] = Field("silhouette", description="filled shape or its outline")
+
+
+PosInt = Annotated[int, Field(ge=1)]
+NonNeg = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+
+
+def _one_or_list(item_type):
+    """Before-validator: a lone value becomes a one-element list.
+
+    The lone value is checked here against `item_type` so that its error is
+    reported at the key itself (``amplitude: must be >= 0``), not at an
+    index the user never wrote.
+    """
+    from pydantic import TypeAdapter
+
+    adapter = TypeAdapter(item_type)
+
+    def convert(v):
+        if v is None or isinstance(v, (list, tuple)):
+            return v
+        adapter.validate_python(v)
+        return [v]
+
+    return BeforeValidator(convert)
+
+
+class AttneavePolygonParams(ShapeParams):
+    """Attneave & Arnoult (1956) Method 1; see :func:`stimuli.generators.attneave_polygon`."""
+
+    n_points: int = Field(12, ge=3, le=1000, description="number of vertices")
+    grid: int = Field(100, ge=2, le=100_000, description="side of the lattice the points are drawn from")
+    min_angle: float = Field(10.0, ge=0, lt=180, description="smallest angle between sides at a vertex (deg)")
+    max_angle: float = Field(170.0, gt=0, le=180, description="largest angle between sides at a vertex (deg)")
+    max_tries: int = Field(1000, ge=1, le=1_000_000)
+    version: Literal["polygon", "curved", "both"] = "polygon"
+    smooth_method: Literal["cubic", "bspline", "qic"] = "cubic"
+    samples_per_edge: int = Field(32, ge=2, le=10_000)
+
+    @model_validator(mode="after")
+    def _check(self):
+        if not self.min_angle < self.max_angle:
+            raise ValueError(f"min_angle ({self.min_angle:g}) must be < max_angle ({self.max_angle:g})")
+        if self.n_points > self.grid * self.grid:
+            raise ValueError(f"n_points ({self.n_points}) exceeds the {self.grid}x{self.grid} grid")
+        return self
+
+
+class AttneaveCurvedParams(AttneavePolygonParams):
+    """As ``attneave_polygon`` with ``version='curved'`` by default."""
+
+    version: Literal["polygon", "curved", "both"] = "curved"
+
+
+class RadialFrequencyParams(ShapeParams):
+    """Radial-frequency pattern; see :func:`stimuli.generators.radial_frequency`."""
+
+    r0: float = Field(100.0, gt=0, allow_inf_nan=False, description="mean radius (px when placement is native)")
+    frequency: Annotated[list[PosInt], _one_or_list(PosInt), Field(min_length=1)] = Field(
+        default_factory=lambda: [5], description="radial frequencies (one or a list)")
+    amplitude: Annotated[list[NonNeg], _one_or_list(NonNeg), Field(min_length=1)] = Field(
+        default_factory=lambda: [0.1], description="amplitudes, one per frequency")
+    phase: Annotated[Optional[list[Finite]], _one_or_list(Finite)] = Field(
+        None, description="phases in radians, one per frequency; null draws them")
+    n: int = Field(1024, ge=8, le=1_000_000)
+
+    @model_validator(mode="after")
+    def _check(self):
+        if len(self.amplitude) != len(self.frequency):
+            raise ValueError(f"give one amplitude per frequency ({len(self.frequency)}), got {len(self.amplitude)}")
+        if self.phase is not None and len(self.phase) != len(self.frequency):
+            raise ValueError(f"give one phase per frequency ({len(self.frequency)}), got {len(self.phase)}")
+        if sum(self.amplitude) >= 1:
+            raise ValueError(f"the amplitudes must sum to < 1 so the radius stays positive, got {sum(self.amplitude):g}")
+        return self
+
+
+class FourierParams(ShapeParams):
+    """Random Fourier shape; see :func:`stimuli.generators.fourier_shape`."""
+
+    kind: Literal["radial", "elliptic"] = "radial"
+    r0: float = Field(100.0, gt=0, allow_inf_nan=False)
+    amplitude: float = Field(0.1, ge=0, allow_inf_nan=False)
+    falloff: float = Field(1.5, ge=0, allow_inf_nan=False)
+    harmonics: int = Field(8, ge=2, le=1000)
+    n: int = Field(1024, ge=8, le=1_000_000)
+    max_tries: int = Field(100, ge=1, le=1_000_000)
+
+    @model_validator(mode="after")
+    def _check(self):
+        if self.n < 4 * self.harmonics:
+            raise ValueError(f"n ({self.n}) must be at least 4 * harmonics ({4 * self.harmonics})")
+        return self
+
+
+class SuperformulaParams(ShapeParams):
+    """Gielis' superformula; see :func:`stimuli.generators.superformula`."""
+
+    m: float = Field(5.0, ge=0, allow_inf_nan=False)
+    n1: float = Field(2.0, gt=0, allow_inf_nan=False)
+    n2: float = Field(7.0, gt=0, allow_inf_nan=False)
+    n3: float = Field(7.0, gt=0, allow_inf_nan=False)
+    a: float = Field(1.0, gt=0, allow_inf_nan=False)
+    b: float = Field(1.0, gt=0, allow_inf_nan=False)
+    scale: float = Field(100.0, gt=0, allow_inf_nan=False)
+    n: int = Field(1024, ge=8, le=1_000_000)
+
+
+class BlobParams(ShapeParams):
+    """Smooth random blob; see :func:`stimuli.generators.blob`."""
+
+    r0: float = Field(100.0, gt=0, allow_inf_nan=False)
+    sigma: float = Field(0.2, ge=0, allow_inf_nan=False, description="RMS of the log-radius")
+    width: float = Field(0.6, gt=0, allow_inf_nan=False, description="correlation width in radians")
+    n: int = Field(1024, ge=8, le=1_000_000)
+
+
+class FromCsvParams(ShapeParams):
+    """A contour from a CSV file with columns x, y; rescaled and centred."""
+
+    path: str = Field(min_length=1)
+    resample: Optional[int] = Field(None, ge=3, le=1_000_000)
+
+
+class FromImageParams(ShapeParams):
+    """The largest object of an image, via :func:`stimuli.extract.extract_contours`."""
+
+    path: str = Field(min_length=1)
+    method: Literal["otsu", "threshold", "mask", "alpha", "grabcut"] = "otsu"
+    threshold: Optional[float] = Field(None, allow_inf_nan=False,
+                                       description="grey level for method 'threshold' (image units)")
+    polarity: Literal["auto", "dark", "light"] = "auto"
+    resample: Optional[int] = Field(None, ge=3, le=1_000_000)
+
+    @model_validator(mode="after")
+    def _threshold_given(self):
+        if (self.method == "threshold") != (self.threshold is not None):
+            raise ValueError("threshold: give a value with method 'threshold' and only then")
+        return self
+
+
+SHAPES: dict[str, type[ShapeParams]] = {
+    "attneave_polygon": AttneavePolygonParams,
+    "attneave_curved": AttneaveCurvedParams,
+    "radial_frequency": RadialFrequencyParams,
+    "fourier": FourierParams,
+    "superformula": SuperformulaParams,
+    "blob": BlobParams,
+    "from_csv": FromCsvParams,
+    "from_image": FromImageParams,
+}
+
+
+class BaseShape(RecipeParams):
+    """The shape a deformation or guided set starts from: a generator and its params.
+
+    ``params`` is validated here, once, into the generator's own model (a
+    :class:`ShapeParams`), which the recipe then uses as it is.
+    """
+
+    generator: Literal[tuple(SHAPES)] = "attneave_polygon"  # type: ignore[valid-type]
+    params: Any = Field(default_factory=dict, validate_default=True)
+
+    @field_validator("params")
+    @classmethod
+    def _valid_params(cls, v, info: ValidationInfo):
+        gen = info.data.get("generator")
+        if gen is None:  # the generator's own error is reported
+            return v
+        model = SHAPES[gen]
+        if not isinstance(v, model):
+            if not isinstance(v, dict):
+                raise ValueError(f"must be a mapping of {gen} parameters, got {v!r}")
+            v = model.model_validate(v)
+        if getattr(v, "version", None) == "both":
+            raise ValueError("version 'both' makes two shapes; a base shape needs 'polygon' or 'curved'")
+        return v
+
+
+class DeformationParams(RecipeParams):
+    """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`stimuli.shapes.deformations`."""
+
+    base: BaseShape = Field(default_factory=BaseShape)
+    mode: Literal["edge", "vertex", "bump"] = "edge"
+    displacement: float = Field(10.0, gt=0, allow_inf_nan=False, description="px the moved point travels")
+    position: float = Field(0.5, gt=0, lt=1, description="where on the side the new vertex goes (edge mode)")
+    width: Optional[float] = Field(None, gt=0, allow_inf_nan=False, description="bump half-width in px; null: automatic")
+    min_turn: float = Field(0.0, ge=0, lt=180, description="minimum |turning angle| at the moved vertex (deg)")
+    resample: Optional[int] = Field(None, ge=8, le=1_000_000, description="resample the placed base first (bump mode)")
+    draw: Literal["silhouette", "outline"] = "silhouette"
+    max_tries: int = Field(100, ge=1, le=100_000, description="base shapes drawn before giving up")
+
