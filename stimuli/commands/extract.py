@@ -22,17 +22,36 @@ def add_parser(sub):
             "STEM.silhouette.png (black on white, exact coverage, the image's size); and "
             "summary.csv (image, status, reason, n_points, perimeter, area, ...). With --objects all "
             "the per-object files are STEM.0.*, STEM.1.*, ... (largest first). A file that fails is "
-            "listed with status 'failed' and its reason; the exit status is then 1."
+            "listed with status 'failed' and its reason (exit status 1); an outline that may be wrong is "
+            "written but marked 'suspect' with its reasons (exit status 0)."
         ),
     )
     p.add_argument("images", nargs="+", metavar="IMAGE", help="image files (PNG, JPEG, TIFF, BMP)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory (created if needed)")
     p.add_argument(
-        "--method", choices=("otsu", "threshold", "mask", "alpha", "grabcut"), default="otsu",
-        help="otsu: one object on a plain background (default); threshold: a known edge grey level "
+        "--method", choices=("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model"),
+        default="auto",
+        help="auto (default): a mask or one object on a plain background by otsu, a cut-out by alpha, a "
+        "photograph by photo; otsu: one object on a plain background; threshold: a known edge grey level "
         "(--threshold); mask: a binary silhouette of either polarity; alpha: the alpha channel of a "
-        "cut-out; grabcut: cluttered backgrounds (slow; --rect)",
+        "cut-out; grabcut: plain GrabCut (--rect); photo: automatic figure-ground for photographs, or "
+        "box/scribble-assisted (--boxes, --scribbles); model: an ONNX network (--model-file)",
     )
+    p.add_argument("--boxes", metavar="BOXES.csv", default=None,
+                   help="boxes around the objects: columns image,x,y,width,height (image: file name or stem; "
+                   "several rows per image with --objects all)")
+    p.add_argument("--scribbles", metavar="DIR", default=None,
+                   help="per image STEM.png of the same size: object strokes pure red, background pure blue")
+    p.add_argument("--model-file", metavar="FILE.onnx", default=None,
+                   help="ONNX salient-object network for --method model (e.g. rembg's u2net.onnx; needs attneave[model])")
+    p.add_argument("--model-size", type=int, default=None, metavar="PX", help="network input size (default 320)")
+    p.add_argument("--model-mean", type=float, nargs=3, default=None, metavar=("R", "G", "B"),
+                   help="input normalisation mean on [0, 1] values (default ImageNet's 0.485 0.456 0.406)")
+    p.add_argument("--model-std", type=float, nargs=3, default=None, metavar=("R", "G", "B"),
+                   help="input normalisation std (default ImageNet's 0.229 0.224 0.225)")
+    p.add_argument("--max-pixels", type=float, default=1e8, metavar="N",
+                   help="largest image accepted, width x height read from the header before decoding "
+                   "(default 1e8 = 100 Mpx)")
     p.add_argument("--threshold", type=float, default=None, metavar="V",
                    help="edge level in the image's units (method threshold) or alpha level (method alpha)")
     p.add_argument("--polarity", choices=("auto", "dark", "light"), default="auto",
@@ -72,6 +91,10 @@ def _check_args(args):
         raise InputError(f"--sigma must be > 0, got {args.sigma}")
     if args.min_area is not None and not args.min_area >= 0:
         raise InputError(f"--min-area must be >= 0, got {args.min_area}")
+    if not (math.isfinite(args.max_pixels) and args.max_pixels >= 1):
+        raise InputError(f"--max-pixels must be a number >= 1, got {args.max_pixels}")
+    if args.model_size is not None and args.model_size < 8:
+        raise InputError(f"--model-size must be >= 8, got {args.model_size}")
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
     if not args.A > 0:
@@ -90,9 +113,12 @@ def run(args):
         args.images, args.output, workers=args.workers,
         method=args.method, threshold=args.threshold, polarity=args.polarity, objects=args.objects,
         min_area=args.min_area, holes=args.holes, rect=args.rect, n=args.n, spacing=args.spacing,
-        sigma=args.sigma, model=args.model, A=args.A, b=args.b, bits=args.bits,
+        sigma=args.sigma, model=args.model, A=args.A, b=args.b, bits=args.bits, boxes=args.boxes,
+        scribbles=args.scribbles, model_file=args.model_file, model_size=args.model_size,
+        model_mean=args.model_mean, model_std=args.model_std, max_pixels=int(args.max_pixels),
     )
-    failed = summary[summary["status"] != "ok"]
-    for image, reason in zip(failed["image"], failed["reason"]):
-        print(f"attneave extract: {image}: failed: {reason}", file=sys.stderr)
-    return 1 if len(failed) else 0
+    counts = summary["status"].value_counts()
+    n_ok, n_suspect, n_failed = (int(counts.get(k, 0)) for k in ("ok", "suspect", "failed"))
+    print(f"attneave extract: {len(summary)} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "
+          f"(status and reason of each in {args.output}/summary.csv)", file=sys.stderr)
+    return 1 if n_failed else 0

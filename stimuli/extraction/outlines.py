@@ -158,6 +158,9 @@ def extract(
     rect=None,
     grabcut_iterations=5,
     name=None,
+    boxes=None,
+    scribbles=None,
+    model=None,
 ):
     """Extract the sub-pixel outer contour(s) of the object(s) in an image.
 
@@ -166,9 +169,15 @@ def extract(
     image_or_path : str, Path or ndarray
         An image file (see :func:`read_image`) or an array: ``(H, W)`` grey
         or bool, ``(H, W, 3)`` RGB, ``(H, W, 4)`` RGBA (RGB order).
-    method : {'otsu', 'threshold', 'mask', 'alpha', 'grabcut'}
+    method : {'otsu', 'auto', 'threshold', 'mask', 'alpha', 'grabcut', 'photo', 'model'}
         How the object is separated from the background; see the module
-        notes for when to use each. Default 'otsu'.
+        notes for when to use each. Default 'otsu'. 'auto' takes a
+        two-valued image or one on a plain background by 'otsu', a cut-out
+        by 'alpha' and anything else by 'photo'
+        (:func:`stimuli.extraction.segment.image_kind`); 'photo' is the
+        automatic (or, with `boxes` / `scribbles`, assisted) figure-ground
+        of :mod:`stimuli.extraction.photo`; 'model' a user's ONNX network
+        (`model`).
     threshold : float, optional
         'threshold': the grey level of the object's edge (required), in the
         image's units. 'alpha': the alpha level (default half of opaque).
@@ -216,6 +225,15 @@ def extract(
         whether it was used (it is not if it would cut the object).
     rect : (x, y, width, height), optional
         'grabcut' initial rectangle; default the image inset by 5 %.
+    boxes : list of (x, y, width, height), optional
+        Boxes around the object(s) (image pixels): one outline per box, in
+        box order ('photo' method; several need ``objects='all'``).
+    scribbles : (H, W) uint8 ndarray, optional
+        0 unmarked, 1 object, 2 background
+        (:func:`stimuli.extraction.photo.read_scribbles`); 'photo' method.
+    model : dict, optional
+        ``model_file`` and optionally ``size``, ``mean``, ``std`` for
+        ``method='model'`` (:func:`stimuli.extraction.model.object_probability`).
     grabcut_iterations : int
         Iterations of GrabCut (default 5).
     name : str, optional
@@ -257,18 +275,31 @@ def extract(
         raise InputError(f"mask_sigma must be >= 0, got {mask_sigma}")
     img, default_name = load_image(image_or_path)
     name = default_name if name is None else str(name)
+    if boxes is not None and len(boxes) > 1 and objects != "all":
+        raise InputError(f"{name}: {len(boxes)} boxes for one image need objects='all' (--objects all)")
+    opts = (objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level)
     try:
-        return _extract(img, name, method, threshold, polarity, objects, min_area, holes, min_hole_area,
-                        mask_sigma, presmooth, local_level, rect, grabcut_iterations)
+        if not boxes:
+            seg = segment(img, method, threshold, polarity, name, rect, grabcut_iterations, None, scribbles, model)
+            return _extract(seg, name, *opts)
+        # one outline per box, in box order
+        parts = []
+        for b in boxes:
+            seg = segment(img, method, threshold, polarity, name, rect, grabcut_iterations, b, scribbles, model)
+            parts.append(_extract(seg, name, "largest", *opts[1:]))
     except NoObject as exc:
         raise NoObject(f"{name}: {exc}") from None
+    first = parts[0]
+    params = dict(first.params, objects=objects, boxes=[p.params.get("box") for p in parts],
+                  object_areas=[a for p in parts for a in p.params["object_areas"]],
+                  agreement=min(p.params.get("agreement", 1.0) for p in parts), candidate_areas=None)
+    mask = np.logical_or.reduce([p.mask for p in parts])
+    return Extraction([p.contour for p in parts], [p.holes[0] for p in parts], mask, params)
 
 
-def _extract(img, name, method, threshold, polarity, objects, min_area, holes, min_hole_area, mask_sigma,
-             presmooth, local_level, rect, grabcut_iterations):
+def _extract(seg, name, objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level):
     import cv2
 
-    seg = segment(img, method, threshold, polarity, name, rect, grabcut_iterations)
     on, params, field_, level = seg.on, seg.params, seg.field, seg.level
     h, w = on.shape
     if min_area is None:
@@ -303,7 +334,8 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
 
     order = np.argsort(-approx, kind="stable")
     if objects == "largest":
-        cand = [k for k in order if approx[k] >= 0.8 * approx[order[0]] - 4]
+        # objects of half the largest's size or more are measured too: they compete (verdict)
+        cand = [k for k in order if approx[k] >= 0.5 * approx[order[0]] - 4]
     else:
         cand = [k for k in order if approx[k] >= 0.5 * min_area - 4]
     sil = {k: silhouette(k) for k in cand}
@@ -369,6 +401,7 @@ def _extract(img, name, method, threshold, polarity, objects, min_area, holes, m
         mask_sigma=float(mask_sigma) if field_ is None else None,
         n_objects_found=len(outlines),
         object_areas=[size[k] for k in chosen],
+        candidate_areas=[size[k] for k in cand if size[k] >= min_area],
         shape=[int(h), int(w)],
         source=name,
     )

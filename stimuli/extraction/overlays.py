@@ -11,7 +11,7 @@ import numpy as np
 __all__ = ["overlay", "display_rgb"]
 
 
-def overlay(image, contours, infos, holes=None):
+def overlay(image, contours, infos, holes=None, verdict=None):
     """The image (as 8-bit RGB) with each contour coloured by surprisal and its peaks circled.
 
     Parameters
@@ -24,6 +24,10 @@ def overlay(image, contours, infos, holes=None):
         Their surprisal (from :func:`stimuli.extraction.describe`).
     holes : list of list of Contour, optional
         Drawn as black lines on a white halo (no surprisal).
+    verdict : stimuli.extraction.verdict.Verdict, optional
+        A ``suspect`` verdict is written across the bottom of the image
+        (``SUSPECT: reason``) on an orange band, and the image gets an
+        orange frame; ``ok`` adds nothing.
 
     Returns
     -------
@@ -84,6 +88,8 @@ def overlay(image, contours, infos, holes=None):
         p = np.round(hole.points * scale).astype(np.int32).reshape(-1, 1, 2)
         cv2.polylines(rgb, [p], True, (255, 255, 255), lw + 2, cv2.LINE_AA, shift)
         cv2.polylines(rgb, [p], True, (0, 0, 0), max(1, lw - 1), cv2.LINE_AA, shift)
+    if verdict is not None and verdict.status != "ok":
+        _banner(rgb, f"{verdict.status.upper()}: {verdict.reason}")
     units = infos[0].params.get("units", "nats")
     if len(infos) == 1:
         lo, span = ranges[0]
@@ -114,6 +120,23 @@ def _legend(rgb, lut, low, high):
     cols = lut[np.linspace(0, 255, bar).round().astype(int)]
     rgb[y0 + 3 : y0 + th + 7, bx : bx + bar] = cols[None, :, :]
     cv2.putText(rgb, high, (bx + bar + 6, y0 + th + 4), font, fs, (0, 0, 0), 1, cv2.LINE_AA)
+
+
+def _banner(rgb, text, colour=(255, 140, 0)):
+    """An orange frame and a band across the bottom with `text` (cut to the image's width)."""
+    import cv2
+
+    h, w = rgb.shape[:2]
+    t = max(2, int(round(min(h, w) / 150)))
+    cv2.rectangle(rgb, (0, 0), (w - 1, h - 1), colour, t)
+    font = cv2.FONT_HERSHEY_SIMPLEX
+    fs = float(np.clip(min(h, w) / 900, 0.3, 0.8))
+    (_, th), _ = cv2.getTextSize("Ag", font, fs, 1)
+    while len(text) > 8 and cv2.getTextSize(text, font, fs, 1)[0][0] > w - 8:
+        text = text[: int(len(text) * 0.9) - 1].rstrip() + "..."
+    y0 = max(0, h - th - 10)
+    rgb[y0:h] = colour
+    cv2.putText(rgb, text, (4, h - 5), font, fs, (0, 0, 0), 1, cv2.LINE_AA)
 
 
 def display_rgb(image):

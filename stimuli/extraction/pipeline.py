@@ -20,9 +20,15 @@ its own ``STEM.K.contour.csv``, ``STEM.K.surprisal.csv``,
 ``STEM.K.silhouette.png`` (and ``STEM.K.holes.csv``), K = 0 for the largest,
 1 for the next...; the overlay ``STEM.overlay.png`` shows them all.
 
-``DIR/summary.csv`` has one row per input (:data:`SUMMARY_COLUMNS`). A file
-that cannot be used (unreadable, no object, everything object) gets
-``status = failed`` and the reason; the others are still processed.
+``DIR/summary.csv`` has one row per input (:data:`SUMMARY_COLUMNS`) with
+its verdict (:mod:`stimuli.extraction.verdict`): ``status`` ``ok``,
+``suspect`` (the outline was written, but ``reason`` names why it may be
+wrong: frame contact, low contrast, fill, competing regions, disagreeing
+hypotheses, decoder warnings; the overlay says so too) or ``failed`` (no
+outline: unreadable, too large, no object, everything object), and the
+measures behind it (``frame``, ``fill``, ``contrast``, ``agreement``), and
+``resolved``, the method ``auto`` chose. Reasons are always one line. A
+failed file does not stop the others.
 Outputs that an earlier run wrote for an input that now fails
 (``STEM.contour.csv``, ...) are removed so that the directory agrees with
 ``summary.csv``; per-object ``STEM.K.*`` files are left alone (an input
@@ -44,11 +50,13 @@ OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "sil
 SUMMARY_COLUMNS = (
     "image", "status", "reason", "n_points", "perimeter", "area",
     "n_objects", "method", "polarity", "level", "sigma", "n",
+    "resolved", "frame", "fill", "contrast", "agreement",
 )
 #: Options of :func:`extract_images` and their defaults.
 DEFAULTS = dict(
-    method="otsu", threshold=None, polarity="auto", objects="largest", min_area=None, holes=False, rect=None,
-    n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False,
+    method="auto", threshold=None, polarity="auto", objects="largest", min_area=None, holes=False, rect=None,
+    n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False, boxes=None, scribbles=None,
+    model_file=None, model_size=None, model_mean=None, model_std=None, max_pixels=None,
 )
 
 
@@ -126,6 +134,16 @@ def extract_images(images, output, workers=1, progress=None, **options):
         raise InputError(f"unknown extraction option(s): {', '.join(sorted(unknown))}")
     opts = {**DEFAULTS, **options}
     stems = output_stems(images, opts["objects"])
+    if opts["boxes"] is not None and not isinstance(opts["boxes"], dict):
+        from stimuli.extraction.assists import read_boxes
+
+        opts["boxes"] = read_boxes(opts["boxes"], [str(i) for i in images], opts["objects"])
+    if opts["scribbles"] is not None and not isinstance(opts["scribbles"], dict):
+        from stimuli.extraction.assists import scribble_files
+
+        opts["scribbles"] = scribble_files(opts["scribbles"], [str(i) for i in images])
+    if opts["method"] == "model" and not opts["model_file"]:
+        raise InputError("--method model needs --model-file FILE.onnx")
     out = Path(output)
     if out.exists() and not out.is_dir():
         raise InputError(f"{out}: exists and is not a directory")
@@ -139,9 +157,11 @@ def extract_images(images, output, workers=1, progress=None, **options):
                 rows[i] = process_one(*task)
                 bar.update()
         else:
-            from concurrent.futures import ProcessPoolExecutor, as_completed
+            from concurrent.futures import as_completed
 
-            with ProcessPoolExecutor(max_workers=min(workers, len(tasks))) as pool:
+            from stimuli.extraction.workers import orphan_safe_pool
+
+            with orphan_safe_pool(min(workers, len(tasks))) as pool:
                 futures = {pool.submit(process_one, *task): i for i, task in enumerate(tasks)}
                 for fut in as_completed(futures):
                     rows[futures[fut]] = fut.result()
@@ -158,7 +178,8 @@ def _summary_frame(rows):
     import pandas as pd
 
     df = pd.DataFrame([{c: r[c] for c in SUMMARY_COLUMNS} for r in rows], columns=list(SUMMARY_COLUMNS))
-    for c in ("n_points", "perimeter", "area", "n_objects", "level", "sigma", "n"):
+    for c in ("n_points", "perimeter", "area", "n_objects", "level", "sigma", "n", "frame", "fill", "contrast",
+              "agreement"):
         df[c] = pd.to_numeric(df[c].replace("", np.nan), errors="coerce")
         if c in ("n_points", "n_objects", "n"):
             df[c] = df[c].astype("Int64")
@@ -193,7 +214,7 @@ def process_one(image, stem, outdir, opts):
         for name, writer in files.items():
             writer(outdir / name)
         _remove_stale(outdir, stem, set(files))
-        row.update(info, status="ok")
+        row.update(info)
     except InputError as exc:
         msg = str(exc)
         if msg.startswith(image + ": "):
@@ -203,6 +224,8 @@ def process_one(image, stem, outdir, opts):
     except Exception as exc:  # noqa: BLE001 - one bad file must not stop a batch
         row.update(status="failed", reason=f"internal error: {type(exc).__name__}: {exc}")
         _remove_stale(outdir, stem, set())
+    # a reason is one line of a CSV cell, whatever a library put in its message
+    row["reason"] = " ".join(str(row["reason"]).split())[:500]
     for k, v in row.items():
         if isinstance(v, (np.floating, np.integer)):
             row[k] = v.item()
@@ -211,17 +234,30 @@ def process_one(image, stem, outdir, opts):
 
 def _analyse(image, stem, opts):
     """Everything in memory first; return ({file name: writer}, summary values)."""
-    from stimuli.extraction.imageio import read_image
+    from stimuli.extraction.imageio import MAX_PIXELS, open_image
     from stimuli.extraction.outlines import extract
     from stimuli.extraction.overlays import overlay
     from stimuli.extraction.scalespace import describe
+    from stimuli.extraction.verdict import judge
     from stimuli.render.core import render_silhouette
 
-    img = read_image(image)
+    f = open_image(image, opts["max_pixels"] or MAX_PIXELS)
+    img = f.image
+    scribbles = None
+    if opts["scribbles"] and image in opts["scribbles"]:
+        from stimuli.extraction.photo import read_scribbles
+
+        scribbles = read_scribbles(opts["scribbles"][image], img.shape[:2])
+    model = None
+    if opts["method"] == "model":
+        model = {k: v for k, v in (("model_file", opts["model_file"]), ("size", opts["model_size"]),
+                                   ("mean", opts["model_mean"]), ("std", opts["model_std"])) if v is not None}
     ex = extract(
         img, method=opts["method"], threshold=opts["threshold"], polarity=opts["polarity"],
         objects=opts["objects"], min_area=opts["min_area"], holes=opts["holes"], rect=opts["rect"], name=image,
+        boxes=(opts["boxes"] or {}).get(image), scribbles=scribbles, model=model,
     )
+    verdict = judge(img, ex, f.warnings)
     h, w = ex.mask.shape
     infos = [
         describe(c, n=opts["n"], spacing=opts["spacing"], sigma=opts["sigma"], model=opts["model"],
@@ -240,11 +276,14 @@ def _analyse(image, stem, opts):
             pts = np.concatenate([hc.points for hc in holes]) if holes else np.empty((0, 2))
             files[f"{pre}.holes.csv"] = _table_writer({"hole": np.asarray(hole_ids, int), "x": pts[:, 0], "y": pts[:, 1]},
                                                       float_format="%.10g")
-    files[f"{stem}.overlay.png"] = _png_writer(overlay(img, ex.contours, infos, ex.holes))
+    files[f"{stem}.overlay.png"] = _png_writer(overlay(img, ex.contours, infos, ex.holes, verdict=verdict))
     c0, i0 = ex.contours[0], infos[0]
+    m = verdict.measures
     summary = dict(
-        reason="", n_points=c0.n, perimeter=c0.perimeter, area=c0.area, n_objects=len(ex.contours),
-        polarity=ex.params["polarity"], level=ex.params.get("level"), sigma=i0.sigma, n=i0.params["n"],
+        status=verdict.status, reason=verdict.reason, n_points=c0.n, perimeter=c0.perimeter, area=c0.area,
+        n_objects=len(ex.contours), polarity=ex.params["polarity"], level=ex.params.get("level"), sigma=i0.sigma,
+        n=i0.params["n"], resolved=ex.params.get("resolved", ex.params["method"]), frame=m["frame"],
+        fill=m["fill"], contrast=m["contrast"], agreement=m["agreement"],
     )
     return files, summary
 

@@ -12,9 +12,13 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.extraction.imageio import full_scale, split_channels
 
-__all__ = ["METHODS", "POLARITIES", "NoObject", "Segmentation", "segment", "grabcut_mask"]
+__all__ = ["METHODS", "POLARITIES", "PLAIN_ETA", "NoObject", "Segmentation", "segment", "grabcut_mask", "image_kind"]
 
-METHODS = ("otsu", "threshold", "mask", "alpha", "grabcut")
+METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model")
+#: Otsu's between-class share of the grey variance above which ``auto``
+#: takes an image for one object on a plain background (renders, scans,
+#: product shots); below it, for a photograph.
+PLAIN_ETA = 0.92
 POLARITIES = ("auto", "dark", "light")
 
 
@@ -78,35 +82,12 @@ def _polarity_from_border(on):
 
 
 def grabcut_mask(image, rect, iterations, name):
-    import cv2
+    """GrabCut from a box (default: the image inset by 5 %): (object mask, the box used)."""
+    from stimuli.extraction.grabcut import check_box, grabcut, inset_box, to_bgr8
 
-    img = image
-    if img.ndim == 3 and img.shape[2] in (2, 4):
-        img = img[:, :, : img.shape[2] - 1]
-    if img.ndim == 3 and img.shape[2] == 1:
-        img = img[:, :, 0]
-    if img.dtype != np.uint8:
-        f = img.astype(np.float64)
-        img = np.clip(np.round(255 * (f - f.min()) / max(np.ptp(f), 1e-12)), 0, 255).astype(np.uint8)
-    bgr = cv2.cvtColor(img, cv2.COLOR_GRAY2BGR) if img.ndim == 2 else np.ascontiguousarray(img[:, :, ::-1])
-    h, w = bgr.shape[:2]
-    if rect is None:
-        mx, my = max(1, round(0.05 * w)), max(1, round(0.05 * h))
-        rect = (mx, my, w - 2 * mx, h - 2 * my)
-    try:
-        rect = tuple(int(v) for v in rect)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: rect must be (x, y, width, height), got {rect!r}") from None
-    if len(rect) != 4:
-        raise InputError(f"{name}: rect must be (x, y, width, height), got {rect!r}")
-    x, y, rw, rh = rect
-    if rw < 2 or rh < 2 or x < 0 or y < 0 or x + rw > w or y + rh > h:
-        raise InputError(f"{name}: rect {rect} must be (x, y, width, height) inside the {w}x{h} image")
-    gc = np.zeros((h, w), np.uint8)
-    bgd = np.zeros((1, 65), np.float64)
-    fgd = np.zeros((1, 65), np.float64)
-    cv2.grabCut(bgr, gc, rect, bgd, fgd, int(iterations), cv2.GC_INIT_WITH_RECT)
-    return (gc == cv2.GC_FGD) | (gc == cv2.GC_PR_FGD), rect
+    bgr = to_bgr8(image)
+    rect = check_box(inset_box(bgr.shape) if rect is None else rect, bgr.shape, name)
+    return grabcut(bgr, box=rect, iterations=iterations), rect
 
 
 class Segmentation:
@@ -140,13 +121,65 @@ class Segmentation:
         return f
 
 
-def segment(img, method, threshold, polarity, name, rect=None, grabcut_iterations=5):
-    """Segment an image array: a `Segmentation` (raises `NoObject` if there is nothing to separate)."""
+def image_kind(img, name="image"):
+    """What ``method='auto'`` does with an image: 'otsu', 'alpha' or 'photo'.
+
+    'alpha' for a cut-out (an alpha channel that is partly transparent and
+    partly opaque); 'otsu' for a two-valued image (a mask, a silhouette) or
+    one object on a plain background (Otsu's two classes hold at least
+    :data:`PLAIN_ETA` of the grey variance); 'photo' otherwise.
+    """
+    if img.dtype == bool:
+        return "otsu"
+    grey, alpha = split_channels(img, name)
+    if alpha is not None:
+        full = full_scale(alpha.dtype)
+        if float(alpha.min()) < 0.5 * full < float(alpha.max()):
+            return "alpha"
+    g = grey if grey.size <= 1_000_000 else grey[:: int(np.ceil(np.sqrt(grey.size / 1e6))), :: int(np.ceil(np.sqrt(grey.size / 1e6)))]
+    g = np.asarray(g, np.float64).ravel()
+    lo, hi = g.min(), g.max()
+    if lo == hi or not np.any((g != lo) & (g != hi)):
+        return "otsu"
+    t, *_ = _histogram_stats(np.ascontiguousarray(grey))
+    low = g <= t
+    w0 = low.mean()
+    if w0 in (0.0, 1.0):
+        return "otsu"
+    eta = w0 * (1 - w0) * (g[low].mean() - g[~low].mean()) ** 2 / g.var()
+    return "otsu" if eta >= PLAIN_ETA else "photo"
+
+
+def segment(img, method, threshold, polarity, name, rect=None, grabcut_iterations=5, box=None, scribbles=None,
+            model=None):
+    """Segment an image array: a `Segmentation` (raises `NoObject` if there is nothing to separate).
+
+    `box` and `scribbles` go to :func:`stimuli.extraction.photo.segment_photo`
+    (and make ``auto`` a photo method); `model` is a dict of the arguments
+    of :func:`stimuli.extraction.model.object_probability`.
+    """
     import cv2
 
     params = dict(method=method, polarity=polarity)
     if img.dtype == bool:
         img = img.astype(np.uint8)
+    if method == "auto":
+        method = "photo" if box is not None or scribbles is not None else image_kind(img, name)
+        params["resolved"] = method
+    if method == "photo":
+        from stimuli.extraction.photo import segment_photo
+
+        res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
+        params.update(polarity="photo", threshold=None, level=None, **res.params)
+        return Segmentation(res.mask, params)
+    if method == "model":
+        from stimuli.extraction.model import object_probability
+
+        if not model or not model.get("model_file"):
+            raise InputError("method 'model' needs a model file (--model-file FILE.onnx)")
+        prob = object_probability(img, **model)
+        params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]))
+        return Segmentation(prob > 0.5, params, prob, 1.0, 0.5)
     if method == "grabcut":
         split_channels(img, name)  # validates the array
         on, rect = grabcut_mask(img, rect, grabcut_iterations, name)
