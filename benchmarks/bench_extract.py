@@ -85,7 +85,7 @@ def main(argv=None):
     import cv2
     from skimage.measure import find_contours
 
-    from stimuli.extraction.core import describe, extract
+    from stimuli.extraction import describe, extract
 
     from stimuli.geometry.contour import Contour
 

@@ -49,7 +49,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     from stimuli.errors import InputError
-    from stimuli.extraction.core import IMAGE_SUFFIXES, describe, extract, read_image
+    from stimuli.extraction import IMAGE_SUFFIXES, describe, extract, read_image
     from stimuli.render import coverage
 
     data = Path(args.data)

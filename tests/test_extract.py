@@ -24,7 +24,7 @@ from scipy.spatial import cKDTree
 
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
-from stimuli.extraction.core import (
+from stimuli.extraction import (
     contour_curvature,
     curvature_peaks,
     default_sigma,

@@ -161,7 +161,7 @@ def _shape(name, p, rng):
 
 
 def _from_image(p):
-    from stimuli.extraction.core import extract_contours  # lazily: it pulls in OpenCV and scikit-image
+    from stimuli.extraction import extract_contours  # lazily: it pulls in OpenCV and scikit-image
 
     found = extract_contours(p.path, method=p.method, threshold=p.threshold, polarity=p.polarity,
                              objects="largest")

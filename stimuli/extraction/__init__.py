@@ -1,21 +1,27 @@
-"""Contours from images: reading, segmentation (Otsu, threshold, mask,
-alpha, GrabCut), sub-pixel tracing and the scale-space description."""
+"""Contours from images: reading (:mod:`.imageio`), segmentation
+(:mod:`.segment`: Otsu, threshold, mask, alpha, GrabCut), sub-pixel tracing
+(:mod:`.trace`), the outline of each object (:mod:`.outlines`), the
+scale-space description (:mod:`.scalespace`), the overlay drawing
+(:mod:`.overlays`) and the per-image pipeline of ``attneave extract``
+(:mod:`.pipeline`)."""
 
 from stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
-    "METHODS": ".core",
-    "SIGMA_FRACTION": ".core",
-    "MIN_SIGMA": ".core",
-    "Extraction": ".core",
-    "ContourInfo": ".core",
-    "read_image": ".core",
-    "extract": ".core",
-    "extract_contours": ".core",
-    "default_sigma": ".core",
-    "smooth": ".core",
-    "contour_curvature": ".core",
-    "describe": ".core",
-    "curvature_peaks": ".core",
-    "IMAGE_SUFFIXES": ".core",
+    "METHODS": ".segment",
+    "SIGMA_FRACTION": ".scalespace",
+    "MIN_SIGMA": ".scalespace",
+    "Extraction": ".outlines",
+    "ContourInfo": ".scalespace",
+    "read_image": ".imageio",
+    "extract": ".outlines",
+    "extract_contours": ".outlines",
+    "default_sigma": ".scalespace",
+    "smooth": ".scalespace",
+    "contour_curvature": ".scalespace",
+    "describe": ".scalespace",
+    "curvature_peaks": ".scalespace",
+    "IMAGE_SUFFIXES": ".imageio",
+    "overlay": ".overlays",
+    "extract_images": ".pipeline",
 })

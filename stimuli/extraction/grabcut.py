@@ -1,0 +1,118 @@
+"""GrabCut (Rother et al. 2004) as the extraction methods use it: 8-bit BGR
+input, boxes checked against the image, initialisation from a box or a
+label mask, and the tidy-up of its result.
+
+Boxes are ``(x, y, width, height)`` in image pixels: the pixels of columns
+``x .. x + width - 1`` and rows ``y .. y + height - 1`` (y down).
+
+References
+----------
+.. [1] Rother, C., Kolmogorov, V., & Blake, A. (2004). "GrabCut":
+       interactive foreground extraction using iterated graph cuts.
+       ACM Trans. Graphics 23(3), 309-314.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from stimuli.errors import InputError
+
+__all__ = ["to_bgr8", "inset_box", "check_box", "grabcut", "largest_filled"]
+
+#: GrabCut's labels (as cv2.GC_BGD, GC_FGD, GC_PR_BGD, GC_PR_FGD).
+BGD, FGD, PR_BGD, PR_FGD = 0, 1, 2, 3
+
+
+def to_bgr8(image):
+    """An 8-bit BGR copy of a grey, grey+alpha, RGB or RGBA array (alpha dropped, other depths stretched)."""
+    import cv2
+
+    img = np.asarray(image)
+    if img.dtype == bool:
+        img = img.astype(np.uint8) * 255
+    if img.ndim == 3 and img.shape[2] in (2, 4):
+        img = img[:, :, : img.shape[2] - 1]
+    if img.ndim == 3 and img.shape[2] == 1:
+        img = img[:, :, 0]
+    if img.dtype != np.uint8:
+        f = img.astype(np.float64)
+        img = np.clip(np.round(255 * (f - f.min()) / max(np.ptp(f), 1e-12)), 0, 255).astype(np.uint8)
+    return cv2.cvtColor(img, cv2.COLOR_GRAY2BGR) if img.ndim == 2 else np.ascontiguousarray(img[:, :, ::-1])
+
+
+def inset_box(shape, fraction=0.05):
+    """The box of an image of `shape` ``(H, W, ...)`` inset by `fraction` of its size on every side."""
+    h, w = shape[:2]
+    mx, my = max(1, round(fraction * w)), max(1, round(fraction * h))
+    return (mx, my, w - 2 * mx, h - 2 * my)
+
+
+def check_box(box, shape, name, what="rect"):
+    """`box` as four ints ``(x, y, width, height)`` inside an image of `shape`; InputError otherwise."""
+    h, w = shape[:2]
+    try:
+        vals = [float(v) for v in box]
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: {what} must be (x, y, width, height), got {box!r}") from None
+    if len(vals) != 4 or not all(np.isfinite(vals)):
+        raise InputError(f"{name}: {what} must be four finite numbers (x, y, width, height), got {box!r}")
+    x, y, bw, bh = (int(round(v)) for v in vals)
+    if bw < 2 or bh < 2 or x < 0 or y < 0 or x + bw > w or y + bh > h:
+        raise InputError(f"{name}: {what} ({x}, {y}, {bw}, {bh}) must be (x, y, width, height) of at least "
+                         f"2x2 pixels inside the {w}x{h} image")
+    return (x, y, bw, bh)
+
+
+def grabcut(bgr, box=None, labels=None, iterations=5):
+    """Object pixels by GrabCut, from a box or from a label mask.
+
+    Parameters
+    ----------
+    bgr : (H, W, 3) uint8 ndarray
+        As :func:`to_bgr8` gives.
+    box : (x, y, width, height), optional
+        Outside it is background; inside, probably object.
+    labels : (H, W) uint8 ndarray, optional
+        Initial labels (``BGD, FGD, PR_BGD, PR_FGD`` = 0, 1, 2, 3); used when
+        no box is given. Must hold some background (0 or 2) and some object
+        (1 or 3).
+    iterations : int
+
+    Returns
+    -------
+    (H, W) bool ndarray
+        Where GrabCut ends with (probable) object. If the initial labels
+        leave no object or no background sample, the initial guess.
+    """
+    import cv2
+
+    bgd = np.zeros((1, 65), np.float64)
+    fgd = np.zeros((1, 65), np.float64)
+    if box is not None:
+        gc = np.zeros(bgr.shape[:2], np.uint8)
+        mode, rect = cv2.GC_INIT_WITH_RECT, tuple(int(v) for v in box)
+    else:
+        gc, mode, rect = labels.copy(), cv2.GC_INIT_WITH_MASK, None
+    try:
+        cv2.grabCut(bgr, gc, rect, bgd, fgd, int(iterations), mode)
+    except cv2.error:  # no background (or object) sample to learn a colour model from
+        if box is not None:
+            x, y, w, h = rect
+            gc[y : y + h, x : x + w] = PR_FGD
+    return (gc == FGD) | (gc == PR_FGD)
+
+
+def largest_filled(mask):
+    """The largest 8-connected part of a mask, with its holes filled (all False if the mask is empty)."""
+    import cv2
+
+    m = np.ascontiguousarray(mask, dtype=np.uint8)
+    n, lab, stats, _ = cv2.connectedComponentsWithStats(m, connectivity=8)
+    if n <= 1:
+        return np.zeros(m.shape, bool)
+    keep = (lab == 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))).astype(np.uint8)
+    outlines, _ = cv2.findContours(keep, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    filled = np.zeros_like(keep)
+    cv2.drawContours(filled, outlines, -1, 1, thickness=-1)
+    return filled.astype(bool)

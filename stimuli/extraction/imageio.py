@@ -1,0 +1,317 @@
+"""Reading images: files as stored, arrays, their grey and alpha channels.
+
+Row ``i``, column ``j`` of every array is the pixel centred at ``(x, y) = (j, i)``
+(x = column, y = row, y down, pixel centres at integer coordinates).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from stimuli.errors import InputError
+
+__all__ = ["IMAGE_SUFFIXES", "MAX_PIXELS", "DecoderWarning", "ImageFile", "open_image", "read_image", "header_size", "load_image", "split_channels", "full_scale"]
+
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
+
+
+#: Default largest image accepted, in pixels (width x height from the file's
+#: header, checked before anything is decoded): 100 megapixels.
+MAX_PIXELS = 100_000_000
+
+
+class DecoderWarning(UserWarning):
+    """The decoder reported a problem (truncated or corrupt data) but gave an image."""
+
+
+@dataclass
+class ImageFile:
+    """An image as read from a file, with what the decoder said about it.
+
+    Attributes
+    ----------
+    image : ndarray
+        As returned by :func:`read_image`.
+    warnings : list of str
+        The decoder's complaints, one line each (e.g. ``Corrupt JPEG data:
+        premature end of data segment``, ``image file is truncated``);
+        empty for a clean file.
+    path : str
+    """
+
+    image: np.ndarray
+    warnings: list = field(default_factory=list)
+    path: str = ""
+
+
+def open_image(path, max_pixels=MAX_PIXELS):
+    """Read an image file and collect the decoder's warnings (see :func:`read_image`).
+
+    Parameters
+    ----------
+    path : str or Path
+    max_pixels : int
+        Largest ``width * height`` accepted, read from the file's header
+        before decoding (default :data:`MAX_PIXELS`, 100 Mpx), so that a
+        small file that would decode to gigabytes is refused at no cost.
+
+    Returns
+    -------
+    ImageFile
+        The image and the decoder's warnings. A truncated file is decoded as
+        far as it goes (the rest is grey or black) with the warning ``image
+        file is truncated``.
+
+    Raises
+    ------
+    InputError
+        Not a regular file (a directory, FIFO, device: refused without
+        opening it, so nothing blocks), missing, empty, larger than
+        `max_pixels`, or not decodable; one line naming the file.
+    """
+    import cv2
+
+    path = Path(path)
+    _require_regular_file(path)
+    size = _header_size(path, max_pixels)
+    try:
+        data = np.fromfile(path, dtype=np.uint8)
+    except (IsADirectoryError, PermissionError, OSError) as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    if data.size == 0:
+        raise InputError(f"{path}: empty file, expected a PNG, JPEG, TIFF or BMP image")
+    with _captured_stderr() as said:
+        img = _quiet_imdecode(cv2, data)
+    messages = _lines(said[0]) if said else []
+    if (img is None or img.size == 0) and size is not None:
+        img, more = _decode_truncated(path)
+        messages += more
+    if img is None or img.size == 0:
+        raise InputError(f"{path}: not a readable image (corrupt, or not PNG, JPEG, TIFF or BMP)")
+    if img.shape[0] * img.shape[1] > max_pixels:  # a header PIL could not read
+        raise InputError(f"{path}: {img.shape[1]}x{img.shape[0]} pixels exceeds the limit of {max_pixels} "
+                         "pixels (max_pixels, --max-pixels)")
+    if img.ndim == 3:
+        if img.shape[2] == 3:
+            img = cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
+        elif img.shape[2] == 4:
+            img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGBA)
+        elif img.shape[2] == 1:
+            img = img[:, :, 0]
+    return ImageFile(img, messages, str(path))
+
+
+def read_image(path, max_pixels=MAX_PIXELS):
+    """Read an image file as it is stored (no colour management, no EXIF rotation).
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG, JPEG, TIFF or BMP file; grey, RGB or RGBA; 8 or 16 bit
+        (32-bit float TIFF also works).
+    max_pixels : int
+        Largest ``width * height`` accepted, checked on the header before
+        decoding (default 100 Mpx).
+
+    Returns
+    -------
+    ndarray
+        ``(H, W)`` for grey, ``(H, W, 3)`` RGB or ``(H, W, 4)`` RGBA
+        (channels in RGB order, not OpenCV's BGR), in the file's own dtype
+        (uint8, uint16 or float32). Row ``i``, column ``j`` is the pixel
+        centred at ``(x, y) = (j, i)``.
+
+    Raises
+    ------
+    InputError
+        The file does not exist, is not a regular file, is empty, is larger
+        than `max_pixels`, or cannot be decoded (corrupt or not an image),
+        naming the file.
+
+    Warns
+    -----
+    DecoderWarning
+        The decoder complained (corrupt or truncated data) but gave an
+        image; :func:`open_image` returns these messages instead.
+    """
+    f = open_image(path, max_pixels)
+    if f.warnings:
+        import warnings
+
+        warnings.warn(f"{path}: decoder: {'; '.join(f.warnings)}", DecoderWarning, stacklevel=2)
+    return f.image
+
+
+def _require_regular_file(path):
+    """Refuse anything but a regular file before opening it (a FIFO would block)."""
+    import os
+    import stat
+
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(mode):
+        kind = "a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else "a special file"
+        raise InputError(f"{path}: is {kind}, expected a regular image file")
+
+
+def header_size(path):
+    """``(width, height)`` of an image file read from its header only, or None if Pillow cannot parse it."""
+    import warnings
+
+    from PIL import Image
+
+    bomb = Image.MAX_IMAGE_PIXELS
+    try:
+        Image.MAX_IMAGE_PIXELS = None  # our own limit applies, with the size in the message
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with Image.open(path) as im:  # reads the header, decodes nothing
+                return tuple(im.size)
+    except Exception:  # noqa: BLE001 - not a format Pillow knows: OpenCV decides
+        return None
+    finally:
+        Image.MAX_IMAGE_PIXELS = bomb
+
+
+def _header_size(path, max_pixels):
+    """:func:`header_size`, refusing more than `max_pixels`."""
+    size = header_size(path)
+    if size is not None and size[0] * size[1] > max_pixels:
+        w, h = size
+        raise InputError(f"{path}: {w}x{h} pixels ({w * h / 1e6:.4g} Mpx) exceeds the limit of "
+                         f"{max_pixels} pixels (max_pixels, --max-pixels)")
+    return size
+
+
+def _decode_truncated(path):
+    """A truncated file decoded as far as its data go, by Pillow: (array in OpenCV's channel order, warnings)."""
+    import warnings
+
+    from PIL import Image, ImageFile as PilImageFile
+
+    old = PilImageFile.LOAD_TRUNCATED_IMAGES
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with Image.open(path) as im:
+                try:
+                    im.load()
+                    return None, []  # Pillow reads it whole: OpenCV's failure stands
+                except OSError:
+                    pass
+            PilImageFile.LOAD_TRUNCATED_IMAGES = True
+            with Image.open(path) as im:
+                if im.mode not in ("L", "RGB", "RGBA", "I;16"):
+                    im = im.convert("RGBA" if "A" in im.mode else "RGB")
+                arr = np.asarray(im)
+    except Exception:  # noqa: BLE001 - not decodable at all
+        return None, []
+    finally:
+        PilImageFile.LOAD_TRUNCATED_IMAGES = old
+    if arr.ndim == 3:  # to OpenCV's order, as imdecode gives
+        arr = arr[:, :, [2, 1, 0, 3][: arr.shape[2]]]
+    return np.ascontiguousarray(arr), ["image file is truncated (decoded as far as it goes)"]
+
+
+class _captured_stderr:
+    """Collect what C libraries (libjpeg, libpng) print on file descriptor 2 meanwhile."""
+
+    def __enter__(self):
+        import os
+        import sys
+        import tempfile
+
+        self.said = []
+        try:
+            sys.stderr.flush()
+            self._tmp = tempfile.TemporaryFile()
+            self._saved = os.dup(2)
+            os.dup2(self._tmp.fileno(), 2)
+        except (OSError, ValueError, AttributeError):  # no real fd 2: nothing to capture
+            self._saved = None
+        return self.said
+
+    def __exit__(self, *exc):
+        import os
+
+        if self._saved is None:
+            return False
+        os.dup2(self._saved, 2)
+        os.close(self._saved)
+        self._tmp.seek(0)
+        self.said.append(self._tmp.read(65536).decode("utf-8", "replace"))
+        self._tmp.close()
+        return False
+
+
+def _lines(text):
+    """Distinct non-empty lines of a decoder's messages, at most five."""
+    out = []
+    for line in text.splitlines():
+        line = " ".join(line.split())
+        if line and line not in out:
+            out.append(line)
+    return out[:5]
+
+
+def _quiet_imdecode(cv2, data):
+    """cv2.imdecode without OpenCV's own log messages (libjpeg's and libpng's are captured by the caller)."""
+    log = getattr(getattr(cv2, "utils", None), "logging", None)
+    if log is None:  # pragma: no cover - very old OpenCV
+        return cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
+    old = log.getLogLevel()
+    log.setLogLevel(log.LOG_LEVEL_SILENT)
+    try:
+        return cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
+    finally:
+        log.setLogLevel(old)
+
+
+def load_image(image_or_path):
+    """``(array, name)`` from a path (read with :func:`read_image`) or an array."""
+    if isinstance(image_or_path, (str, Path)):
+        return read_image(image_or_path), str(image_or_path)
+    try:
+        img = np.asarray(image_or_path)
+    except Exception:  # noqa: BLE001 - anything that is not an array
+        raise InputError("image: expected a path or an array") from None
+    return img, "image"
+
+
+def split_channels(img, name):
+    """Grey (float, image units) and alpha (or None) of an image array."""
+    if img.dtype == bool:
+        img = img.astype(np.uint8)
+    if not (np.issubdtype(img.dtype, np.integer) or np.issubdtype(img.dtype, np.floating)):
+        raise InputError(f"{name}: pixel type {img.dtype} is not numeric")
+    if img.ndim == 2:
+        grey, alpha = img, None
+    elif img.ndim == 3 and img.shape[2] in (1, 2, 3, 4):
+        c = img.shape[2]
+        alpha = img[:, :, c - 1] if c in (2, 4) else None
+        if c <= 2:
+            grey = img[:, :, 0]
+        else:
+            rgb = img[:, :, :3].astype(np.float32)
+            grey = rgb[:, :, 0] * np.float32(0.299) + rgb[:, :, 1] * np.float32(0.587) + rgb[:, :, 2] * np.float32(0.114)
+    else:
+        raise InputError(f"{name}: expected a grey (H, W), RGB or RGBA (H, W, 3|4) image, got shape {img.shape}")
+    if min(grey.shape) < 2:
+        raise InputError(f"{name}: image of {grey.shape[1]}x{grey.shape[0]} pixels is too small")
+    if np.issubdtype(grey.dtype, np.floating) and not np.isfinite(grey).all():
+        raise InputError(f"{name}: image has NaN or infinite pixels")
+    return grey, alpha
+
+
+def full_scale(dtype):
+    """The full-scale value of an image dtype (its maximum for integers, 1 for floats)."""
+    if np.issubdtype(dtype, np.integer):
+        return float(np.iinfo(dtype).max)
+    return 1.0

@@ -1,0 +1,110 @@
+"""Salient-object segmentation by a learned network the user supplies (ONNX).
+
+``method='model'`` runs an ONNX file through ``onnxruntime`` (the optional
+extra ``attneave[model]``); nothing is downloaded. Networks of the U^2-Net
+family (e.g. the ``u2net.onnx`` / ``u2netp.onnx`` files that rembg uses)
+work with the defaults: the photo is resized to ``size x size``, scaled to
+[0, 1], normalised per channel by ``(v - mean) / std`` (ImageNet's mean and
+std) and given as one ``(1, 3, size, size)`` float32 RGB tensor; the first
+output, of shape ``(1, 1, size, size)`` or ``(1, size, size)``, is read as
+the object's probability. Values outside [0, 1] are taken as logits
+(passed through a sigmoid). The map is brought back to the photo's size and
+the outline is traced on it at probability 0.5 to sub-pixel accuracy.
+
+References
+----------
+.. [1] Qin, X., Zhang, Z., Huang, C., Dehghan, M., Zaiane, O. R., &
+       Jagersand, M. (2020). U^2-Net: going deeper with nested U-structure
+       for salient object detection. Pattern Recognition 106, 107404.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from stimuli.errors import InputError
+
+__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "object_probability"]
+
+#: Default network input size (px, square): U^2-Net's.
+MODEL_SIZE = 320
+#: Default per-channel normalisation (RGB, on [0, 1] values): ImageNet's.
+MODEL_MEAN = (0.485, 0.456, 0.406)
+MODEL_STD = (0.229, 0.224, 0.225)
+
+_SESSIONS = {}
+
+
+def _session(model_file):
+    """An onnxruntime session for a file (cached per process)."""
+    from pathlib import Path
+
+    try:
+        import onnxruntime as ort
+    except ImportError:
+        raise InputError("method 'model' needs onnxruntime: pip install 'attneave[model]'") from None
+    path = Path(model_file)
+    if not path.is_file():
+        raise InputError(f"{path}: no such model file (an ONNX network, e.g. u2net.onnx)")
+    key = (str(path.resolve()), path.stat().st_mtime_ns)
+    if key not in _SESSIONS:
+        try:
+            _SESSIONS[key] = ort.InferenceSession(str(path), providers=["CPUExecutionProvider"])
+        except Exception as exc:  # noqa: BLE001 - onnxruntime's own error types
+            raise InputError(f"{path}: not a usable ONNX model ({' '.join(str(exc).split())[:200]})") from None
+    return _SESSIONS[key]
+
+
+def object_probability(image, model_file, size=MODEL_SIZE, mean=MODEL_MEAN, std=MODEL_STD):
+    """The network's object probability at every pixel of a photo.
+
+    Parameters
+    ----------
+    image : ndarray
+        Grey, RGB or RGBA (RGB order), any depth.
+    model_file : str or Path
+        The ONNX network.
+    size : int
+        Network input size in px (square).
+    mean, std : sequence of 3 floats
+        Per-channel normalisation of the [0, 1] RGB values.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+        Probability in [0, 1], at the photo's size (bilinear).
+
+    Raises
+    ------
+    InputError
+        onnxruntime missing, the file missing or not a network, or a network
+        whose input or output does not have the shape described in the
+        module notes.
+    """
+    import cv2
+
+    from stimuli.extraction.grabcut import to_bgr8
+
+    size = int(size)
+    if size < 8:
+        raise InputError(f"model size must be >= 8 px, got {size}")
+    mean, std = np.asarray(mean, np.float32), np.asarray(std, np.float32)
+    if mean.shape != (3,) or std.shape != (3,) or not np.all(std > 0):
+        raise InputError("model mean and std must be three numbers each, std > 0")
+    sess = _session(model_file)
+    rgb = to_bgr8(image)[:, :, ::-1]
+    h, w = rgb.shape[:2]
+    x = cv2.resize(rgb, (size, size), interpolation=cv2.INTER_AREA).astype(np.float32) / 255.0
+    x = ((x - mean) / std).transpose(2, 0, 1)[None]
+    inp = sess.get_inputs()[0]
+    try:
+        out = sess.run(None, {inp.name: np.ascontiguousarray(x, np.float32)})[0]
+    except Exception as exc:  # noqa: BLE001 - onnxruntime's own error types
+        raise InputError(f"{model_file}: the network does not take a (1, 3, {size}, {size}) float32 input "
+                         f"({' '.join(str(exc).split())[:200]}); see --model-size") from None
+    p = np.squeeze(np.asarray(out, np.float32))
+    if p.ndim != 2:
+        raise InputError(f"{model_file}: the network's first output has shape {np.shape(out)}, expected one map")
+    if p.min() < 0 or p.max() > 1:
+        p = 1.0 / (1.0 + np.exp(-p))
+    return np.clip(cv2.resize(p, (w, h), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)

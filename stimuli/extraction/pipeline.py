@@ -1,0 +1,300 @@
+"""The per-image pipeline of ``attneave extract``: extract, describe, write, summarise.
+
+For every input image ``DIR/STEM.*`` is written (STEM = the file name
+without its extension):
+
+* ``STEM.contour.csv``: the sub-pixel outer contour, columns ``x, y`` in the
+  image's pixels (x = column, y = row, y down, pixel centres at integers),
+  closed (first point not repeated), counter-clockwise on the screen;
+* ``STEM.surprisal.csv``: the columns of ``attneave surprisal`` (``i, s, t,
+  x, y, turning_angle, curvature, surprisal, peak``) at n equally spaced
+  points of the contour smoothed at sigma;
+* ``STEM.overlay.png``: the image with the contour coloured by surprisal
+  (dark blue low, red high) and the peaks circled;
+* ``STEM.silhouette.png``: the contour rendered black on white with exact
+  coverage at the image's size (by :mod:`stimuli.render`);
+* ``STEM.holes.csv`` with ``holes``: columns ``hole, x, y``.
+
+With ``objects='all'`` every object of at least ``min_area`` pixels gets
+its own ``STEM.K.contour.csv``, ``STEM.K.surprisal.csv``,
+``STEM.K.silhouette.png`` (and ``STEM.K.holes.csv``), K = 0 for the largest,
+1 for the next...; the overlay ``STEM.overlay.png`` shows them all.
+
+``DIR/summary.csv`` has one row per input (:data:`SUMMARY_COLUMNS`) with
+its verdict (:mod:`stimuli.extraction.verdict`): ``status`` ``ok``,
+``suspect`` (the outline was written, but ``reason`` names why it may be
+wrong: frame contact, low contrast, fill, competing regions, disagreeing
+hypotheses, decoder warnings; the overlay says so too) or ``failed`` (no
+outline: unreadable, too large, no object, everything object), and the
+measures behind it (``frame``, ``fill``, ``contrast``, ``agreement``), and
+``resolved``, the method ``auto`` chose. Reasons are always one line. A
+failed file does not stop the others.
+Outputs that an earlier run wrote for an input that now fails
+(``STEM.contour.csv``, ...) are removed so that the directory agrees with
+``summary.csv``; per-object ``STEM.K.*`` files are left alone (an input
+named ``STEM.K.png`` writes the same names). Every file is written under a
+temporary name and renamed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from stimuli.errors import InputError
+
+__all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "output_stems", "extract_images", "process_one"]
+
+OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
+SUMMARY_COLUMNS = (
+    "image", "status", "reason", "n_points", "perimeter", "area",
+    "n_objects", "method", "polarity", "level", "sigma", "n",
+    "resolved", "frame", "fill", "contrast", "agreement",
+)
+#: Options of :func:`extract_images` and their defaults.
+DEFAULTS = dict(
+    method="auto", threshold=None, polarity="auto", objects="largest", min_area=None, holes=False, rect=None,
+    n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False, boxes=None, scribbles=None,
+    model_file=None, model_size=None, model_mean=None, model_std=None, max_pixels=None,
+)
+
+
+def output_stems(images, objects="largest"):
+    """The output name (file stem) of every image; raises if two would collide.
+
+    Parameters
+    ----------
+    images : list of str or Path
+    objects : {'largest', 'all'}
+        With 'all', ``STEM.K`` of one image must not be another image's stem.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    InputError
+        Two inputs whose outputs would have the same names.
+    """
+    seen = {}
+    for img in images:
+        stem = Path(img).stem
+        if not stem or stem in (".", ".."):
+            raise InputError(f"{img}: cannot name outputs after this file")
+        if stem in seen:
+            raise InputError(f"{seen[stem]} and {img} share the name {stem!r}; their outputs would collide")
+        seen[stem] = img
+    if objects == "all":
+        # STEM.K.* of one image would be the outputs of an image named STEM.K
+        for stem, img in seen.items():
+            base, _, k = stem.rpartition(".")
+            if k.isdigit() and base in seen:
+                raise InputError(f"{seen[base]} and {img}: with --objects all, object {k} of {seen[base]} and "
+                                 f"{img} would write the same files ({stem}.*)")
+    return [Path(i).stem for i in images]
+
+
+def extract_images(images, output, workers=1, progress=None, **options):
+    """Extract, describe and write the outputs of every image; write ``summary.csv``.
+
+    Parameters
+    ----------
+    images : list of str or Path
+        Image files (PNG, JPEG, TIFF, BMP).
+    output : str or Path
+        Output directory, created if needed.
+    workers : int
+        Processes to use (default 1); the files written do not depend on it.
+    progress : bool or None
+        Show a progress bar on stderr (None: only on a terminal).
+    **options
+        Any of :data:`DEFAULTS` (the parameters of
+        :func:`stimuli.extraction.extract` and :func:`stimuli.extraction.describe`).
+
+    Returns
+    -------
+    pandas.DataFrame
+        The summary, one row per input in input order (as written to
+        ``summary.csv``).
+
+    Raises
+    ------
+    InputError
+        Colliding output names, an output path that is not a directory,
+        an unknown option.
+    """
+    from tqdm import tqdm
+
+    from stimuli.io import write_table
+
+    unknown = set(options) - set(DEFAULTS)
+    if unknown:
+        raise InputError(f"unknown extraction option(s): {', '.join(sorted(unknown))}")
+    opts = {**DEFAULTS, **options}
+    stems = output_stems(images, opts["objects"])
+    if opts["boxes"] is not None and not isinstance(opts["boxes"], dict):
+        from stimuli.extraction.assists import read_boxes
+
+        opts["boxes"] = read_boxes(opts["boxes"], [str(i) for i in images], opts["objects"])
+    if opts["scribbles"] is not None and not isinstance(opts["scribbles"], dict):
+        from stimuli.extraction.assists import scribble_files
+
+        opts["scribbles"] = scribble_files(opts["scribbles"], [str(i) for i in images])
+    if opts["method"] == "model" and not opts["model_file"]:
+        raise InputError("--method model needs --model-file FILE.onnx")
+    out = Path(output)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: exists and is not a directory")
+    out.mkdir(parents=True, exist_ok=True)
+    tasks = [(str(img), stem, str(out), opts) for img, stem in zip(images, stems)]
+    rows = [None] * len(tasks)
+    bar = tqdm(total=len(tasks), desc="extract", unit="image", disable=None if progress is None else not progress)
+    try:
+        if workers == 1 or len(tasks) == 1:
+            for i, task in enumerate(tasks):
+                rows[i] = process_one(*task)
+                bar.update()
+        else:
+            from concurrent.futures import as_completed
+
+            from stimuli.extraction.workers import orphan_safe_pool
+
+            with orphan_safe_pool(min(workers, len(tasks))) as pool:
+                futures = {pool.submit(process_one, *task): i for i, task in enumerate(tasks)}
+                for fut in as_completed(futures):
+                    rows[futures[fut]] = fut.result()
+                    bar.update()
+    finally:
+        bar.close()
+    summary = _summary_frame(rows)
+    write_table(summary, out / "summary.csv")
+    return summary
+
+
+def _summary_frame(rows):
+    """Summary table with numeric columns typed (empty cells for failed files)."""
+    import pandas as pd
+
+    df = pd.DataFrame([{c: r[c] for c in SUMMARY_COLUMNS} for r in rows], columns=list(SUMMARY_COLUMNS))
+    for c in ("n_points", "perimeter", "area", "n_objects", "level", "sigma", "n", "frame", "fill", "contrast",
+              "agreement"):
+        df[c] = pd.to_numeric(df[c].replace("", np.nan), errors="coerce")
+        if c in ("n_points", "n_objects", "n"):
+            df[c] = df[c].astype("Int64")
+    return df
+
+
+def _remove_stale(outdir, stem, keep):
+    """Remove this stem's outputs of an earlier run that this run did not write.
+
+    Only names that no other input can produce are touched: ``STEM.KIND``
+    (one object per image) and ``STEM.overlay.png``. Per-object files
+    ``STEM.K.KIND`` of an earlier ``--objects all`` run are left alone,
+    since an input named ``STEM.K.png`` writes the same names.
+    """
+    for kind in OUTPUT_KINDS:
+        f = outdir / f"{stem}.{kind}"
+        if f.name not in keep and f.is_file():
+            f.unlink()
+
+
+def process_one(image, stem, outdir, opts):
+    """Extract, analyse and write the outputs of one image; return its summary row.
+
+    Never raises for a bad image: the row then has ``status='failed'`` and
+    the reason (an unexpected exception is reported as an internal error).
+    """
+    outdir = Path(outdir)
+    row = {c: "" for c in SUMMARY_COLUMNS}
+    row.update(image=image, method=opts["method"])
+    try:
+        files, info = _analyse(image, stem, opts)
+        for name, writer in files.items():
+            writer(outdir / name)
+        _remove_stale(outdir, stem, set(files))
+        row.update(info)
+    except InputError as exc:
+        msg = str(exc)
+        if msg.startswith(image + ": "):
+            msg = msg[len(image) + 2 :]
+        row.update(status="failed", reason=msg)
+        _remove_stale(outdir, stem, set())
+    except Exception as exc:  # noqa: BLE001 - one bad file must not stop a batch
+        row.update(status="failed", reason=f"internal error: {type(exc).__name__}: {exc}")
+        _remove_stale(outdir, stem, set())
+    # a reason is one line of a CSV cell, whatever a library put in its message
+    row["reason"] = " ".join(str(row["reason"]).split())[:500]
+    for k, v in row.items():
+        if isinstance(v, (np.floating, np.integer)):
+            row[k] = v.item()
+    return row
+
+
+def _analyse(image, stem, opts):
+    """Everything in memory first; return ({file name: writer}, summary values)."""
+    from stimuli.extraction.imageio import MAX_PIXELS, open_image
+    from stimuli.extraction.outlines import extract
+    from stimuli.extraction.overlays import overlay
+    from stimuli.extraction.scalespace import describe
+    from stimuli.extraction.verdict import judge
+    from stimuli.render import render_silhouette
+
+    f = open_image(image, opts["max_pixels"] or MAX_PIXELS)
+    img = f.image
+    scribbles = None
+    if opts["scribbles"] and image in opts["scribbles"]:
+        from stimuli.extraction.photo import read_scribbles
+
+        scribbles = read_scribbles(opts["scribbles"][image], img.shape[:2])
+    model = None
+    if opts["method"] == "model":
+        model = {k: v for k, v in (("model_file", opts["model_file"]), ("size", opts["model_size"]),
+                                   ("mean", opts["model_mean"]), ("std", opts["model_std"])) if v is not None}
+    ex = extract(
+        img, method=opts["method"], threshold=opts["threshold"], polarity=opts["polarity"],
+        objects=opts["objects"], min_area=opts["min_area"], holes=opts["holes"], rect=opts["rect"], name=image,
+        boxes=(opts["boxes"] or {}).get(image), scribbles=scribbles, model=model,
+    )
+    verdict = judge(img, ex, f.warnings)
+    h, w = ex.mask.shape
+    infos = [
+        describe(c, n=opts["n"], spacing=opts["spacing"], sigma=opts["sigma"], model=opts["model"],
+                 A=opts["A"], b=opts["b"], bits=opts["bits"])
+        for c in ex.contours
+    ]
+    files = {}
+    prefixes = [f"{stem}.{k}" for k in range(len(ex.contours))] if opts["objects"] == "all" else [stem]
+    for pre, c, holes, info in zip(prefixes, ex.contours, ex.holes, infos):
+        files[f"{pre}.contour.csv"] = c.to_csv
+        files[f"{pre}.surprisal.csv"] = _table_writer(info.surprisal.table())
+        sil = render_silhouette([c, *holes] if holes else c, shape=(h, w), figure=0.0, ground=1.0, dtype="uint8")
+        files[f"{pre}.silhouette.png"] = _png_writer(sil["img"])
+        if opts["holes"]:
+            hole_ids = np.concatenate([np.full(len(hc), k) for k, hc in enumerate(holes)]) if holes else []
+            pts = np.concatenate([hc.points for hc in holes]) if holes else np.empty((0, 2))
+            files[f"{pre}.holes.csv"] = _table_writer({"hole": np.asarray(hole_ids, int), "x": pts[:, 0], "y": pts[:, 1]},
+                                                      float_format="%.10g")
+    files[f"{stem}.overlay.png"] = _png_writer(overlay(img, ex.contours, infos, ex.holes, verdict=verdict))
+    c0, i0 = ex.contours[0], infos[0]
+    m = verdict.measures
+    summary = dict(
+        status=verdict.status, reason=verdict.reason, n_points=c0.n, perimeter=c0.perimeter, area=c0.area,
+        n_objects=len(ex.contours), polarity=ex.params["polarity"], level=ex.params.get("level"), sigma=i0.sigma,
+        n=i0.params["n"], resolved=ex.params.get("resolved", ex.params["method"]), frame=m["frame"],
+        fill=m["fill"], contrast=m["contrast"], agreement=m["agreement"],
+    )
+    return files, summary
+
+
+def _table_writer(table, float_format="%.17g"):
+    from stimuli.io import write_table
+
+    return lambda path: write_table(table, path, float_format=float_format)
+
+
+def _png_writer(img):
+    from stimuli.render import write_png
+
+    return lambda path: write_png(path, img)

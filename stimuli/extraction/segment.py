@@ -1,0 +1,258 @@
+"""Segmentation: the object mask (Otsu, threshold, mask, alpha, GrabCut) and the
+grey field on which its sub-pixel contour is traced.
+
+Masks are ``(H, W)`` bool arrays; row ``i``, column ``j`` is the pixel centred at
+``(x, y) = (j, i)`` (y down).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from stimuli.errors import InputError
+from stimuli.extraction.imageio import full_scale, split_channels
+
+__all__ = ["METHODS", "POLARITIES", "PLAIN_ETA", "NoObject", "Segmentation", "segment", "grabcut_mask", "image_kind"]
+
+METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model")
+#: Otsu's between-class share of the grey variance above which ``auto``
+#: takes an image for one object on a plain background (renders, scans,
+#: product shots); below it, for a photograph.
+PLAIN_ETA = 0.92
+POLARITIES = ("auto", "dark", "light")
+
+
+class NoObject(InputError):
+    """The image is readable but holds no usable object (a per-file failure)."""
+
+
+def _histogram_stats(grey):
+    """Otsu threshold, the medians of the two classes, and the grey range.
+
+    Returns (threshold, median_low, median_high, lo, hi, n_values) in image
+    units; the low class is ``grey <= threshold``. `n_values` is the number
+    of distinct grey levels, counted up to 3.
+    """
+    from skimage.filters import threshold_otsu
+
+    if grey.dtype == np.uint8:
+        import cv2
+
+        counts = cv2.calcHist([grey], [0], None, [256], [0, 256]).ravel().astype(float)
+        centres = np.arange(256, dtype=float)
+        nz = np.flatnonzero(counts)
+        lo, hi = float(nz[0]), float(nz[-1])
+        if lo == hi:
+            return lo, lo, hi, lo, hi, 1
+        counts, centres = counts[nz[0] : nz[-1] + 1], centres[nz[0] : nz[-1] + 1]
+        t = float(threshold_otsu(hist=(counts, centres)))
+        cum = np.cumsum(counts)
+        k = int(np.searchsorted(centres, t, side="right"))  # low class: centres[:k]
+
+        def med(a, b):
+            c = cum[a:b] - (cum[a - 1] if a else 0.0)
+            return float(centres[a + int(np.searchsorted(c, 0.5 * c[-1]))])
+
+        return t, med(0, k), med(k, len(centres)), lo, hi, min(len(nz), 3)
+    lo, hi = float(grey.min()), float(grey.max())
+    if lo == hi:
+        return lo, lo, hi, lo, hi, 1
+    n_values = 2 if not np.any((grey != lo) & (grey != hi)) else 3
+    g = grey
+    if g.size > 2_000_000:  # a regular subsample is plenty for two medians
+        step = int(np.ceil(np.sqrt(g.size / 1_000_000)))
+        g = g[::step, ::step]
+    t = float(threshold_otsu(g))
+    low = g[g <= t]
+    high = g[g > t]
+    if low.size == 0 or high.size == 0:
+        return t, lo, hi, lo, hi, n_values
+    return t, float(np.median(low)), float(np.median(high)), lo, hi, n_values
+
+
+def _polarity_from_border(on):
+    """'light' if the 'on' pixels touch the image border less than the others."""
+    border = np.concatenate([on[0], on[-1], on[1:-1, 0], on[1:-1, -1]])
+    frac = border.mean()
+    if frac < 0.5:
+        return "light"
+    if frac > 0.5:
+        return "dark"
+    return "light" if on.mean() <= 0.5 else "dark"
+
+
+def grabcut_mask(image, rect, iterations, name):
+    """GrabCut from a box (default: the image inset by 5 %): (object mask, the box used)."""
+    from stimuli.extraction.grabcut import check_box, grabcut, inset_box, to_bgr8
+
+    bgr = to_bgr8(image)
+    rect = check_box(inset_box(bgr.shape) if rect is None else rect, bgr.shape, name)
+    return grabcut(bgr, box=rect, iterations=iterations), rect
+
+
+class Segmentation:
+    """The object mask, and the grey field the sub-pixel contour is traced on.
+
+    ``on`` is the boolean mask of object pixels. ``field(r0, r1, c0, c1)``
+    returns a float32 crop in which the object is *above* ``level`` (the
+    grey levels, negated for a dark object), or ``field`` is None when the
+    image is two-valued (a mask: traced as a staircase, then smoothed).
+    """
+
+    def __init__(self, on, params, source=None, sign=1.0, level=0.5):
+        self.on = on
+        self.params = params
+        self._source = source
+        self._sign = sign
+        # float32 halves the memory traffic of the per-pixel steps (its
+        # resolution, 1e-7 of the value, is far below any edge noise); the
+        # level is rounded to a float32 so that "above" is exact
+        self.level = float(np.float32(sign * level)) if source is not None else sign * level
+        self.field = None if source is None else self._field
+
+    def _field(self, r0, r1, c0, c1):
+        src = self._source[r0:r1, c0:c1]
+        if src.ndim == 3:  # luminance of the crop only, in float
+            f = src[:, :, :3].astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
+        else:
+            f = src.astype(np.float32)
+        if self._sign < 0:
+            np.negative(f, out=f)
+        return f
+
+
+def image_kind(img, name="image"):
+    """What ``method='auto'`` does with an image: 'otsu', 'alpha' or 'photo'.
+
+    'alpha' for a cut-out (an alpha channel that is partly transparent and
+    partly opaque); 'otsu' for a two-valued image (a mask, a silhouette) or
+    one object on a plain background (Otsu's two classes hold at least
+    :data:`PLAIN_ETA` of the grey variance); 'photo' otherwise.
+    """
+    if img.dtype == bool:
+        return "otsu"
+    grey, alpha = split_channels(img, name)
+    if alpha is not None:
+        full = full_scale(alpha.dtype)
+        if float(alpha.min()) < 0.5 * full < float(alpha.max()):
+            return "alpha"
+    g = grey if grey.size <= 1_000_000 else grey[:: int(np.ceil(np.sqrt(grey.size / 1e6))), :: int(np.ceil(np.sqrt(grey.size / 1e6)))]
+    g = np.asarray(g, np.float64).ravel()
+    lo, hi = g.min(), g.max()
+    if lo == hi or not np.any((g != lo) & (g != hi)):
+        return "otsu"
+    t, *_ = _histogram_stats(np.ascontiguousarray(grey))
+    low = g <= t
+    w0 = low.mean()
+    if w0 in (0.0, 1.0):
+        return "otsu"
+    eta = w0 * (1 - w0) * (g[low].mean() - g[~low].mean()) ** 2 / g.var()
+    return "otsu" if eta >= PLAIN_ETA else "photo"
+
+
+def segment(img, method, threshold, polarity, name, rect=None, grabcut_iterations=5, box=None, scribbles=None,
+            model=None):
+    """Segment an image array: a `Segmentation` (raises `NoObject` if there is nothing to separate).
+
+    `box` and `scribbles` go to :func:`stimuli.extraction.photo.segment_photo`
+    (and make ``auto`` a photo method); `model` is a dict of the arguments
+    of :func:`stimuli.extraction.model.object_probability`.
+    """
+    import cv2
+
+    params = dict(method=method, polarity=polarity)
+    if img.dtype == bool:
+        img = img.astype(np.uint8)
+    if method == "auto":
+        method = "photo" if box is not None or scribbles is not None else image_kind(img, name)
+        params["resolved"] = method
+    if method == "photo":
+        from stimuli.extraction.photo import segment_photo
+
+        res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
+        params.update(polarity="photo", threshold=None, level=None, **res.params)
+        return Segmentation(res.mask, params)
+    if method == "model":
+        from stimuli.extraction.model import object_probability
+
+        if not model or not model.get("model_file"):
+            raise InputError("method 'model' needs a model file (--model-file FILE.onnx)")
+        prob = object_probability(img, **model)
+        params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]))
+        return Segmentation(prob > 0.5, params, prob, 1.0, 0.5)
+    if method == "grabcut":
+        split_channels(img, name)  # validates the array
+        on, rect = grabcut_mask(img, rect, grabcut_iterations, name)
+        params.update(polarity="grabcut", threshold=None, level=None, rect=list(rect),
+                      iterations=int(grabcut_iterations))
+        return Segmentation(on, params)
+    if method == "alpha":
+        _, alpha = split_channels(img, name)
+        if alpha is None:
+            raise InputError(f"{name}: method 'alpha' needs an image with an alpha channel (RGBA or grey+alpha)")
+        src = np.ascontiguousarray(alpha)
+        level = 0.5 * full_scale(src.dtype) if threshold is None else float(threshold)
+        params.update(polarity="opaque", threshold=level, level=level)
+        on = src > level
+        lo, hi = float(src.min()), float(src.max())
+        two_valued = lo == hi or not np.any((src != lo) & (src != hi))
+        return Segmentation(on, params) if two_valued else Segmentation(on, params, src, 1.0, level)
+
+    # a grey image for the statistics and the mask: for 8-bit colour the
+    # rounded 8-bit luminance (same split and medians to within half a grey
+    # level, from an exact 256-bin histogram); the crop's float luminance is
+    # what the contour is traced on
+    if img.dtype == np.uint8 and img.ndim == 3 and img.shape[2] in (3, 4):
+        if min(img.shape[:2]) < 2:
+            raise InputError(f"{name}: image of {img.shape[1]}x{img.shape[0]} pixels is too small")
+        grey = cv2.cvtColor(np.ascontiguousarray(img[:, :, :3]), cv2.COLOR_RGB2GRAY)
+        source = img
+    else:
+        grey, _ = split_channels(img, name)
+        source = grey
+    t, med_lo, med_hi, lo, hi, n_values = _histogram_stats(np.ascontiguousarray(grey))
+    if method == "mask":
+        level = 0.5 * (lo + hi)
+        params.update(threshold=level, level=level)
+        if lo == hi:
+            pol = "light" if polarity == "auto" else polarity
+            on = np.full(grey.shape, (lo > 0) if pol == "light" else (lo == 0))
+            params["polarity"] = pol
+            return Segmentation(on, params)
+        light = grey > level
+        pol = _polarity_from_border(light) if polarity == "auto" else polarity
+        params["polarity"] = pol
+        return Segmentation(light if pol == "light" else ~light, params)
+
+    if lo == hi:
+        hint = ""
+        if img.ndim == 3 and img.shape[2] in (2, 4):
+            hint = "; it has an alpha channel: use method 'alpha'"
+        raise NoObject(f"uniform image (every pixel is {lo:g}): no object to separate from a background{hint}")
+    if method == "otsu":
+        level = 0.5 * (med_lo + med_hi)
+        if not lo <= level < hi:
+            level = t
+        params.update(threshold=t, class_medians=[med_lo, med_hi])
+    elif method == "threshold":
+        if threshold is None:
+            raise InputError(f"{name}: method 'threshold' needs a threshold value")
+        level = float(threshold)
+        params["threshold"] = level
+        if level < lo or level >= hi:
+            if polarity == "auto":
+                what = "the whole image is on one side of the threshold"
+            elif (polarity == "light") == (level < lo):
+                what = "every pixel is object"
+            else:
+                what = "no pixel is object"
+            raise NoObject(f"threshold {level:g} is outside the image's range [{lo:g}, {hi:g}]: {what}")
+    else:
+        raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
+    light = grey > level
+    pol = _polarity_from_border(light) if polarity == "auto" else polarity
+    params.update(polarity=pol, level=level)
+    on = light if pol == "light" else ~light
+    if n_values <= 2:
+        return Segmentation(on, params)
+    return Segmentation(on, params, source, 1.0 if pol == "light" else -1.0, level)
