@@ -7,7 +7,7 @@ polyline of the file, not the resampled one) to get its arc position ``t``
 and its distance; its curvature, surprisal and z are those of the nearest of
 the n points, ``j = round(n * t) mod n`` -- the point whose arc of length
 ``1/n`` contains the click, which is the unit of the choice model in
-:mod:`analysis.stats`.
+:mod:`analysis.choice`.
 
 Exclusion
 ---------
@@ -45,7 +45,8 @@ from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
 from .clicks import parse_coordinates, to_image_coords
-from .stats import midrank_percentile, point_index, standardize
+from .choice import point_index, standardize
+from .circular import midrank_percentile
 
 __all__ = [
     "REASONS",

@@ -55,7 +55,7 @@ from analysis.cli import main as cli_main
 from analysis.clicks import read_clicks
 from analysis.mapping import predict
 from analysis.observers import simulate
-from analysis.report import analyze
+from analysis.analyze import analyze
 from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 from stimuli.io import write_table
 
@@ -192,7 +192,7 @@ def main(argv=None):
         t_an = statistics.median(times)
 
         # the Monte Carlo null of the group test alone (the items test costs the same)
-        from analysis.stats import mean_z_test
+        from analysis.group import mean_z_test
 
         U = res.summary["n_used"]
         Zs = np.stack([pred[s].z["surprisal"] for s in stimset.ids])
@@ -214,7 +214,7 @@ def main(argv=None):
         contours = [stimset.contours[s].points for s in ids]
         Z = np.stack([pred[s].z["surprisal"] for s in ids])
         bw = np.full(len(ids), 0.02)
-        from analysis.stats import shift_indices
+        from analysis.circular import shift_indices
 
         shifts = shift_indices(grid, args.permutations)
         tb, tf = [], []
@@ -233,7 +233,7 @@ def main(argv=None):
         assert abs(res.summary["group"]["statistic"] - tstat) < 1e-6 * abs(tstat)
 
         # the permutation correlations alone: FFT (as analyze does) vs the matrix product
-        from analysis.stats import circular_spearman
+        from analysis.circular import circular_spearman
 
         dens, zg = res.profiles["density"], res.profiles["z"]
         t0 = time.perf_counter()

@@ -58,7 +58,8 @@ def run(args):
     import sys
 
     from analysis.clicks import read_clicks
-    from analysis.report import analyze, check_output_dir, write_analysis
+    from analysis.analyze import analyze
+    from analysis.report import check_output_dir, write_analysis
     from stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written
