@@ -22,7 +22,7 @@ from stimuli.io import as_number
 from .blurred import fit_beta_blurred
 from .choice import fit_beta, profile_ci
 from .circular import circular_kde, circular_spearman, mean_rho_null, peak_chance, peak_hits, shift_indices
-from .group import group_test, mean_z_test
+from .group import group_test, mean_z_nulls, mean_z_test
 from .mapping import DEFAULT_TOLERANCE_FRACTION, PREDICTORS, REASONS, map_clicks, predict
 
 __all__ = ["Analysis", "Design", "analyze", "model_table", "participant_table", "stimulus_table", "group_tests",
@@ -328,16 +328,18 @@ def stimulus_table(d, mapped, predictions, stimset, pct, feats, corr, bw_px, pk_
 
 def group_tests(d, per_p, seed, group_simulations, level=0.95):
     """The group (participants), items (stimuli) and descriptive tests of the summary."""
-    # the Monte Carlo nulls of the group and items tests: streams of their own, so that
-    # the correlation's null does not change with them
-    rng_g, rng_s = (np.random.default_rng(c) for c in np.random.SeedSequence(seed, spawn_key=(6,)).spawn(2))
+    # the Monte Carlo nulls of the group and items tests: one stream of their own, so that the
+    # correlation's null does not change with them; one set of draws serves both groupings
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(6,)).spawn(1)[0])
     R = int(group_simulations)
-    g = mean_z_test(d.Z, d.sidx, d.pidx, d.zc, n_units=d.G, replicates=R, rng=rng_g, level=level)
+    nulls = mean_z_nulls(d.Z, d.sidx, {"participant": (d.pidx, d.G), "stimulus": (d.sidx, d.S)}, R, rng,
+                         observed_z=d.zc)
+    g = mean_z_test(d.Z, d.sidx, d.pidx, d.zc, n_units=d.G, level=level, null=nulls["participant"])
     g["test"] = f"one-sample t statistic of per-participant mean z, Monte Carlo null under uniform clicking (R = {R})"
     g["effect"] = "per-participant mean z (standardised surprisal) at used clicks; 0 under uniform clicking"
     g["null"] = ("each used click keeps its stimulus and participant and is redrawn uniformly among the "
                  "stimulus's n points (beta = 0); p = (1 + #{null t >= t}) / (1 + R), one-sided (greater)")
-    s = mean_z_test(d.Z, d.sidx, d.sidx, d.zc, n_units=d.S, replicates=R, rng=rng_s, level=level)
+    s = mean_z_test(d.Z, d.sidx, d.sidx, d.zc, n_units=d.S, level=level, null=nulls["stimulus"])
     s["test"] = f"one-sample t statistic of per-stimulus mean z, Monte Carlo null under uniform clicking (R = {R})"
     s["effect"] = "per-stimulus mean z at used clicks (items analysis; stimuli with constant prediction left out)"
     bound = per_p["beta_at_bound"].astype(bool).to_numpy() if d.G else np.zeros(0, bool)

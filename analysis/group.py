@@ -41,7 +41,8 @@ from __future__ import annotations
 import numpy as np
 import scipy.stats
 
-__all__ = ["group_test", "t_statistic", "mean_z_null", "mean_z_test"]
+__all__ = ["group_test", "t_statistic", "mean_z_nulls", "mean_z_null", "mean_z_test",
+           "monte_carlo_p"]
 
 
 def group_test(values, level=0.95, alternative="two-sided"):
@@ -108,52 +109,37 @@ def t_statistic(v, axis=0):
     return np.where(sd > 0, t, np.where(m > 0, np.inf, np.where(m < 0, -np.inf, 0.0)))
 
 
-def _unit_means(Z, stimulus, unit, n_units):
-    """The design of the mean-z statistic.
-
-    Returns the informative units (at least one click on a stimulus whose
-    prediction is not constant), the clicks on non-constant stimuli (the only
-    ones whose z can differ from 0), their unit's row among the informative
-    units as a sparse indicator, and each informative unit's number of clicks
-    (all its clicks, including those with z = 0 by construction).
-    """
-    import scipy.sparse
-
-    Z = np.asarray(Z, dtype=float)
-    stimulus = np.asarray(stimulus, dtype=np.int64)
-    unit = np.asarray(unit, dtype=np.int64)
-    if n_units is None:
-        n_units = int(unit.max()) + 1 if len(unit) else 0
-    varies = np.any(Z != 0, axis=1)
-    live = varies[stimulus]
-    informative = np.bincount(unit[live], minlength=n_units) > 0
-    counts = np.bincount(unit, minlength=n_units).astype(float)[informative]
-    row = np.cumsum(informative) - 1
-    k = int(informative.sum())
-    sel = np.flatnonzero(live)
-    ind = scipy.sparse.csr_matrix((np.ones(len(sel)), (row[unit[sel]], np.arange(len(sel)))), shape=(k, len(sel)))
-    return informative, sel, ind, counts
+def _index_dtype(n):
+    # numpy draws bounded 16-bit integers from buffered random bits, faster than 32- or 64-bit ones
+    return np.uint16 if n <= 65536 else np.int64
 
 
-def mean_z_null(Z, stimulus, unit, n_units=None, replicates=1999, rng=None, observed_z=None,
-                max_elements=1 << 22):
-    """t statistics of per-unit mean z under uniform clicking, for a fixed design.
+def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None, max_elements=1 << 22):
+    """t statistics of per-unit mean z under uniform clicking, for several groupings of one design.
 
-    Each click keeps its stimulus and unit (participant or stimulus); its
-    contour point is redrawn uniformly among the stimulus's n points
-    (``p = 1/n``, the choice model at beta = 0), and the statistic is
-    recomputed exactly as for the data: each informative unit's mean z over
-    all its clicks, then :func:`t_statistic` across those units. The draws
-    are made for all replicates at once, in chunks of at most `max_elements`
-    (clicks x replicates) values.
+    Each click keeps its stimulus and units; its contour point is redrawn
+    uniformly among the stimulus's n points (``p = 1/n``, the choice model at
+    beta = 0), and for each grouping (e.g. participants, and stimuli for the
+    items analysis) the statistic is recomputed exactly as for the data: each
+    informative unit's mean z over all its clicks, then :func:`t_statistic`
+    across those units. One set of draws serves every grouping: each
+    grouping's null is exact; the nulls of two groupings are correlated.
+
+    The draws are made for all replicates at once, in chunks of at most
+    `max_elements` (clicks x replicates) values. The clicks on non-constant
+    stimuli (the only ones whose z can vary) are ordered by cell (the clicks
+    sharing stimulus and every unit), so that each cell's sum in every
+    replicate is one :func:`numpy.add.reduceat`, and the units' sums are a
+    sparse product of the cell sums.
 
     Parameters
     ----------
     Z : (S, n) array_like
         Standardised predictions.
-    stimulus, unit : (U,) array_like of int
-        Stimulus and unit of each used click.
-    n_units : int, optional
+    stimulus : (U,) array_like of int
+        Stimulus of each used click.
+    units : dict of str -> ((U,) array_like of int, int or None)
+        For each grouping, the unit of each click and the number of units.
     replicates : int
         Null replicates R.
     rng : numpy.random.Generator, optional
@@ -163,35 +149,88 @@ def mean_z_null(Z, stimulus, unit, n_units=None, replicates=1999, rng=None, obse
 
     Returns
     -------
+    dict of str -> (null (R,) ndarray, observed float, informative (n_units,) bool ndarray)
+    """
+    import scipy.sparse
+
+    Z = np.asarray(Z, dtype=float)
+    rng = np.random.default_rng() if rng is None else rng
+    stimulus = np.asarray(stimulus, dtype=np.int64)
+    S, n = Z.shape
+    live = np.flatnonzero(np.any(Z != 0, axis=1)[stimulus])
+    keys = [stimulus[live]] + [np.asarray(u, dtype=np.int64)[live] for u, _ in units.values()]
+    order = np.lexsort(keys[::-1])
+    sel = live[order]
+    sk = np.stack([k[order] for k in keys])
+    starts = (np.flatnonzero(np.r_[True, np.any(sk[:, 1:] != sk[:, :-1], axis=0)]) if len(sel)
+              else np.empty(0, np.int64))
+    groupings = {}
+    for g, (name, (unit, n_units)) in enumerate(units.items()):
+        unit = np.asarray(unit, dtype=np.int64)
+        if n_units is None:
+            n_units = int(unit.max()) + 1 if len(unit) else 0
+        informative = np.bincount(unit[live], minlength=n_units) > 0
+        counts = np.bincount(unit, minlength=n_units).astype(float)[informative]
+        row = np.cumsum(informative) - 1
+        cell_row = row[sk[g + 1, starts]]
+        # (cells, units): each cell's sum goes to its unit, divided by the unit's clicks
+        to_mean = scipy.sparse.csr_matrix((1.0 / counts[cell_row], (np.arange(len(starts)), cell_row)),
+                                          shape=(len(starts), int(informative.sum())))
+        groupings[name] = (informative, to_mean)
+
+    def stats(zc):  # zc (replicates, clicks) -> {name: t of each replicate}
+        if zc.shape[1] == 0:
+            return {k: np.full(len(zc), np.nan) for k in groupings}
+        cells = np.add.reduceat(zc, starts, axis=1)
+        return {k: t_statistic(np.asarray(cells @ m), axis=1) for k, (_, m) in groupings.items()}
+
+    observed = dict.fromkeys(groupings, np.nan)
+    if observed_z is not None:
+        observed = {k: float(v[0]) for k, v in stats(np.asarray(observed_z, dtype=float)[sel][None, :]).items()}
+    R = int(replicates)
+    nulls = {k: np.empty(R) for k in groupings}
+    step = max(1, int(max_elements // max(len(sel), 1)))
+    base = (stimulus[sel] * n).astype(np.int64 if S * n >= 2**31 else np.int32)
+    flat = Z.ravel()
+    for a in range(0, R, step):
+        b = min(R, a + step)
+        idx = rng.integers(0, n, size=(b - a, len(sel)), dtype=_index_dtype(n)).astype(base.dtype)
+        idx += base
+        for k, v in stats(flat[idx]).items():
+            nulls[k][a:b] = v
+    return {k: (nulls[k], observed[k], groupings[k][0]) for k in groupings}
+
+
+def monte_carlo_p(null, observed):
+    """One-sided Monte Carlo p-value ``(1 + #{null >= observed}) / (1 + R)`` (NaN without replicates).
+
+    Examples
+    --------
+    >>> monte_carlo_p(np.array([0.0, 1.0, 2.0, 3.0]), 2.0)
+    0.6
+    """
+    R = len(null)
+    if R == 0 or np.isnan(observed):
+        return np.nan
+    # rounding must not break a tie between the data and a replicate
+    tol = 1e-9 * max(1.0, abs(observed)) if np.isfinite(observed) else 0.0
+    return float((1 + np.count_nonzero(null >= observed - tol)) / (1 + R))
+
+
+def mean_z_null(Z, stimulus, unit, n_units=None, replicates=1999, rng=None, observed_z=None):
+    """t statistics of per-unit mean z under uniform clicking, for one grouping (see :func:`mean_z_nulls`).
+
+    Returns
+    -------
     null : (R,) ndarray
     observed : float
         NaN if `observed_z` is not given.
     informative : (n_units,) ndarray of bool
     """
-    Z = np.asarray(Z, dtype=float)
-    rng = np.random.default_rng() if rng is None else rng
-    informative, sel, ind, counts = _unit_means(Z, stimulus, unit, n_units)
-    S, n = Z.shape
-    base = (np.asarray(stimulus, dtype=np.int64)[sel] * n)[:, None]
-    flat = Z.ravel()
-    R = int(replicates)
-
-    def stat(zc):  # zc (clicks, columns) -> t of each column
-        return t_statistic(np.asarray(ind @ zc) / counts[:, None], axis=0)
-
-    observed = np.nan
-    if observed_z is not None:
-        observed = float(stat(np.asarray(observed_z, dtype=float)[sel][:, None])[0])
-    null = np.empty(R)
-    step = max(1, int(max_elements // max(len(sel), 1)))
-    for a in range(0, R, step):
-        b = min(R, a + step)
-        idx = rng.integers(0, n, size=(len(sel), b - a), dtype=np.int32 if n < 2**31 else np.int64)
-        null[a:b] = stat(flat[base + idx])
-    return null, observed, informative
+    return mean_z_nulls(Z, stimulus, {"unit": (unit, n_units)}, replicates, rng, observed_z)["unit"]
 
 
-def mean_z_test(Z, stimulus, unit, z, n_units=None, replicates=1999, rng=None, level=0.95):
+def mean_z_test(Z, stimulus, unit, z, n_units=None, replicates=1999, rng=None, level=0.95, null=None):
     """Test whether clicks favour high z: per-unit mean z across units, calibrated by Monte Carlo.
 
     The statistic is the one-sample t of the units' mean z (0 under uniform
@@ -215,6 +254,9 @@ def mean_z_test(Z, stimulus, unit, z, n_units=None, replicates=1999, rng=None, l
     replicates : int
         Monte Carlo replicates R (0: only the parametric values).
     rng : numpy.random.Generator, optional
+    null : tuple, optional
+        This grouping's entry of :func:`mean_z_nulls` when it has been
+        drawn already (with `z` as `observed_z`).
 
     Returns
     -------
@@ -231,7 +273,10 @@ def mean_z_test(Z, stimulus, unit, z, n_units=None, replicates=1999, rng=None, l
     if n_units is None:
         n_units = int(unit.max()) + 1 if len(unit) else 0
     R = int(replicates)
-    null, obs, informative = mean_z_null(Z, stimulus, unit, n_units, R, rng, observed_z=z)
+    if null is None:
+        null = mean_z_null(Z, stimulus, unit, n_units, R, rng, observed_z=z)
+    null, obs, informative = null
+    R = len(null)
     sums = np.bincount(unit, weights=z, minlength=n_units)
     cnt = np.bincount(unit, minlength=n_units)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -239,12 +284,7 @@ def mean_z_test(Z, stimulus, unit, z, n_units=None, replicates=1999, rng=None, l
     out = group_test(v, level=level, alternative="greater")
     out["p_value_parametric"] = out.pop("p_value")
     out["statistic"] = obs
-    if R > 0 and not np.isnan(obs):
-        # rounding must not break a tie between the data and a replicate
-        tol = 1e-9 * max(1.0, abs(obs)) if np.isfinite(obs) else 0.0
-        p = (1 + np.count_nonzero(null >= obs - tol)) / (1 + R)
-    else:
-        p = np.nan
+    p = monte_carlo_p(null, obs)
     out.update(test=f"one-sample t statistic of mean z across units, Monte Carlo null under uniform clicking "
                     f"(R = {R})", p_value=p, simulations=R, alternative="greater")
     return out

@@ -22,7 +22,7 @@ import numpy as np
 from stimuli.errors import InputError
 
 from .clicks import from_image_coords
-from .group import mean_z_null, mean_z_test, t_statistic
+from .group import mean_z_null, mean_z_test, monte_carlo_p, t_statistic
 
 __all__ = ["simulate", "simulate_indices", "power"]
 
@@ -267,11 +267,7 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
 
     def p_full_design(P, per_p):
         null, _, informative = nulls[P]
-        obs = t_statistic(per_p[:P][informative])
-        if np.isnan(obs):
-            return np.nan
-        tol = 1e-9 * max(1.0, abs(obs)) if np.isfinite(obs) else 0.0
-        return (1 + np.count_nonzero(null >= obs - tol)) / (1 + R)
+        return monte_carlo_p(null, t_statistic(per_p[:P][informative]))
 
     for r, child in enumerate(children[:simulations]):
         if noise == 0:
