@@ -20,9 +20,11 @@ from stimuli.errors import InputError
 from stimuli.io import as_number
 
 from .blurred import fit_beta_blurred
-from .choice import fit_beta, profile_ci
+from .choice import fit_beta, fit_choice, profile_ci
 from .circular import circular_kde, circular_spearman, mean_rho_null, peak_chance, peak_hits, shift_indices
+from .effect import TOP_FRACTION, top_share, top_weights
 from .group import group_test, mean_z_nulls, mean_z_test
+from .mixed import fit_mixed
 from .mapping import DEFAULT_TOLERANCE_FRACTION, PREDICTORS, REASONS, map_clicks, predict
 
 __all__ = ["Analysis", "Design", "analyze", "model_table", "participant_table", "stimulus_table", "group_tests",
@@ -165,32 +167,51 @@ def design(mapped, predictions, ids):
     )
 
 
-def model_table(d, model_name, level=0.95, click_sd=None):
-    """The pooled choice model fitted with each predictor alone, and uniform clicking.
+def distinct_predictors(Zs, names):
+    """The predictors of `names` whose z differs from every earlier one's on some stimulus.
+
+    Returns the kept names and, for each dropped one, the name it duplicates.
+    """
+    kept, same = [], {}
+    for k in names:
+        twin = next((q for q in kept if np.allclose(Zs[k], Zs[q], rtol=0, atol=1e-9)), None)
+        if twin is None:
+            kept.append(k)
+        else:
+            same[k] = twin
+    return kept, same
+
+
+def model_table(d, level=0.95, click_sd=None):
+    """The pooled choice model fitted with each distinct predictor alone, and uniform clicking.
 
     Returns
     -------
     models : pandas.DataFrame
         ``model, tested, n_params, beta_hat, se, ci_low, ci_high, loglik,
-        at_bound, aic, delta_aic``.
+        at_bound, aic, delta_aic``; one row per predictor whose z differs
+        from the others' (see :func:`distinct_predictors`).
     main : dict
-        The fit of the tested prediction (:func:`analysis.choice.fit_beta`).
+        The fit of the tested prediction, surprisal (:func:`analysis.choice.fit_beta`).
     profile : (low, high)
         Its profile-likelihood interval (NaN with `click_sd`).
+    same : dict
+        Predictors left out because they equal another one.
     """
     import pandas as pd
 
+    kept, same = distinct_predictors(d.Zs, PREDICTORS)
     rows, fits = [], {}
-    for k in PREDICTORS:
+    for k in kept:
         if click_sd is None:
             Ak = d.Zs[k][d.sidx, d.j].sum() if d.U else 0.0
             f = fit_beta(d.Zs[k], Ak, d.Ms, level=level)
         else:
             f = fit_beta_blurred(d.Zs[k], d.Cs, click_sd / (d.perim / d.npts), level=level)
         fits[k] = f
-        rows.append(dict(model=k, tested=k == model_name, n_params=1, beta_hat=f["beta"], se=f["se"],
+        rows.append(dict(model=k, tested=k == "surprisal", n_params=1, beta_hat=f["beta"], se=f["se"],
                          ci_low=f["ci_low"], ci_high=f["ci_high"], loglik=f["loglik"], at_bound=f["at_bound"]))
-    main = fits[model_name]
+    main = fits["surprisal"]
     rows.append(dict(model="uniform", tested=False, n_params=0, beta_hat=0.0, se=np.nan, ci_low=np.nan,
                      ci_high=np.nan, loglik=main["loglik0"], at_bound=False))
     models = pd.DataFrame(rows)
@@ -198,7 +219,36 @@ def model_table(d, model_name, level=0.95, click_sd=None):
     models["delta_aic"] = models["aic"] - models["aic"].min()
     pci = (profile_ci(d.Z, d.zc.sum(), d.Ms, main["beta"], level=level) if d.U and click_sd is None
            else (np.nan, np.nan))
-    return models, main, pci
+    return models, main, pci, same
+
+
+def joint_fit(d, names, level=0.95):
+    """The choice model with the predictors `names` fitted jointly (:func:`analysis.choice.fit_choice`).
+
+    Returns a dict name -> ``coef, se, ci_low, ci_high, lr_stat, lr_p,
+    at_bound``; the likelihood-ratio test of each predictor compares the
+    model with all of them to the model without it.
+    """
+    X = np.stack([d.Zs[k] for k in names], axis=2)
+    A = X[d.sidx, d.j].sum(axis=0) if d.U else np.zeros(len(names))
+    f = fit_choice(X, A, d.Ms, names=names, level=level)
+    return {k: dict(coef=f["coef"][i], se=f["se"][i], ci_low=f["ci_low"][i], ci_high=f["ci_high"][i],
+                    lr_stat=f["lr_stat"][i], lr_p=f["lr_p"][i], at_bound=bool(f["at_bound"][i]))
+            for i, k in enumerate(names)}
+
+
+def effect_size(d, fraction=TOP_FRACTION):
+    """Share of the used clicks on the top points by surprisal, chance and lift (:mod:`analysis.effect`).
+
+    Clicks on stimuli with a constant prediction are left out. Returns the
+    summary's dict and the per-stimulus shares.
+    """
+    W = top_weights(d.Z, fraction)
+    live = ~d.constant[d.sidx]
+    out = top_share(W, d.sidx[live], d.j[live], fraction)
+    per_s = mean_by(d.sidx, d.S, W[d.sidx, d.j])
+    per_s[d.constant] = np.nan
+    return out, per_s
 
 
 def click_features(d, predictions, pk_px):
@@ -326,14 +376,14 @@ def stimulus_table(d, mapped, predictions, stimset, pct, feats, corr, bw_px, pk_
     return per_s
 
 
-def group_tests(d, per_p, seed, group_simulations, level=0.95):
+def group_tests(d, per_p, seed, group_simulations, level=0.95, progress=None):
     """The group (participants), items (stimuli) and descriptive tests of the summary."""
     # the Monte Carlo nulls of the group and items tests: one stream of their own, so that the
     # correlation's null does not change with them; one set of draws serves both groupings
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(6,)).spawn(1)[0])
     R = int(group_simulations)
     nulls = mean_z_nulls(d.Z, d.sidx, {"participant": (d.pidx, d.G), "stimulus": (d.sidx, d.S)}, R, rng,
-                         observed_z=d.zc)
+                         observed_z=d.zc, progress=progress)
     g = mean_z_test(d.Z, d.sidx, d.pidx, d.zc, n_units=d.G, level=level, null=nulls["participant"])
     g["test"] = f"one-sample t statistic of per-participant mean z, Monte Carlo null under uniform clicking (R = {R})"
     g["effect"] = "per-participant mean z (standardised surprisal) at used clicks; 0 under uniform clicking"
@@ -362,7 +412,8 @@ def group_tests(d, per_p, seed, group_simulations, level=0.95):
 
 def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, tolerance=None, bandwidth=None,
             peak_tolerance=None, permutations=1000, grid=1024, seed=0, level=0.95, A=0.25, b=None,
-            click_sd=None, predictions=None, group_simulations=1999):
+            click_sd=None, predictions=None, group_simulations=1999, predictors=("surprisal",), length_unit=None,
+            mixed=True, progress=None):
     """Analyse clicks against the information predicted along the contours.
 
     Parameters
@@ -414,6 +465,19 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         test (:func:`analysis.group.mean_z_test`). The smallest possible p is
         ``1 / (1 + R)``; 0 skips the simulation (p-values None; the
         parametric ones remain).
+    predictors : sequence of str
+        Predictors fitted jointly (:func:`joint_fit`), among
+        :data:`analysis.mapping.PREDICTORS`; e.g. ``("surprisal",
+        "concavity")`` asks whether concavity adds anything beyond surprisal.
+    length_unit : str, optional
+        Unit of arc length of the surprisal model, passed to
+        :func:`stimuli.geometry.information.surprisal` when given (its
+        default otherwise); recorded in the summary.
+    mixed : bool
+        Fit the mixed conditional logit with crossed random slopes
+        (:func:`analysis.mixed.fit_mixed`).
+    progress : bool, optional
+        A progress bar on stderr (default: when stderr is a terminal).
 
     Returns
     -------
@@ -431,33 +495,53 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     grid = _whole("--grid", grid, 8)
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level!r}")
+    predictors = _predictor_names(predictors)
+    bar = _Progress(progress)
     if predictions is None:
-        predictions = predict(stimset, n=n, model=model, A=A, b=b)
+        bar.stage("predictions")
+        predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit)
     ids = list(stimset.ids)
+    bar.stage("mapping clicks")
     mapped = map_clicks(clicks, predictions, coords=coords, scale=scale, tolerance=tolerance)
     used = ~mapped["excluded"].to_numpy()
     d = design(mapped, predictions, ids)
-    model_name = predictions[ids[0]].result.params["model"]
-    models, main, pci = model_table(d, model_name, level, click_sd)
+    bar.stage("choice models")
+    models, main, pci, same = model_table(d, level, click_sd)
+    joint = joint_fit(d, predictors, level)
+    effect, top_by_stimulus = effect_size(d)
 
     bw_px = bandwidth * np.ones(d.S) if bandwidth is not None else BANDWIDTH_FRACTION * d.perim
     pk_px = peak_tolerance * np.ones(d.S) if peak_tolerance is not None else PEAK_FRACTION * d.perim
     pct = mapped["surprisal_percentile"].to_numpy()[used] / 100.0
     feats = click_features(d, predictions, pk_px)
     per_p = participant_table(d, mapped, pct, feats, level)
+    bar.stage("correlations")
     corr = correlation(d, bw_px, grid, permutations, seed)
     per_s = stimulus_table(d, mapped, predictions, stimset, pct, feats, corr, bw_px, pk_px, level)
+    per_s.insert(per_s.columns.get_loc("mean_z") + 1, "top_share", top_by_stimulus)
 
     out = mapped.copy()
     ph = pd.array([pd.NA] * len(out), dtype="Int64")
     ph[np.flatnonzero(used)] = feats["hit"].astype(int)
     out.insert(out.columns.get_loc("excluded"), "peak_hit", ph)
 
-    tests = group_tests(d, per_p, seed, group_simulations, level)
+    bar.stage("Monte Carlo group and items tests")
+    tests = group_tests(d, per_p, seed, group_simulations, level, progress=bar.sub)
     summary = _summary(d, mapped, main, pci, models, tests, corr, feats, predictions, level,
                        dict(coords=coords, scale=scale, tolerance=tolerance, bandwidth=bandwidth,
                             peak_tolerance=peak_tolerance, permutations=permutations, grid=grid, seed=seed,
                             group_simulations=group_simulations, click_sd=click_sd))
+    summary["effect"] = effect
+    summary["predictors"] = joint
+    summary["predictors_note"] = ("fitted jointly: p(j) ~ exp(sum_k coef_k z_kj); lr_p tests each predictor "
+                                  "against the model without it (chi-square, 1 df; clicks treated as independent)")
+    summary["models_left_out"] = {k: f"same standardised values as {v}" for k, v in same.items()}
+    summary["models_note"] = ("the von Mises form of surprisal is not a rival: after standardisation it equals the "
+                              "paper's form; models.csv lists only predictors whose z differ")
+    if mixed:
+        bar.stage("mixed model")
+        summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level)
+    bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)
 
@@ -470,6 +554,8 @@ def _summary(d, mapped, main, pci, models, tests, corr, feats, predictions, leve
     tol, bw, pk, click_sd = p["tolerance"], p["bandwidth"], p["peak_tolerance"], p["click_sd"]
     first = predictions[d.ids[0]].result.params
     summary = dict(
+        # the key is absent from results of a library that predates the unit
+        length_unit=first.get("length_unit", "px"),
         n_clicks=int(len(mapped)),
         n_used=int(U),
         n_excluded=int(mapped["excluded"].sum()),
@@ -507,7 +593,7 @@ def _summary(d, mapped, main, pci, models, tests, corr, feats, predictions, leve
                      convex_length_share=float(feats["convex_len"][sidx].mean()) if U else None,
                      excess_test=tests["concave"]),
         params=dict(
-            n=int(d.npts), model=first["model"], A=first.get("A"), b=first.get("b"), units=first.get("units"),
+            n=int(d.npts), model=first["model"], length_unit=first.get("length_unit", "px"), A=first.get("A"), b=first.get("b"), units=first.get("units"),
             coords=p["coords"], scale=float(p["scale"]),
             tolerance=dict(px=tol, rule=f"{tol:g} px" if tol is not None
                            else f"{DEFAULT_TOLERANCE_FRACTION:g} x image diagonal"),
@@ -529,6 +615,51 @@ def _summary(d, mapped, main, pci, models, tests, corr, feats, predictions, leve
         summary["warnings"].append(
             f"{int(d.constant.sum())} stimulus/stimuli with constant surprisal (e.g. circles): z = 0, no information")
     return summary
+
+
+def _predictor_names(names):
+    if isinstance(names, str):
+        names = [v.strip() for v in names.split(",") if v.strip()]
+    names = list(names)
+    bad = [k for k in names if k not in PREDICTORS]
+    if bad or not names or len(set(names)) != len(names):
+        raise InputError(f"--predictors must be distinct names among {','.join(PREDICTORS)}, got {','.join(names)!r}")
+    return names
+
+
+class _Progress:
+    """Stages of the analysis on a tqdm bar on stderr; `sub` reports a stage's own progress (0..1)."""
+
+    def __init__(self, enabled):
+        import sys
+
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=1000, desc="analyze", file=sys.stderr, disable=None if enabled is None else not enabled,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}", leave=False)
+        self.done = 0
+        # share of the run each stage takes (measured on 1,000,000 clicks), so the bar moves evenly
+        self.weights = {"predictions": 40, "mapping clicks": 250, "choice models": 100, "correlations": 60,
+                        "Monte Carlo group and items tests": 450, "mixed model": 100}
+        self.current = None
+
+    def stage(self, name):
+        self._finish()
+        self.current = name
+        self.start = self.done
+        self.bar.set_description(f"analyze: {name}")
+
+    def sub(self, fraction):
+        self.bar.update(int(self.start + fraction * self.weights.get(self.current, 0)) - self.done)
+        self.done = int(self.start + fraction * self.weights.get(self.current, 0))
+
+    def _finish(self):
+        if self.current is not None:
+            self.sub(1.0)
+
+    def close(self):
+        self._finish()
+        self.bar.close()
 
 
 def jsonable(obj):

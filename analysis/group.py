@@ -114,7 +114,8 @@ def _index_dtype(n):
     return np.uint16 if n <= 65536 else np.int64
 
 
-def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None, max_elements=1 << 22):
+def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None, max_elements=1 << 22,
+                 progress=None):
     """t statistics of per-unit mean z under uniform clicking, for several groupings of one design.
 
     Each click keeps its stimulus and units; its contour point is redrawn
@@ -146,6 +147,8 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
     observed_z : (U,) array_like, optional
         z at the observed clicks; its statistic is computed by the same code
         (same summation order), so that ties with replicates are exact.
+    progress : callable, optional
+        Called with the fraction of replicates done after each chunk.
 
     Returns
     -------
@@ -198,6 +201,8 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
         idx += base
         for k, v in stats(flat[idx]).items():
             nulls[k][a:b] = v
+        if progress is not None:
+            progress(b / R)
     return {k: (nulls[k], observed[k], groupings[k][0]) for k in groupings}
 
 

@@ -10,7 +10,12 @@
     One row per stimulus of the set / per participant in the file
     (including those without a usable click).
 ``models.csv``
-    The choice model fitted with each predictor: beta, log-likelihood, AIC.
+    The choice model fitted with each predictor that differs from the
+    others (surprisal and its rivals, :mod:`analysis.predictors`): beta,
+    log-likelihood, AIC.
+``points.csv``, ``choices.csv``, ``analysis.R``
+    The choice data in long format and an R script fitting the same models
+    (:mod:`analysis.choice_table`).
 ``summary.json``
     Counts (``n_clicks, n_used, n_excluded, exclusions`` by reason),
     ``beta_hat`` with its Wald and profile intervals, the group test, the
@@ -95,6 +100,9 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
         write_table(analysis.models, tmp / "models.csv")
         summary = dict(analysis.summary)
         summary["version"] = __version__
+        summary["r_export"] = _write_r_export(analysis, tmp, __version__)
+        if not summary["r_export"]["choices_csv"]:
+            summary["warnings"] = summary.get("warnings", []) + [summary["r_export"]["note"]]
         if inputs:
             summary["inputs"] = {k: str(v) for k, v in inputs.items()}
         images = []
@@ -118,6 +126,26 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return out
+
+
+def _write_r_export(analysis, tmp, version):
+    """points.csv, choices.csv (when small enough) and analysis.R; returns what was written."""
+    from stimuli.io import atomic_write, write_table
+
+    from .choice_table import MAX_CHOICE_ROWS, choices_table, points_table, r_script
+
+    names = list(analysis.summary.get("predictors") or ["surprisal"])
+    names = names if "surprisal" in names else ["surprisal"] + names
+    write_table(points_table(analysis, names), tmp / "points.csv")
+    choices = choices_table(analysis, names)
+    if choices is not None:
+        write_table(choices, tmp / "choices.csv")
+    with atomic_write(tmp / "analysis.R", "w") as fh:
+        fh.write(r_script(names, version, choices is not None))
+    note = ("choices.csv holds one row per used click and contour point" if choices is not None else
+            f"choices.csv not written: it would exceed {MAX_CHOICE_ROWS:,} rows (used clicks x points); "
+            "analysis.R builds it from clicks.csv and points.csv")
+    return dict(choices_csv=choices is not None, points_csv=True, r_script="analysis.R", predictors=names, note=note)
 
 
 def _swap_into_place(tmp, out):
