@@ -7,7 +7,7 @@ polyline of the file, not the resampled one) to get its arc position ``t``
 and its distance; its curvature, surprisal and z are those of the nearest of
 the n points, ``j = round(n * t) mod n`` -- the point whose arc of length
 ``1/n`` contains the click, which is the unit of the choice model in
-:mod:`analysis.stats`.
+:mod:`analysis.choice`.
 
 Exclusion
 ---------
@@ -37,6 +37,7 @@ mapping (t, distance, ...), so one can see where they were.
 
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -45,7 +46,9 @@ from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
 from .clicks import parse_coordinates, to_image_coords
-from .stats import midrank_percentile, point_index, standardize
+from .choice import point_index, standardize
+from .circular import midrank_percentile
+from .predictors import RIVALS, rival_values
 
 __all__ = [
     "REASONS",
@@ -65,8 +68,8 @@ REASONS = (
     "far_from_contour",
 )
 DEFAULT_TOLERANCE_FRACTION = 0.05
-#: Predictors fitted by the choice model (the tested model's is also under 'surprisal').
-PREDICTORS = ("paper", "vonmises", "abs_curvature")
+#: Predictors known for every stimulus: the tested surprisal and its rivals (:mod:`analysis.predictors`).
+PREDICTORS = ("surprisal",) + RIVALS
 # turning angles below this (radians) count as straight, neither concave nor convex
 _FLAT = 1e-9
 
@@ -116,7 +119,7 @@ class StimulusPrediction:
         return np.asarray(self.result.peaks, dtype=float) / self.n
 
 
-def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None):
+def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, length_unit=None):
     """Predictions for every stimulus of a set.
 
     Parameters
@@ -126,9 +129,13 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None):
         Number of equally spaced points per contour (recorded; peak values
         and z depend on it).
     model : {'paper', 'vonmises'}
-        The surprisal model under test; the other form is fitted as a rival.
+        The form of the surprisal model (both give the same standardised z).
     A, b, prominence
-        Passed to :func:`stimuli.information.surprisal` for `model`.
+        Passed to :func:`stimuli.geometry.information.surprisal` for `model`.
+    length_unit : str, optional
+        Passed to :func:`stimuli.geometry.information.surprisal` when given
+        (its default otherwise); the resolved unit is in each result's
+        ``params["length_unit"]``.
 
     Returns
     -------
@@ -138,27 +145,22 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None):
     -----
     After standardisation the paper's form and the von Mises form give the
     same z: both are a constant minus a positive multiple of
-    ``cos(a - 2*pi/n)``. They are both fitted so that the comparison shows
-    it; ``abs_curvature`` (|turning angle| / ds) differs from them in that a
-    concave turn and a convex turn of the same size are equal.
+    ``cos(a - 2*pi/n)``. So the other form is no rival and is not computed;
+    the rivals that differ are those of :mod:`analysis.predictors`.
     """
     if model not in MODELS:
         raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
     if not (isinstance(n, (int, np.integer)) and n >= 3):
         raise InputError(f"-n must be a whole number >= 3, got {n!r}")
+    # passed only when given, so that the library's default stays the default
+    unit = {} if length_unit is None else {"length_unit": length_unit}
+    if unit and "length_unit" not in inspect.signature(surprisal).parameters:
+        raise InputError("--length-unit is not supported by this version of stimuli.geometry.information.surprisal")
     out = {}
     for sid in stimset.ids:
         c = stimset.contours[sid]
-        r = surprisal(c, n=n, model=model, A=A, b=b, prominence=prominence)
-        other = "vonmises" if model == "paper" else "paper"
-        # the rival form at its own default concentration; its z does not depend on b > 0
-        u_other = surprisal(c, n=n, model=other).surprisal
-        raw = {
-            "surprisal": np.asarray(r.surprisal, dtype=float),
-            model: np.asarray(r.surprisal, dtype=float),
-            other: np.asarray(u_other, dtype=float),
-            "abs_curvature": np.abs(np.asarray(r.curvature, dtype=float)),
-        }
+        r = surprisal(c, n=n, model=model, A=A, b=b, prominence=prominence, **unit)
+        raw = {"surprisal": np.asarray(r.surprisal, dtype=float), **rival_values(r, c)}
         a = np.asarray(r.turning_angle, dtype=float)
         sign = np.where(a > _FLAT, 1, np.where(a < -_FLAT, -1, 0))
         w, h = stimset.sizes[sid]

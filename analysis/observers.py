@@ -1,7 +1,7 @@
 """Simulated observers and power analysis.
 
 A simulated observer clicks on a stimulus by the choice model of
-:mod:`analysis.stats`: point j of the stimulus's n equally spaced points is
+:mod:`analysis.choice`: point j of the stimulus's n equally spaced points is
 chosen with probability ``exp(beta_p * z_j) / sum_i exp(beta_p * z_i)``, z
 being the standardised surprisal; the click is then placed uniformly on that
 point's arc (``t = (j + U(-1/2, 1/2)) / n``, so it maps back to point j) on
@@ -22,7 +22,7 @@ import numpy as np
 from stimuli.errors import InputError
 
 from .clicks import from_image_coords
-from .stats import mean_z_null, mean_z_test, t_statistic
+from .group import mean_z_null, mean_z_test, monte_carlo_p, t_statistic
 
 __all__ = ["simulate", "simulate_indices", "power"]
 
@@ -194,7 +194,7 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     The test is the one `attneave analyze` reports: the one-sample t
     statistic across participants of each participant's mean z at the
     clicks, referred to its Monte Carlo null under uniform clicking with the
-    same design (one-sided; see :func:`analysis.stats.mean_z_test`); an
+    same design (one-sided; see :func:`analysis.group.mean_z_test`); an
     experiment counts as a detection when ``p <= alpha``. The design (every
     participant clicks every stimulus `clicks` times) is the same in every
     experiment, so its null is simulated once per number of participants;
@@ -267,11 +267,7 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
 
     def p_full_design(P, per_p):
         null, _, informative = nulls[P]
-        obs = t_statistic(per_p[:P][informative])
-        if np.isnan(obs):
-            return np.nan
-        tol = 1e-9 * max(1.0, abs(obs)) if np.isfinite(obs) else 0.0
-        return (1 + np.count_nonzero(null >= obs - tol)) / (1 + R)
+        return monte_carlo_p(null, t_statistic(per_p[:P][informative]))
 
     for r, child in enumerate(children[:simulations]):
         if noise == 0:

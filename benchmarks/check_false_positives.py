@@ -56,7 +56,7 @@ import scipy.stats
 
 from analysis.mapping import predict
 from analysis.observers import simulate
-from analysis.report import analyze
+from analysis.analyze import analyze
 from stimuli.stimulus_set import StimulusSet, read_stimulus_set
 from stimuli import Contour
 

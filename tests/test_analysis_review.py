@@ -94,7 +94,7 @@ def test_participant_without_informative_clicks_has_no_effect(tmp_path):
     # clicks on a circle (constant surprisal, z = 0 everywhere) say nothing about
     # the prediction: a participant who clicked only there has no measured effect,
     # not an effect of exactly 0 that would enter the group t-test as data
-    from analysis.report import analyze
+    from analysis.analyze import analyze
     from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
     th = np.linspace(0, 2 * np.pi, 400, endpoint=False)

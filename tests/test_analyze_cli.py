@@ -82,7 +82,10 @@ def test_analyze_writes_every_output(stimset, clicks, tmp_path, capsys):
     assert s["group"]["statistic"] == pytest.approx(scipy.stats.ttest_1samp(mz, 0.0).statistic, rel=1e-9)
     assert s["n_clicks"] == 8 * 8 * 5 and s["n_used"] + s["n_excluded"] == s["n_clicks"]
     assert s["group"]["p_value"] < 0.05 and s["beta_hat"] > 0
-    assert set(s["models"]) == {"paper", "vonmises", "abs_curvature", "uniform"}
+    from analysis.predictors import RIVALS
+
+    assert set(s["models"]) == {"surprisal", "uniform", *RIVALS} - set(s["models_left_out"])
+    assert s["models"]["surprisal"]["tested"] and "vonmises" not in s["models"]
     figs = sorted(p.name for p in (out / "figures").iterdir())
     assert figs == ["group.png", "stimuli_001.png", "stimuli_002.png"]  # 8 stimuli, 6 per page
     html = (out / "report.html").read_text()

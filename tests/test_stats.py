@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 import scipy.stats
 
-from analysis import stats
+from analysis import blurred, choice, circular, group
 from analysis.mapping import map_clicks, predict
 from analysis.observers import power, simulate, simulate_indices
-from analysis.report import analyze
+from analysis.analyze import analyze
 from stimuli.stimulus_set import StimulusSet
 from stimuli import Contour
 
@@ -62,20 +62,20 @@ def ten():
 def test_standardize_mean_zero_sd_one_and_constant_zero():
     rng = np.random.default_rng(0)
     u = rng.normal(3, 2, size=(4, 50))
-    z = stats.standardize(u)
+    z = choice.standardize(u)
     np.testing.assert_allclose(z.mean(axis=1), 0, atol=1e-12)
     np.testing.assert_allclose(z.std(axis=1), 1, atol=1e-12)
     # a circle's surprisal is constant up to rounding: no amplified noise
-    assert np.all(stats.standardize(5.0 + 1e-14 * rng.normal(size=50)) == 0)
+    assert np.all(choice.standardize(5.0 + 1e-14 * rng.normal(size=50)) == 0)
 
 
 def test_point_index_rounds_to_nearest_of_n_points_circularly():
-    assert stats.point_index([0.0, 0.004, 0.006, 0.996, 0.5], 100).tolist() == [0, 0, 1, 0, 50]
+    assert choice.point_index([0.0, 0.004, 0.006, 0.996, 0.5], 100).tolist() == [0, 0, 1, 0, 50]
 
 
 def test_circular_kde_is_the_wrapped_normal():
     h, t0, m = 0.05, 0.97, 2000
-    d = stats.circular_kde([t0], h, m=m)
+    d = circular.circular_kde([t0], h, m=m)
     g = np.arange(m) / m
     k = np.arange(-3, 4)[:, None]
     wrapped = scipy.stats.norm.pdf(g[None, :] - t0 + k, scale=h).sum(axis=0)
@@ -85,7 +85,7 @@ def test_circular_kde_is_the_wrapped_normal():
 
 
 def test_circular_kde_groups_and_empty_group():
-    d = stats.circular_kde([0.1, 0.2, 0.7], [0.02, 0.05, 0.1], m=256, group=[0, 0, 2], n_groups=3)
+    d = circular.circular_kde([0.1, 0.2, 0.7], [0.02, 0.05, 0.1], m=256, group=[0, 0, 2], n_groups=3)
     assert d.shape == (3, 256)
     np.testing.assert_allclose(np.nanmean(d[[0, 2]], axis=1), 1.0, atol=1e-12)
     assert np.isnan(d[1]).all()
@@ -97,7 +97,7 @@ def test_fit_beta_two_points_closed_form():
     # and the Fisher information per click is Var(z) = 1 - tanh(b)^2.
     Z = np.array([[-1.0, 1.0]])
     m1, m2 = 30.0, 70.0
-    f = stats.fit_beta(Z, m2 - m1, np.array([m1 + m2]))
+    f = choice.fit_beta(Z, m2 - m1, np.array([m1 + m2]))
     b = 0.5 * np.log(m2 / m1)
     assert f["beta"] == pytest.approx(b, abs=1e-10)
     assert f["se"] == pytest.approx(1 / np.sqrt(100 * (1 - np.tanh(b) ** 2)), rel=1e-10)
@@ -105,40 +105,40 @@ def test_fit_beta_two_points_closed_form():
     assert f["loglik"] == pytest.approx(ll, abs=1e-9)
     assert f["loglik0"] == pytest.approx(100 * np.log(0.5), abs=1e-9)
     # profile interval: the log-likelihood falls by chi2_1(0.95)/2 at both ends
-    lo, hi = stats.profile_ci(Z, m2 - m1, np.array([100.0]), f["beta"])
+    lo, hi = choice.profile_ci(Z, m2 - m1, np.array([100.0]), f["beta"])
     for e in (lo, hi):
-        assert stats.loglik(e, Z, m2 - m1, np.array([100.0])) == pytest.approx(ll - 3.841458820694124 / 2, abs=1e-8)
+        assert choice.loglik(e, Z, m2 - m1, np.array([100.0])) == pytest.approx(ll - 3.841458820694124 / 2, abs=1e-8)
     assert lo < f["beta"] < hi
 
 
 def test_fit_beta_score_is_the_derivative_of_the_loglik():
     rng = np.random.default_rng(1)
-    Z = stats.standardize(rng.normal(size=(5, 40)))
+    Z = choice.standardize(rng.normal(size=(5, 40)))
     M = np.array([3.0, 0, 7, 2, 5])
     A = 4.2
-    f = stats.fit_beta(Z, A, M)
+    f = choice.fit_beta(Z, A, M)
     eps = 1e-5
-    d = (stats.loglik(f["beta"] + eps, Z, A, M) - stats.loglik(f["beta"] - eps, Z, A, M)) / (2 * eps)
+    d = (choice.loglik(f["beta"] + eps, Z, A, M) - choice.loglik(f["beta"] - eps, Z, A, M)) / (2 * eps)
     assert d == pytest.approx(0.0, abs=1e-6)
-    d2 = (stats.loglik(f["beta"] + 1e-3, Z, A, M) - 2 * f["loglik"] + stats.loglik(f["beta"] - 1e-3, Z, A, M)) / 1e-6
+    d2 = (choice.loglik(f["beta"] + 1e-3, Z, A, M) - 2 * f["loglik"] + choice.loglik(f["beta"] - 1e-3, Z, A, M)) / 1e-6
     assert 1 / np.sqrt(-d2) == pytest.approx(f["se"], rel=1e-4)
 
 
 def test_fit_beta_vectorised_equals_one_at_a_time_and_flags_bounds():
     rng = np.random.default_rng(2)
-    Z = stats.standardize(rng.normal(size=(3, 20)))
+    Z = choice.standardize(rng.normal(size=(3, 20)))
     A = np.array([2.0, -5.0, 0.0, Z[0].max() * 4])
     M = np.array([[4.0, 3, 2], [1, 6, 2], [0, 0, 0], [4, 0, 0]])
-    f = stats.fit_beta(Z, A, M)
+    f = choice.fit_beta(Z, A, M)
     for g in range(2):
-        assert f["beta"][g] == pytest.approx(stats.fit_beta(Z, A[g], M[g])["beta"], abs=1e-9)
+        assert f["beta"][g] == pytest.approx(choice.fit_beta(Z, A[g], M[g])["beta"], abs=1e-9)
     assert np.isnan(f["beta"][2])  # no clicks: no estimate
     assert f["at_bound"][3] and f["beta"][3] == 20.0  # all clicks on the highest point: ML is +inf
 
 
 def test_blur_kernel_sums_to_one_and_has_the_variance_of_a_rounded_shift():
-    assert stats.blur_kernel(50, 0.0)[0] == 1.0
-    w = stats.blur_kernel(200, 3.0)
+    assert blurred.blur_kernel(50, 0.0)[0] == 1.0
+    w = blurred.blur_kernel(200, 3.0)
     d = np.where(np.arange(200) < 100, np.arange(200), np.arange(200) - 200)
     assert w.sum() == pytest.approx(1.0, abs=1e-12)
     assert (w * d).sum() == pytest.approx(0.0, abs=1e-12)  # symmetric
@@ -148,13 +148,13 @@ def test_blur_kernel_sums_to_one_and_has_the_variance_of_a_rounded_shift():
 
 def test_blurred_fit_without_error_is_the_plain_fit():
     rng = np.random.default_rng(6)
-    Z = stats.standardize(rng.normal(size=(4, 30)))
+    Z = choice.standardize(rng.normal(size=(4, 30)))
     C = rng.poisson(2.0 * np.exp(Z)).astype(float)
-    plain = stats.fit_beta(Z, (C * Z).sum(), C.sum(axis=1))
-    blurred = stats.fit_beta_blurred(Z, C, 0.0)
-    assert blurred["beta"] == pytest.approx(plain["beta"], abs=1e-6)
-    assert blurred["se"] == pytest.approx(plain["se"], rel=1e-4)
-    assert blurred["loglik"] == pytest.approx(plain["loglik"], abs=1e-6)
+    plain = choice.fit_beta(Z, (C * Z).sum(), C.sum(axis=1))
+    fit = blurred.fit_beta_blurred(Z, C, 0.0)
+    assert fit["beta"] == pytest.approx(plain["beta"], abs=1e-6)
+    assert fit["se"] == pytest.approx(plain["se"], rel=1e-4)
+    assert fit["loglik"] == pytest.approx(plain["loglik"], abs=1e-6)
 
 
 # -------------------------------------------------------- circular-shift null
@@ -165,7 +165,7 @@ def test_circular_spearman_matches_scipy_on_every_shift():
     u = rng.normal(size=m).cumsum()
     u[5] = u[6]  # a tie
     shifts = np.arange(1, m)
-    rho, null, p = stats.circular_spearman(d, u, shifts)
+    rho, null, p = circular.circular_spearman(d, u, shifts)
     assert rho == pytest.approx(scipy.stats.spearmanr(d, u).statistic, abs=1e-12)
     for k in (1, 7, 33, 63):
         assert null[k - 1] == pytest.approx(scipy.stats.spearmanr(d, np.roll(u, k)).statistic, abs=1e-12)
@@ -175,54 +175,54 @@ def test_circular_spearman_matches_scipy_on_every_shift():
 def test_circular_spearman_detects_alignment_and_not_a_shifted_copy():
     g = np.arange(512) / 512
     u = np.cos(4 * np.pi * g) + 0.3 * np.cos(6 * np.pi * g)
-    rho, _, p = stats.circular_spearman(u, u, stats.shift_indices(512, 1000))
+    rho, _, p = circular.circular_spearman(u, u, circular.shift_indices(512, 1000))
     assert rho == pytest.approx(1.0) and p == pytest.approx(1 / 512)
-    rho2, _, p2 = stats.circular_spearman(np.roll(u, 64), u, stats.shift_indices(512, 1000))
+    rho2, _, p2 = circular.circular_spearman(np.roll(u, 64), u, circular.shift_indices(512, 1000))
     assert p2 > 0.05
 
 
 def test_shift_indices():
-    assert stats.shift_indices(10, 100).tolist() == list(range(1, 10))
-    s = stats.shift_indices(1024, 1000)
+    assert circular.shift_indices(10, 100).tolist() == list(range(1, 10))
+    s = circular.shift_indices(1024, 1000)
     assert len(s) == 1000 and s.min() >= 1 and s.max() <= 1023 and len(set(s)) == 1000
-    assert len(stats.shift_indices(1024, 0)) == 0
+    assert len(circular.shift_indices(1024, 0)) == 0
 
 
 # -------------------------------------------------------------- peaks and AUC
 def test_peak_chance_is_the_measure_of_the_union_of_arcs():
-    assert stats.peak_chance([0.0, 0.5], 0.1) == pytest.approx(0.4)
-    assert stats.peak_chance([0.0, 0.05], 0.1) == pytest.approx(0.25)
-    assert stats.peak_chance([0.95, 0.05], 0.1) == pytest.approx(0.3)  # across t = 0
-    assert stats.peak_chance(np.arange(10) / 10, 0.1) == pytest.approx(1.0)
-    assert stats.peak_chance([], 0.1) == 0.0
+    assert circular.peak_chance([0.0, 0.5], 0.1) == pytest.approx(0.4)
+    assert circular.peak_chance([0.0, 0.05], 0.1) == pytest.approx(0.25)
+    assert circular.peak_chance([0.95, 0.05], 0.1) == pytest.approx(0.3)  # across t = 0
+    assert circular.peak_chance(np.arange(10) / 10, 0.1) == pytest.approx(1.0)
+    assert circular.peak_chance([], 0.1) == 0.0
     # a Monte Carlo check of the same measure
     t = np.random.default_rng(4).uniform(size=200_000)
     pk = [0.1, 0.13, 0.6, 0.98]
-    assert stats.peak_hits(t, pk, 0.04).mean() == pytest.approx(stats.peak_chance(pk, 0.04), abs=0.005)
+    assert circular.peak_hits(t, pk, 0.04).mean() == pytest.approx(circular.peak_chance(pk, 0.04), abs=0.005)
 
 
 def test_midrank_percentile_is_percentileofscore_mean():
     ref = np.array([1.0, 2, 2, 3, 5, 8, 8, 8])
     for v in (0.5, 1, 2, 4, 8, 9):
-        assert stats.midrank_percentile([v], ref)[0] == pytest.approx(scipy.stats.percentileofscore(ref, v, kind="mean"))
+        assert circular.midrank_percentile([v], ref)[0] == pytest.approx(scipy.stats.percentileofscore(ref, v, kind="mean"))
 
 
 def test_group_test_is_the_one_sample_t_test():
     v = np.array([0.3, -0.1, 0.5, 0.2, 0.4, np.nan])
-    g = stats.group_test(v)
+    g = group.group_test(v)
     ref = scipy.stats.ttest_1samp(v[:5], 0.0)
     assert g["statistic"] == pytest.approx(ref.statistic) and g["p_value"] == pytest.approx(ref.pvalue)
     assert g["effect_size"] == pytest.approx(v[:5].mean() / v[:5].std(ddof=1)) and g["df"] == 4
     assert "wilcoxon" not in g
-    one = stats.group_test(v, alternative="greater")
+    one = group.group_test(v, alternative="greater")
     assert one["p_value"] == pytest.approx(ref.pvalue / 2)  # t > 0 here
 
 
 def test_t_statistic_ranks_samples_without_spread():
-    assert stats.t_statistic(np.array([0.3, -0.1, 0.5])) == pytest.approx(scipy.stats.ttest_1samp([0.3, -0.1, 0.5], 0).statistic)
-    np.testing.assert_array_equal(stats.t_statistic(np.array([[2.0, -1.0, 0.0], [2.0, -1.0, 0.0]]), axis=0),
+    assert group.t_statistic(np.array([0.3, -0.1, 0.5])) == pytest.approx(scipy.stats.ttest_1samp([0.3, -0.1, 0.5], 0).statistic)
+    np.testing.assert_array_equal(group.t_statistic(np.array([[2.0, -1.0, 0.0], [2.0, -1.0, 0.0]]), axis=0),
                                   [np.inf, -np.inf, 0.0])
-    assert np.isnan(stats.t_statistic(np.array([1.0])))
+    assert np.isnan(group.t_statistic(np.array([1.0])))
 
 
 def test_mean_z_test_statistic_and_exact_null_on_two_points():
@@ -234,7 +234,7 @@ def test_mean_z_test_statistic_and_exact_null_on_two_points():
     unit = np.arange(P)
     stim = np.zeros(P, np.int64)
     z = np.array([1.0] * 6 + [-1.0] * 2)  # k = 6
-    g = stats.mean_z_test(Z, stim, unit, z, replicates=19999, rng=np.random.default_rng(0))
+    g = group.mean_z_test(Z, stim, unit, z, replicates=19999, rng=np.random.default_rng(0))
     ref = scipy.stats.ttest_1samp(z, 0.0)
     assert g["statistic"] == pytest.approx(ref.statistic)
     assert g["p_value_parametric"] == pytest.approx(ref.pvalue / 2)
@@ -242,7 +242,7 @@ def test_mean_z_test_statistic_and_exact_null_on_two_points():
     assert abs(g["p_value"] - exact) < 4 * np.sqrt(exact * (1 - exact) / 19999)
     assert g["alternative"] == "greater" and g["simulations"] == 19999 and g["n"] == P
     # every participant on +1: t = +inf (no spread), p = P(all +1) = 1/256, never below 1/(1+R)
-    g = stats.mean_z_test(Z, stim, unit, np.ones(P), replicates=199, rng=np.random.default_rng(0))
+    g = group.mean_z_test(Z, stim, unit, np.ones(P), replicates=199, rng=np.random.default_rng(0))
     assert g["statistic"] == np.inf and 1 / 200 <= g["p_value"] <= 0.05
 
 
@@ -282,7 +282,7 @@ def test_calibrated_group_test_holds_its_level_with_few_clicks_on_spiky_stimuli(
     old = np.zeros(E, bool)
     for e in range(E):
         z = Z[stim, rng.integers(0, Z.shape[1], len(stim))]  # uniform clicking
-        g = stats.mean_z_test(Z, stim, unit, z, n_units=P, replicates=199, rng=rng)
+        g = group.mean_z_test(Z, stim, unit, z, n_units=P, replicates=199, rng=rng)
         new[e] = g["p_value"] <= 0.05
         old[e] = scipy.stats.ttest_1samp(np.bincount(unit, weights=z) / np.bincount(unit), 0.0).pvalue < 0.05
     assert 0.02 <= new.mean() <= 0.08, new.mean()
@@ -291,10 +291,15 @@ def test_calibrated_group_test_holds_its_level_with_few_clicks_on_spiky_stimuli(
 
 # ------------------------------------------------------------ the predictors
 def test_paper_and_vonmises_forms_standardise_to_the_same_z(ten):
-    # both are a constant minus a positive multiple of cos(a - 2*pi/n)
-    _, pred = ten
-    for p in pred.values():
-        np.testing.assert_allclose(p.z["paper"], p.z["vonmises"], atol=1e-9)
+    # both are a constant minus a positive multiple of cos(a - 2*pi/n): the von Mises form is
+    # no rival (so analyze does not fit it)
+    from stimuli.geometry.information import surprisal
+
+    s, pred = ten
+    for sid, p in pred.items():
+        vm = surprisal(s.contours[sid], n=100, model="vonmises").surprisal
+        np.testing.assert_allclose(p.z["surprisal"], choice.standardize(vm), atol=1e-9)
+        assert "vonmises" not in p.z
 
 
 def test_circle_has_no_information():

@@ -49,6 +49,13 @@ def add_parser(sub):
                         "redrawn uniformly along its contour (default 1999; smallest p = 1/(R+1); 0 skips)")
     p.add_argument("--seed", type=int, default=0,
                    help="seed of the Monte Carlo nulls (mean correlation, group and items tests; default 0)")
+    p.add_argument("--predictors", default="surprisal", metavar="P1,P2,...",
+                   help="predictors fitted jointly, with a likelihood-ratio test of each against the model without "
+                        "it: surprisal, abs_curvature, concavity (minima rule), convexity, extremum_proximity "
+                        "(Attneave's points), medial_axis (skeleton salience); default surprisal")
+    p.add_argument("--length-unit", default=None, metavar="UNIT",
+                   help="unit of arc length of the surprisal model, passed to the library (default: its default); "
+                        "recorded in summary.json")
     p.add_argument("--no-figures", action="store_true", help="skip the figures (report.html keeps the tables)")
     p.add_argument("--force", action="store_true", help="replace OUT if it exists")
     return p
@@ -58,7 +65,8 @@ def run(args):
     import sys
 
     from analysis.clicks import read_clicks
-    from analysis.report import analyze, check_output_dir, write_analysis
+    from analysis.analyze import analyze
+    from analysis.report import check_output_dir, write_analysis
     from stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written
@@ -69,7 +77,7 @@ def run(args):
         clicks, stimset, n=args.n, model=args.model, coords=args.coords, scale=args.scale,
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
         permutations=args.permutations, grid=args.grid, seed=args.seed, click_sd=args.click_sd,
-        group_simulations=args.group_simulations,
+        group_simulations=args.group_simulations, predictors=args.predictors, length_unit=args.length_unit,
     )
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
                    inputs=dict(clicks=args.clicks, stimuli=args.stimuli))

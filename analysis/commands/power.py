@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from analysis.commands.simulate import add_effect_arguments
+
 
 def _int_list(text):
     import argparse
@@ -18,7 +20,7 @@ def _int_list(text):
 def add_parser(sub):
     p = sub.add_parser(
         "power",
-        help="power of the group test for a given beta, by simulation",
+        help="power of the group test for a given effect (top share, lift or beta), by simulation",
         description=(
             "Simulate experiments with observers who follow the information model with weight beta "
             "(see 'attneave simulate') on the stimulus set DIR, analyse each as 'attneave analyze' does "
@@ -29,7 +31,7 @@ def add_parser(sub):
         ),
     )
     p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
-    p.add_argument("--beta", type=float, required=True, metavar="B", help="effect to detect")
+    add_effect_arguments(p)
     p.add_argument("--participants", type=_int_list, default=[4, 6, 8, 12, 16, 24, 32], metavar="P1,P2,...",
                    help="numbers of participants (default 4,6,8,12,16,24,32)")
     p.add_argument("--clicks", type=int, default=10, metavar="K", help="clicks per participant per stimulus (default 10)")
@@ -48,6 +50,9 @@ def add_parser(sub):
 
 
 def run(args):
+    import numpy as np
+
+    from analysis.effect import resolve_effect
     from analysis.mapping import predict
     from analysis.observers import power
     from stimuli.stimulus_set import read_stimulus_set
@@ -66,12 +71,15 @@ def run(args):
             raise InputError(f"{out}: cannot write there (no directory {out.parent})")
     stimset = read_stimulus_set(args.stimuli)
     pred = predict(stimset, n=args.n, model=args.model)
-    table, info = power(pred, args.beta, participants=args.participants, clicks=args.clicks,
+    eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
+                         top_share=args.top_share)
+    table, info = power(pred, eff["beta"], participants=args.participants, clicks=args.clicks,
                         simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
                         beta_sd=args.beta_sd, target=args.target, group_simulations=args.group_simulations)
     if args.output:
         write_table(table, args.output)
-    print(f"beta = {info['beta']:g}, {info['stimuli']} stimuli x {info['clicks']} clicks, alpha = {info['alpha']:g}, "
+    print(f"beta = {info['beta']:.4g} (expected top share {eff['top_share']:.3f}, chance {eff['chance_share']:g}, "
+          f"lift {eff['lift']:.2f}), {info['stimuli']} stimuli x {info['clicks']} clicks, alpha = {info['alpha']:g}, "
           f"{info['simulations']} simulations per design")
     print(table.to_string(index=False, float_format=lambda v: f"{v:.3f}"))
     req = info["required_participants"]

@@ -3,6 +3,19 @@
 from __future__ import annotations
 
 
+def add_effect_arguments(p):
+    """The effect, in one of three units (shared with 'attneave power')."""
+    g = p.add_mutually_exclusive_group(required=True)
+    g.add_argument("--top-share", type=float, metavar="F",
+                   help="share of clicks on the top 10%% of each contour's points by surprisal (chance 0.1; "
+                        "e.g. 0.4); beta is solved for on this stimulus set")
+    g.add_argument("--lift", type=float, metavar="L", help="top share / chance share (e.g. 3 for 30%% of clicks "
+                                                          "on the top 10%% of points)")
+    g.add_argument("--beta", type=float, metavar="B",
+                   help="weight of standardised surprisal z (0: uniform clicking); not portable across stimulus "
+                        "sets, prefer --top-share or --lift")
+
+
 def add_parser(sub):
     p = sub.add_parser(
         "simulate",
@@ -11,7 +24,9 @@ def add_parser(sub):
             "Each simulated participant clicks K times on every stimulus of DIR: point j of the n equally "
             "spaced contour points with probability exp(beta*z_j)/sum_i exp(beta*z_i) (z = standardised "
             "surprisal, the model that 'attneave analyze' fits), uniformly within that point's arc, "
-            "displaced by Gaussian noise of sd PX. Writes CLICKS.csv with columns participant, "
+            "displaced by Gaussian noise of sd PX. The effect is given as beta, or portably as the share of "
+            "clicks on the top 10%% of points (--top-share) or its lift over chance (--lift), from which beta "
+            "is solved on this stimulus set. Writes CLICKS.csv with columns participant, "
             "stimulus_id, trial, x, y, true_t, true_point, participant_beta."
         ),
     )
@@ -19,7 +34,7 @@ def add_parser(sub):
     p.add_argument("-o", "--output", required=True, metavar="CLICKS.csv")
     p.add_argument("--participants", type=int, required=True, metavar="P")
     p.add_argument("--clicks", type=int, required=True, metavar="K", help="clicks per participant per stimulus")
-    p.add_argument("--beta", type=float, required=True, metavar="B", help="weight of z (0: uniform clicking)")
+    add_effect_arguments(p)
     p.add_argument("--seed", type=int, required=True, metavar="S")
     p.add_argument("--noise", type=float, default=0.0, metavar="PX", help="click noise sd in pixels (default 0)")
     p.add_argument("--beta-sd", type=float, default=0.0, metavar="SD", help="between-participant sd of beta (default 0)")
@@ -31,6 +46,9 @@ def add_parser(sub):
 
 
 def run(args):
+    import numpy as np
+
+    from analysis.effect import resolve_effect
     from analysis.mapping import predict
     from analysis.observers import simulate
     from stimuli.stimulus_set import read_stimulus_set
@@ -38,9 +56,12 @@ def run(args):
 
     stimset = read_stimulus_set(args.stimuli)
     pred = predict(stimset, n=args.n, model=args.model)
-    df, params = simulate(pred, args.participants, args.clicks, args.beta, args.seed, noise=args.noise,
+    eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
+                         top_share=args.top_share)
+    df, params = simulate(pred, args.participants, args.clicks, eff["beta"], args.seed, noise=args.noise,
                           beta_sd=args.beta_sd, coords=args.coords, scale=args.scale)
     write_table(df, args.output, float_format="%.17g")
     print(f"{len(df)} clicks ({params['participants']} participants x {params['stimuli']} stimuli x "
-          f"{params['clicks']} clicks, beta = {params['beta']:g}, seed = {params['seed']}) -> {args.output}")
+          f"{params['clicks']} clicks, beta = {params['beta']:.4g}, expected top share {eff['top_share']:.3f} "
+          f"(chance {eff['chance_share']:g}, lift {eff['lift']:.2f}), seed = {params['seed']}) -> {args.output}")
     return 0

@@ -1,0 +1,248 @@
+"""A mixed conditional logit with crossed random slopes for participants and stimuli.
+
+Participant p clicks point j of stimulus s with probability
+
+    p(j) = exp(b_ps z_sj) / sum_i exp(b_ps z_si),   b_ps = beta + u_p + v_s,
+
+with ``u_p ~ N(0, sd_participant**2)`` and ``v_s ~ N(0, sd_stimulus**2)``
+independent (crossed random slopes). ``beta`` is the mean slope: what a new
+participant shows on a new stimulus. The group test across participants
+treats stimuli as fixed, and is too liberal when slopes vary across stimuli
+(Clark 1973); this model generalises over both.
+
+Estimation: the Laplace approximation of the marginal likelihood. Given
+(u, v) the log-likelihood is a sum over cells (p, s) of
+``l_ps(b) = b A_ps - M_ps log sum_i exp(b z_si)`` (A: sum of z at the cell's
+clicks, M: their number), so the mode over (u, v) is found by Newton's
+method whose Hessian is diagonal in u and in v apart from the (G, S) block of
+cell curvatures; the u block is eliminated by its Schur complement, so each
+step costs one S x S solve. ``log sum_i exp(b z_si)`` and its first three
+derivatives in b are tabulated per stimulus on a fine grid and interpolated
+by cubic Hermite polynomials (relative error below 1e-9 for the fits here),
+so an evaluation costs O(cells) whatever n. The approximate marginal
+log-likelihood is maximised over (beta, log sd_participant, log
+sd_stimulus) with :func:`scipy.optimize.minimize`; the interval of beta is
+Wald's, from the numerical Hessian of that log-likelihood, with
+t quantiles on ``min(G, S) - 1`` degrees of freedom (the smaller set of
+random units limits what is known about the mean slope).
+
+References
+----------
+.. [1] Breslow, N. E., & Clayton, D. G. (1993). Approximate inference in
+       generalized linear mixed models. JASA 88, 9-25.
+.. [2] Baayen, R. H., Davidson, D. J., & Bates, D. M. (2008). Mixed-effects
+       modeling with crossed random effects for subjects and items.
+       Journal of Memory and Language 59, 390-412.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["CumulantTable", "fit_mixed"]
+
+_LOG_SD_BOUNDS = (-7.0, np.log(5.0))
+
+
+class CumulantTable:
+    """``K_s(b) = log sum_i exp(b z_si)`` and its derivatives, tabulated per stimulus.
+
+    Parameters
+    ----------
+    Z : (S, n) array_like
+        Standardised predictions.
+    bound : float
+        Slopes are tabulated on ``[-bound, bound]``; beyond it K is extended
+        linearly (slope E at the bound, V = 0), which keeps the likelihood
+        concave and bounded.
+    step : float
+        Grid step.
+    """
+
+    def __init__(self, Z, bound=40.0, step=0.01):
+        Z = np.asarray(Z, dtype=float)
+        self.bound, self.step = float(bound), float(step)
+        b = np.arange(-bound, bound + step / 2, step)
+        S, n = Z.shape
+        self.K = np.empty((S, len(b)))
+        self.E = np.empty((S, len(b)))
+        self.V = np.empty((S, len(b)))
+        self.T = np.empty((S, len(b)))
+        for s in range(S):  # (grid, n) at a time: memory stays small
+            x = b[:, None] * Z[s][None, :]
+            mx = x.max(axis=1, keepdims=True)
+            w = np.exp(x - mx)
+            sw = w.sum(axis=1)
+            p = w / sw[:, None]
+            E = p @ Z[s]
+            d = Z[s][None, :] - E[:, None]
+            self.K[s] = np.log(sw) + mx[:, 0]
+            self.E[s] = E
+            self.V[s] = (p * d * d).sum(axis=1)
+            self.T[s] = (p * d * d * d).sum(axis=1)
+
+    def __call__(self, s, b):
+        """K, E = K', V = K'' at slopes `b` of stimuli `s` (arrays of one shape)."""
+        bc = np.clip(b, -self.bound, self.bound)
+        x = (bc + self.bound) / self.step
+        i = np.minimum(np.floor(x).astype(np.int64), self.K.shape[1] - 2)
+        t = x - i
+        h = self.step
+        t2, t3 = t * t, t * t * t
+        h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+
+        def herm(F, dF):
+            return h00 * F[s, i] + h10 * h * dF[s, i] + h01 * F[s, i + 1] + h11 * h * dF[s, i + 1]
+
+        K, E, V = herm(self.K, self.E), herm(self.E, self.V), herm(self.V, self.T)
+        out = b != bc
+        if out.any():
+            K = np.where(out, K + E * (b - bc), K)
+            V = np.where(out, 0.0, V)
+        return K, E, V
+
+
+def _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, u, v, iters=100, tol=1e-10):
+    """Mode of the penalised log-likelihood over (u, v), and the log-determinant of its curvature.
+
+    Cells: stimulus `cs` (row `ts` of the table), participant `cp`, sum of z
+    `A` and clicks `M`. Newton steps, halved until the (concave) objective
+    rises, so that any start converges.
+    """
+
+    def parts(u, v):
+        b = beta + u[cp] + v[cs]
+        K, E, V = table(ts, b)
+        f = float((b * A - M * K).sum() - (u @ u) / (2 * sp**2) - (v @ v) / (2 * ss**2))
+        w = M * V
+        huu = np.bincount(cp, weights=w, minlength=G) + 1 / sp**2
+        hvv = np.bincount(cs, weights=w, minlength=S) + 1 / ss**2
+        Huv = np.zeros((G, S))
+        np.add.at(Huv, (cp, cs), w)
+        # eliminate u: the Schur complement of the diagonal u block
+        schur = np.diag(hvv) - Huv.T @ (Huv / huu[:, None])
+        return f, A - M * E, huu, Huv, schur
+
+    f, g, huu, Huv, schur = parts(u, v)
+    for _ in range(iters):
+        gu = np.bincount(cp, weights=g, minlength=G) - u / sp**2
+        gv = np.bincount(cs, weights=g, minlength=S) - v / ss**2
+        dv = np.linalg.solve(schur, gv - Huv.T @ (gu / huu))
+        du = (gu - Huv @ dv) / huu
+        step = 1.0
+        while step > 1e-6:
+            nu, nv = u + step * du, v + step * dv
+            nf, ng, nhuu, nHuv, nschur = parts(nu, nv)
+            if nf >= f - 1e-12 * abs(f):
+                break
+            step /= 2
+        done = step * max(np.abs(du).max(initial=0), np.abs(dv).max(initial=0)) < tol
+        u, v, f, g, huu, Huv, schur = nu, nv, nf, ng, nhuu, nHuv, nschur
+        if done:
+            break
+    logdet = np.log(huu).sum() + np.linalg.slogdet(schur)[1]
+    return u, v, f, logdet
+
+
+def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None):
+    """Fit the mixed conditional logit with crossed random slopes (Laplace approximation).
+
+    Parameters
+    ----------
+    Z : (S, n) array_like
+        Standardised predictions.
+    stimulus, participant, j : (U,) array_like of int
+        Stimulus, participant and point of each used click.
+    n_participants : int, optional
+    level : float
+        Confidence level of the interval of beta.
+    table : CumulantTable, optional
+        Reused across fits on the same stimuli.
+
+    Returns
+    -------
+    dict
+        ``beta``, ``se``, ``ci_low``, ``ci_high``, ``df`` (of the t
+        quantile), ``sd_participant``, ``sd_stimulus``, ``loglik`` (Laplace),
+        ``converged``, ``n_participants``, ``n_stimuli`` (with clicks on a
+        stimulus whose prediction varies), ``method``.
+    """
+    import scipy.optimize
+    import scipy.stats
+
+    Z = np.asarray(Z, dtype=float)
+    S0, n = Z.shape
+    stimulus = np.asarray(stimulus, dtype=np.int64)
+    participant = np.asarray(participant, dtype=np.int64)
+    j = np.asarray(j, dtype=np.int64)
+    live = np.any(Z != 0, axis=1)[stimulus]
+    stimulus, participant, j = stimulus[live], participant[live], j[live]
+    out = dict(beta=np.nan, se=np.nan, ci_low=np.nan, ci_high=np.nan, df=None, sd_participant=np.nan,
+               sd_stimulus=np.nan, loglik=np.nan, converged=False, n_participants=0, n_stimuli=0,
+               method="Laplace approximation, crossed random slopes (participants, stimuli); Wald interval "
+                      "with t quantiles on min(G, S) - 1 df")
+    if len(stimulus) == 0:
+        return out
+    # renumber the units that have clicks
+    su, s_of = np.unique(stimulus, return_inverse=True)
+    pu, p_of = np.unique(participant, return_inverse=True)
+    S, G = len(su), len(pu)
+    out.update(n_participants=G, n_stimuli=S)
+    table = CumulantTable(Z) if table is None else table
+    cells, inv = np.unique(p_of * S + s_of, return_inverse=True)
+    A = np.bincount(inv, weights=Z[stimulus, j])
+    M = np.bincount(inv).astype(float)
+    cp, cs = cells // S, cells % S
+    ts = su[cs]
+    state = dict(u=np.zeros(G), v=np.zeros(S))
+
+    def wrapped(theta):
+        """Minus the Laplace log-likelihood; the modes warm-start the next call."""
+        beta, lsp, lss = theta
+        sp, ss = np.exp(lsp), np.exp(lss)
+        u, v, ll, logdet = _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, state["u"], state["v"])
+        if np.isfinite(u).all() and np.isfinite(v).all():
+            state["u"], state["v"] = u, v
+        return -(ll - G * lsp - S * lss - 0.5 * logdet)
+
+    x0 = np.array([0.0, np.log(0.3), np.log(0.3)])
+    bounds = [(-15.0, 15.0), _LOG_SD_BOUNDS, _LOG_SD_BOUNDS]
+    res = scipy.optimize.minimize(wrapped, x0, method="L-BFGS-B", bounds=bounds,
+                                  # finite-difference steps well above the inner solution's rounding
+                                  options=dict(maxiter=200, ftol=1e-12, gtol=1e-6, eps=1e-5))
+    beta, lsp, lss = res.x
+    # the variance of beta: the beta-beta element of the inverse numerical Hessian in (beta, log sds)
+    # at the optimum; a log sd at its lower bound is a variance estimated as 0 and is held fixed
+    free = [0] + [k for k in (1, 2) if res.x[k] > _LOG_SD_BOUNDS[0] + 1e-3]
+    H = _hessian(wrapped, res.x, free)
+    try:
+        cov = np.linalg.inv(H)
+        se = float(np.sqrt(cov[0, 0])) if cov[0, 0] > 0 else np.nan
+    except np.linalg.LinAlgError:
+        se = np.nan
+    df = max(min(G, S) - 1, 1)
+    q = scipy.stats.t.ppf(0.5 + level / 2, df)
+    sp, ss = np.exp(lsp), np.exp(lss)
+    out.update(beta=float(beta), se=se, ci_low=float(beta - q * se), ci_high=float(beta + q * se), df=int(df),
+               sd_participant=float(sp) if lsp > _LOG_SD_BOUNDS[0] + 1e-3 else 0.0,
+               sd_stimulus=float(ss) if lss > _LOG_SD_BOUNDS[0] + 1e-3 else 0.0,
+               loglik=float(-res.fun), converged=bool(res.success))
+    return out
+
+
+def _hessian(f, x, free, h=1e-3):
+    """Central-difference Hessian of `f` at `x` over the coordinates `free`."""
+    k = len(free)
+    H = np.empty((k, k))
+    f0 = f(x)
+    for a in range(k):
+        for b in range(a, k):
+            ea = np.zeros(len(x))
+            eb = np.zeros(len(x))
+            ea[free[a]] = h
+            eb[free[b]] = h
+            if a == b:
+                H[a, a] = (f(x + ea) - 2 * f0 + f(x - ea)) / h**2
+            else:
+                H[a, b] = H[b, a] = (f(x + ea + eb) - f(x + ea - eb) - f(x - ea + eb) + f(x - ea - eb)) / (4 * h * h)
+    return H
