@@ -176,7 +176,7 @@ def fig2(outdir):
         "here; that holds with ds = s/n, whose amplitude b (s/n)^2 (dotted envelope) grows from 0 to "
         "0.09 b, and not with the caption's ds = L/n = 10, whose amplitude is the constant b ds^2 = 100 b. "
         "We follow the text. The turn k ds = exp(s) s/n grows from 0 to 6 rad; u touches its upper "
-        "envelope where the turn is 2 pi/n + pi (s = 2.67)."
+        "envelope where the turn is 2 pi/n + pi (s = 2.65)."
     ))]
 
 
