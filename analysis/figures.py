@@ -16,8 +16,12 @@ Eq. 5, ``u(k) = -ln A' - b ds^2 cos(k ds - 2 pi/n)``, with ``A' = 1/4``,
 ``L = 100``, ``n = 10`` (so ``ds = L/n = 10``) and ``b`` in ``{1/2, 1, 2}``
 (black, blue, red as in the paper), evaluated with
 :func:`stimuli.information.surprisal_paper` on the turning angle
-``a = k ds``. Eq. 7 with ``n = 10`` and ``C`` in ``{0, +-0.01, +-0.02,
-+-0.03}`` on ``s`` in ``(0, 5]`` where it is defined.
+``a = k ds``; ds is in the paper's literal units of length (``length_unit``
+'px'). Fig. 2 alone takes ``ds = s/n``, as the paper does for eq. 7: its
+text says that the amplitudes of eq. 5 grow with arc length along an
+MC-curve, which holds only then (with ``ds = L/n`` the amplitude is the
+constant ``b ds^2``). Eq. 7 with ``n = 10`` and ``C`` in ``{0, +-0.01,
++-0.02, +-0.03}`` on ``s`` in ``(0, 5]`` where it is defined.
 """
 
 from __future__ import annotations
@@ -26,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["make_figures", "save_png", "FIGURE_MAKERS", "PAPER", "NOTE_NAME"]
+__all__ = ["make_figures", "save_png", "fig2_curve", "FIGURE_MAKERS", "PAPER", "NOTE_NAME"]
 
 #: Parameters of the paper's Figs. 1-4 (eq. 5).
 PAPER = dict(A=0.25, L=100.0, n=10, b=(0.5, 1.0, 2.0))
@@ -119,20 +123,60 @@ def fig1(outdir):
     ))]
 
 
+def fig2_curve(b, s_end=3.0, num=20001):
+    """The data of Fig. 2: eq. 5 along ``k(s) = exp(s)`` with ``ds = s/n``.
+
+    Parameters
+    ----------
+    b : float
+        Concentration ``b`` of eq. 5.
+    s_end : float
+        Arc length at the end (the paper's 3).
+    num : int
+        Number of arc lengths, equally spaced on ``[0, s_end]``.
+
+    Returns
+    -------
+    s, u : ndarray
+        Arc length and ``u = -ln A' - b (s/n)^2 cos(exp(s) s/n - 2 pi/n)``
+        with the paper's ``A' = 1/4``, ``n = 10``; its amplitude about
+        ``-ln A'`` is at most ``b (s/n)^2``, growing with s.
+
+    Examples
+    --------
+    >>> s, u = fig2_curve(1.0, num=4)
+    >>> bool(abs(u[0] + np.log(0.25)) < 1e-12)  # no amplitude at s = 0
+    True
+    """
+    from stimuli.geometry.information import surprisal_paper
+
+    s = np.linspace(0.0, s_end, num)
+    ds = s / PAPER["n"]
+    return s, surprisal_paper(turning_angle=np.exp(s) * ds, ds=ds, n=PAPER["n"], A=PAPER["A"], b=b, closed=True)
+
+
 def fig2(outdir):
-    """Fig. 2: eq. 5 along k = exp(s), s in [0, 3]."""
+    """Fig. 2: eq. 5 along k = exp(s), s in [0, 3], with ds = s/n (its amplitude grows with s)."""
     plt = _plt()
-    s = np.linspace(0.0, 3.0, 20001)
     fig, ax = plt.subplots(figsize=(7, 4.8))
     for j, (b, col) in enumerate(zip(PAPER["b"], _B_COLORS)):
-        ax.plot(s, _u(np.exp(s), b), color=col, lw=0.6, zorder=3 - j, label=f"b = {b:g}")
-    ax.set_title(f"Fig. 2: u along k(s) = exp(s) ({_subtitle()})", fontsize=9)
+        s, u = fig2_curve(b)
+        ax.plot(s, u, color=col, lw=1, zorder=3 - j, label=f"b = {b:g}")
+        env = b * (s / PAPER["n"]) ** 2
+        ax.plot(s, -np.log(PAPER["A"]) + env, color=col, lw=0.5, ls=":", zorder=1)
+        ax.plot(s, -np.log(PAPER["A"]) - env, color=col, lw=0.5, ls=":", zorder=1)
+    ax.set_title(f"Fig. 2: u along k(s) = exp(s) (eq. 5, A' = 1/4, n = {PAPER['n']}, ds = s/n; "
+                 "dotted: -ln A' +- b (s/n)^2)", fontsize=9)
     _u_axes(ax, "arc length s")
     path = save_png(fig, Path(outdir) / "fig2_u_exp_curvature.png")
     return [(path, (
-        "Fig. 2. Eq. 5 along an MC-curve (monotone curvature) with k(s) = exp(s), s in [0, 3], same "
-        "A', L, n and b as Fig. 1. The turn k*ds grows from 10 to 201 radians, so u oscillates ever "
-        "faster in s between -ln A' - b*ds^2 and -ln A' + b*ds^2."
+        "Fig. 2. Eq. 5 along an MC-curve (monotone curvature) with k(s) = exp(s), s in [0, 3], A' = 1/4, "
+        "n = 10, b = 1/2, 1, 2 (black, blue, red), with ds = s/n, the arc length so far over n, as the "
+        "paper takes for eq. 7. The paper's text says that the amplitudes of eq. 5 grow with arc length "
+        "here; that holds with ds = s/n, whose amplitude b (s/n)^2 (dotted envelope) grows from 0 to "
+        "0.09 b, and not with the caption's ds = L/n = 10, whose amplitude is the constant b ds^2 = 100 b. "
+        "We follow the text. The turn k ds = exp(s) s/n grows from 0 to 6 rad; u touches its upper "
+        "envelope where the turn is 2 pi/n + pi (s = 2.65)."
     ))]
 
 

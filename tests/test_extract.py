@@ -434,7 +434,8 @@ def test_cli_failures_reported_and_others_written(tmp_path):
     assert ok["perimeter"] == pytest.approx(c.perimeter, rel=1e-8)
     assert ok["area"] == pytest.approx(np.pi * 40**2, rel=1e-3)
     sur = pd.read_csv(out / "good.surprisal.csv")
-    assert list(sur.columns) == ["i", "s", "t", "x", "y", "turning_angle", "curvature", "surprisal", "peak"]
+    assert list(sur.columns) == ["i", "s", "t", "x", "y", "turning_angle", "curvature", "surprisal", "peak",
+                                 "length_unit"]
     assert len(sur) == 50
     sil = read_image(out / "good.silhouette.png")
     assert sil.shape == (120, 140) and (255 - sil.astype(float)).sum() / 255 == pytest.approx(c.area, rel=1e-3)

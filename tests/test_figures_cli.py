@@ -151,3 +151,30 @@ def test_figures_bad_output(tmp_path, capsys):
     f.write_text("x")
     assert main(["figures", "-o", str(f)]) == 2
     assert "not a directory" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("b", [0.5, 1.0, 2.0])
+def test_fig2_amplitude_grows_with_arc_length(b):
+    # the paper: "the amplitudes of (5) increase with an arc length (Fig. 2)", which holds
+    # with ds = s/n: u = -ln A' - b (s/n)^2 cos(exp(s) s/n - 2 pi/n), A' = 1/4, n = 10
+    from analysis.figures import fig2_curve
+
+    s, u = fig2_curve(b)
+    n, level = 10, -np.log(0.25)
+    expected = level - b * (s / n) ** 2 * np.cos(np.exp(s) * s / n - 2 * np.pi / n)
+    np.testing.assert_allclose(u, expected, rtol=0, atol=1e-12)
+    dev = np.abs(u - level)
+    assert np.all(dev <= b * (s / n) ** 2 + 1e-12)
+    # the largest deviation on each unit of arc length grows, up to the envelope b (s/n)^2 at s = 3,
+    # where the turn passes 2 pi/n + pi (cos = -1 near exp(s) s/n = 3.77, s = 2.6)
+    amp = [dev[(s >= lo) & (s <= lo + 1)].max() for lo in (0.0, 1.0, 2.0)]
+    assert amp[0] < amp[1] < amp[2]
+    assert amp[0] <= b * 0.01 and amp[2] > 0.6 * b * 0.09
+
+
+def test_fig2_note_says_ds_is_s_over_n(tmp_path):
+    from analysis import figures
+
+    figures.make_figures(tmp_path, makers=[figures.fig2])
+    note = (tmp_path / "figures.md").read_text()
+    assert "ds = s/n" in note and "We follow the text" in note

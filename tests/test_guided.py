@@ -1,12 +1,17 @@
 """Information-guided stimuli: Attneave's cat, peak vs trough fragments, dots.
 
 Must show: the peak and trough fragment sets have equal visible length
-(within 1 px) and equal fragment counts, and the peak fragments contain the
-top surprisal peaks.
+(within 1 px) and equal fragment counts, the peak fragments contain the
+top surprisal peaks and sit on prominent maxima, the recorded peak-trough
+contrast is right and never below its minimum, and the cat never crosses
+itself, also on shapes with deep narrow notches.
 """
+
+import warnings
 
 import numpy as np
 import pytest
+import scipy.signal
 
 from stimuli import Contour, InputError
 from stimuli.shapes import generators as g
@@ -45,10 +50,42 @@ def arc_centre_distance(t1, t2):
 
 SHAPES = [("polygon", polygon(1)), ("polygon", polygon(4)), ("rf", rf(0)), ("rf", rf(2)),
           ("ellipse", ellipse())]
+# (fraction, fragments) per shape: as many peak fragments as the shape has prominent peaks
+# (an ellipse has two, these RF patterns four with room for fragments 0.4 L / 6 long)
+SIZES = {"polygon": [(0.2, 2), (0.3, 4), (0.4, 6)], "rf": [(0.2, 2), (0.3, 4)], "ellipse": [(0.2, 2)]}
+CASES = [(k, c, f, m) for k, c in SHAPES for f, m in SIZES[k]]
 
 
-@pytest.mark.parametrize("kind,c", SHAPES, ids=[f"{k}{i}" for i, (k, _) in enumerate(SHAPES)])
-@pytest.mark.parametrize("fraction,m", [(0.2, 2), (0.3, 4), (0.4, 6)])
+def nearly_notched(depth=90.0, width=2.0, bend=6.0, k=3, size=200.0):
+    """A square (image px, y down) with `k` deep notches from its top edge, narrower than the
+    cat's point spacing at their mouth, whose bottoms bend sideways under a wall."""
+    x0 = y0 = 30.0
+    top = []
+    for x in np.linspace(x0, x0 + size, k + 2)[1:-1]:
+        top += [[x, y0], [x, y0 + depth], [x + bend, y0 + depth + bend], [x + width, y0 + 0.6 * depth], [x + 8, y0]]
+    return Contour(np.array([[x0, y0]] + top + [[x0 + size, y0], [x0 + size, y0 + size], [x0, y0 + size]]))
+
+
+def crosses(points):
+    """True when the closed polygon through `points` crosses or touches itself (by brute force)."""
+    p = np.asarray(points, float)
+    m = len(p)
+    seg = [(p[i], p[(i + 1) % m]) for i in range(m)]
+
+    def orient(a, b, c):
+        return np.sign((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+    for i in range(m):
+        for j in range(i + 1, m):
+            if j == i + 1 or (i == 0 and j == m - 1):
+                continue  # neighbours share a vertex
+            (a, b), (c, d) = seg[i], seg[j]
+            if orient(a, b, c) != orient(a, b, d) and orient(c, d, a) != orient(c, d, b):
+                return True
+    return False
+
+
+@pytest.mark.parametrize("kind,c,fraction,m", CASES, ids=[f"{k}{i}" for i, (k, *_) in enumerate(CASES)])
 def test_peak_and_trough_fragments_match(kind, c, fraction, m):
     out = guided.fragments(c, fraction=fraction, n_fragments=m, n=256, min_gap=6.0)
     p = out["params"]
@@ -100,12 +137,59 @@ def test_peak_fragments_contain_the_top_peaks(kind, c):
         assert dist[0] < 1e-6
 
 
-def test_fragments_on_a_circle_still_match():
+@pytest.mark.parametrize("kind,c,fraction,m", CASES, ids=[f"{k}{i}" for i, (k, *_) in enumerate(CASES)])
+def test_peak_fragments_sit_on_prominent_maxima_with_the_recorded_contrast(kind, c, fraction, m):
+    out = guided.fragments(c, fraction=fraction, n_fragments=m, n=256, min_gap=6.0)
+    p = out["params"]
+    u = surprisal(c, n=256).surprisal
+    lo, span = u.min(), np.ptp(u)
+    # prominences computed here, on three laps of the closed contour
+    idx, props = scipy.signal.find_peaks(np.tile(u, 3), prominence=0)
+    prom = {int(i) - 256: float(v) / span for i, v in zip(idx, props["prominences"]) if 256 <= i < 512}
+    for i, pr in zip(p["peaks_indices"], p["peaks_prominence"]):
+        assert i in prom and prom[i] >= p["min_contrast"] == 0.2
+        assert pr == pytest.approx(prom[i], abs=1e-6)
+    height = lambda which: (u[p[f"{which}_indices"]] - lo) / span  # noqa: E731
+    assert p["contrast"] == pytest.approx(height("peaks").min() - height("troughs").max(), abs=1e-9)
+    assert p["contrast"] >= 0.2
+    np.testing.assert_allclose(p["peaks_height"], height("peaks"), atol=1e-12)
+    assert p["length_unit"] == "sample"
+
+
+def test_shapes_without_enough_prominent_peaks_are_refused():
+    # a circle has no peaks at all; an ellipse exactly two (the ends of its major axis)
     th = 2 * np.pi * np.arange(500) / 500
-    c = Contour(np.c_[200 + 100 * np.cos(th), 200 + 100 * np.sin(th)])
-    out = guided.fragments(c, fraction=0.3, n_fragments=5, n=100)
-    assert len(out["peaks"]) == len(out["troughs"]) == 5
-    assert sum(map(length, out["peaks"])) == pytest.approx(sum(map(length, out["troughs"])), abs=1e-6)
+    circle = Contour(np.c_[200 + 100 * np.cos(th), 200 + 100 * np.sin(th)])
+    with pytest.raises(InputError, match="constant"):
+        guided.fragments(circle, fraction=0.3, n_fragments=5, n=100)
+    with pytest.raises(InputError, match="only 2 fragments .* on peaks of prominence >= 0.2"):
+        guided.fragments(ellipse(), fraction=0.2, n_fragments=3)
+    # a square with rounded corners and one tiny bump: its fifth maximum is 1% of the range
+    sq = Contour([[0, 0], [0, 100], [100, 100], [100, 0]]).transformed(2.0, (50, 50)).resample(n=800)
+    q = sq.points.copy()
+    mid = np.argmin(np.hypot(*(q - [150, 50]).T))  # the middle of one side
+    q[mid] += [0, 0.35]
+    bumped = Contour(q)
+    with pytest.raises(InputError, match="only 4 fragments"):
+        guided.fragments(bumped, fraction=0.2, n_fragments=5, min_gap=2)
+    # ... which min_contrast = 0 accepts, recording the contrast it would have refused
+    low = guided.fragments(bumped, fraction=0.2, n_fragments=5, min_gap=2, min_contrast=0)["params"]
+    assert low["contrast"] < 0.2 and min(low["peaks_height"]) < 0.2
+
+
+def test_min_contrast_is_checked(monkeypatch):
+    with pytest.raises(InputError, match="min_contrast"):
+        guided.fragments(polygon(1), min_contrast=1.0)
+    # troughs sit on a shape's many low points (height 0), so that prominent peaks give the
+    # contrast; were the trough centres forced onto high points, the shape is refused
+    real = guided.rank_candidates
+
+    def troughs_on_high_points(u, which="peaks", span=0, prominence=None):
+        return real(u, "peaks" if which == "troughs" else which, span, prominence)
+
+    monkeypatch.setattr(guided, "rank_candidates", troughs_on_high_points)
+    with pytest.raises(InputError, match="min_contrast: the peak fragments sit only"):
+        guided.fragments(polygon(1), fraction=0.2, n_fragments=2, min_gap=6.0)
 
 
 def test_fragments_that_cannot_fit():
@@ -124,7 +208,50 @@ def test_cat_of_a_polygon_finds_its_corners():
     assert d.min(axis=1).max() <= ds + 1e-9
     # in contour order
     assert np.all(np.diff(p["t"]) > 0)
-    assert p["simple"]
+    assert p["simple"] and not crosses(pts)
+
+
+NOTCHED = [nearly_notched(depth, width, bend, k) for depth, width, bend, k in
+           [(90, 2, 6, 3), (60, 1, 4, 2), (120, 3, 10, 1), (60, 1, 6, 3), (90, 1, 4, 2)]]
+
+
+@pytest.mark.parametrize("c", NOTCHED, ids=[f"notched{i}" for i in range(len(NOTCHED))])
+@pytest.mark.parametrize("k,sep", [(None, 12.0), (None, None), (8, 12.0)])
+def test_cat_of_a_deeply_notched_shape_does_not_cross_itself(c, k, sep):
+    assert c.is_simple()
+    pts, p = guided.attneave_cat(c, k=k, n=256, min_separation=sep)
+    assert not crosses(pts) and p["simple"]
+    if k is not None:
+        assert len(pts) == k
+    # the points are the best-ranked that are compatible: the top surprisal peak is among them
+    res = surprisal(c, n=256)
+    assert int(np.argmax(res.surprisal)) in p["indices"]
+    # and the four corners of the square are (within the spacing) when every peak is asked for
+    if k is None:
+        for corner in ([30, 30], [230, 30], [230, 230], [30, 230]):
+            assert np.hypot(*(pts - corner).T).min() <= 2 * p["ds"]
+
+
+def test_notched_shapes_make_the_unconstrained_cat_cross():
+    # the best-ranked separated points alone (what the cat was before) cross on these shapes,
+    # so the test above is not vacuous
+    crossed = 0
+    for c in NOTCHED:
+        res = surprisal(c, n=256)
+        order, n_ext = guided.rank_candidates(res.surprisal, "peaks", span=1, prominence=1e-3 * np.ptp(res.surprisal))
+        chosen = guided.select_separated(order, res.s, c.perimeter, 8, 12.0)
+        crossed += crosses(res.contour.points[np.sort(chosen)])
+        _, p = guided.attneave_cat(c, k=8, n=256, min_separation=12.0)
+        assert p["passed_over"] or not crosses(res.contour.points[np.sort(chosen)])
+    assert crossed >= 2
+
+
+def test_cat_of_random_attneave_polygons_never_crosses():
+    for seed in range(12):
+        c = polygon(seed, n_points=16)
+        for k in (None, 6):
+            pts, _ = guided.attneave_cat(c, k=k, n=256, min_separation=6.0)
+            assert not crosses(pts)
 
 
 def test_dots_on_an_ellipse_sit_at_the_ends_of_the_major_axis():
@@ -165,6 +292,43 @@ def test_guided_recipe_items_and_drawing():
     for s in ("peaks", "troughs"):
         assert imgs[s].sum() == pytest.approx(vis * 2.0, rel=0.05)
     assert recipes.item_svg(items[2], style, canvas) == recipes.item_svg(items[2], style, canvas)
+
+
+def test_guided_recipe_redraws_low_contrast_shapes_and_records_the_contrast():
+    base = {"generator": "attneave_curved", "params": {"n_points": 10}}
+    tries = []
+    for seed in range(4):
+        items = recipes.make("guided", seed, canvas=recipes.Canvas(256, 256, 20), base=base, kinds=["peaks", "troughs"],
+                             n_fragments=5, fraction=0.2, min_gap=6, min_contrast=0.2)
+        g = items[0].params["guided"]
+        assert g["contrast"] >= 0.2 and min(g["peaks_prominence"]) >= 0.2
+        assert items[1].params["guided"]["contrast"] == g["contrast"]
+        tries.append(items[0].params["base_tries"])
+        assert len(items[0].params["base_rejected"]) == tries[-1] - 1
+        assert all("fragments" in r or "contrast" in r for r in items[0].params["base_rejected"])
+    assert max(tries) > 1  # some base shapes were refused and drawn again
+
+
+def test_deterministic_base_warns_once_and_is_not_redrawn(tmp_path):
+    src = tmp_path / "shape.csv"
+    c = polygon(3)
+    c.to_csv(src)
+    base = {"generator": "from_csv", "params": {"path": str(src)}}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        runs = [recipes.make("guided", seed, base=base, kinds=["base", "peaks", "troughs"]) for seed in (1, 2, 3)]
+    msgs = [str(w.message) for w in caught if "identical" in str(w.message)]
+    assert len(msgs) == 1 and "from_csv" in msgs[0]
+    for a in runs[1:]:  # different seeds, identical stimuli: what the warning is about
+        assert a[1].params == runs[0][1].params
+    # a random base gives no such warning
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        recipes.make("guided", 1, kinds=["peaks", "troughs"])
+    assert not [w for w in caught if "identical" in str(w.message)]
+    # a fixed base that fails fails at once (drawing it again could not help)
+    with pytest.raises(InputError, match="from_csv base: n_fragments"):
+        recipes.make("guided", 1, base=base, kinds=["peaks"], n_fragments=40, fraction=0.5, min_gap=0)
 
 
 def test_guided_recipe_is_deterministic():

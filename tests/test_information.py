@@ -115,12 +115,21 @@ def test_vonmises_is_a_normalised_density():
         assert x[np.argmax(p)] == pytest.approx(2 * np.pi / 12, abs=1e-3)
 
 
-def test_fast_path_matches_full_path():
-    r = surprisal(Contour(ellipse(n=3000)), n=512)
-    fast = surprisal_from_points(r.contour.points)
-    # same points and turning angles; the fast path takes ds from the resampled chords
-    ds = r.contour.perimeter / 512
-    assert np.allclose(fast, surprisal_paper(r.turning_angle, ds, 512), rtol=0, atol=1e-9)
+@pytest.mark.parametrize("unit", ["sample", "perimeter", "radius", "px"])
+def test_fast_path_matches_full_path(unit):
+    r = surprisal(Contour(ellipse(n=3000)), n=512, length_unit=unit)
+    fast = surprisal_from_points(r.contour.points, length_unit=unit)
+    assert r.params["length_unit"] == unit
+    # the full path: ds in the unit is 1, 1/n, L/(n R) with R the equal-area radius (an
+    # ellipse's sqrt(a b), here of its 3000-gon), L/n; the fast path takes L and the area
+    # from the resampled 512-gon itself
+    for res, poly in ((r.surprisal, Contour(ellipse(n=3000))), (fast, r.contour)):
+        ds = poly.perimeter / 512
+        ds_unit = {"sample": 1.0, "perimeter": 1 / 512, "radius": ds / np.sqrt(poly.area / np.pi), "px": ds}[unit]
+        assert np.allclose(res, surprisal_paper(r.turning_angle, ds_unit, 512), rtol=0, atol=1e-12)
+    assert r.params["ds_in_unit"] == pytest.approx(
+        {"sample": 1.0, "perimeter": 1 / 512, "radius": 690.4 / 512 / np.sqrt(150 * 60), "px": 690.4 / 512}[unit],
+        rel=1e-4)
 
 
 def test_find_peaks_circular_and_ranked():
@@ -164,3 +173,62 @@ def test_infinite_A_or_b_is_an_error(model, kw):
     # A = inf gave -inf in every row and b = inf NaN (von Mises), with exit status 0
     with pytest.raises(InputError):
         surprisal(ellipse(n=100), n=20, model=model, **kw)
+
+
+def notched_polygon():
+    """A polygon with corners, straight sides and a concave notch (image pixels)."""
+    return np.array([[40, 40], [40, 200], [110, 200], [120, 120], [130, 200], [220, 200], [220, 40], [150, 60]], float)
+
+
+@pytest.mark.parametrize("unit", ["sample", "perimeter", "radius"])
+def test_one_shape_at_four_scales_has_the_same_surprisal(unit):
+    # scale about a point that is not the origin, so that the coordinates change too
+    p = notched_polygon()
+    runs = [surprisal(Contour(100 + f * (p - 100)), n=120, length_unit=unit) for f in (0.25, 1.0, 2.0, 4.0)]
+    for r in runs[1:]:
+        np.testing.assert_allclose(r.surprisal, runs[0].surprisal, rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(r.peaks, runs[0].peaks)
+        assert r.params["length_unit"] == unit
+    # ... while the paper's literal pixels scale the contrast with the square of the size
+    px = [surprisal(Contour(100 + f * (p - 100)), n=120, length_unit="px").surprisal for f in (1.0, 2.0)]
+    assert np.ptp(px[1]) == pytest.approx(4 * np.ptp(px[0]), rel=1e-9)
+    assert px[1].min() < 0
+
+
+def test_default_unit_is_eq3_of_the_turning_angle_and_positive():
+    # ds = 1: u = -ln A' - b cos(a - 2 pi/n), inside -ln A' -+ b, so > 0 for b < ln 4
+    r = surprisal(Contour(notched_polygon()), n=90)
+    assert r.params["length_unit"] == "sample" and r.params["ds_in_unit"] == 1.0
+    np.testing.assert_allclose(r.surprisal, np.log(4) - np.cos(r.turning_angle - 2 * np.pi / 90), rtol=0, atol=1e-12)
+    assert r.surprisal.min() > np.log(4) - 1 - 1e-12 and r.surprisal.max() < np.log(4) + 1
+    # a negative value needs b > ln(1/A') and a turn close to the mean turn (straight sides)
+    r3 = surprisal(Contour(notched_polygon()), n=90, b=3.0)
+    straight = np.abs(r3.turning_angle) < 1e-9
+    assert straight.sum() > 40
+    np.testing.assert_allclose(r3.surprisal[straight], np.log(4) - 3 * np.cos(2 * np.pi / 90), rtol=0, atol=1e-9)
+    assert np.log(4) - 3 - 1e-12 <= r3.surprisal.min() < 0
+
+
+def test_bad_length_unit():
+    with pytest.raises(InputError, match="length_unit"):
+        surprisal(ellipse(n=100), length_unit="inch")
+    with pytest.raises(InputError, match="radius"):
+        surprisal(Contour(ellipse(n=100), closed=False), length_unit="radius")
+
+
+def test_cli_length_unit_choices_and_column(tmp_path, capsys):
+    from analysis.cli import main
+    from stimuli.geometry.information import LENGTH_UNITS
+
+    src = tmp_path / "c.csv"
+    src.write_text("x,y\n" + "".join(f"{x},{y}\n" for x, y in notched_polygon()))
+    for unit in LENGTH_UNITS:
+        out = tmp_path / f"{unit}.csv"
+        assert main(["surprisal", str(src), "-o", str(out), "-n", "40", "--length-unit", unit]) == 0
+        text = out.read_text().splitlines()
+        assert text[0].endswith(",length_unit") and all(line.endswith("," + unit) for line in text[1:])
+    assert main(["surprisal", str(src), "-o", str(tmp_path / "d.csv")]) == 0
+    assert (tmp_path / "d.csv").read_text().splitlines()[1].endswith(",sample")
+    with pytest.raises(SystemExit) as exc:
+        main(["surprisal", str(src), "-o", str(tmp_path / "e.csv"), "--length-unit", "inch"])
+    assert exc.value.code == 2 and "length-unit" in capsys.readouterr().err

@@ -9,7 +9,7 @@ import pytest
 
 from analysis.cli import main
 
-COLUMNS = ["i", "s", "t", "x", "y", "turning_angle", "curvature", "surprisal", "peak"]
+COLUMNS = ["i", "s", "t", "x", "y", "turning_angle", "curvature", "surprisal", "peak", "length_unit"]
 
 
 def write_ellipse(path, n=600, reverse=False):
@@ -26,9 +26,11 @@ def test_paper_model_row_by_row(tmp_path, reverse):
     src = tmp_path / "ellipse.csv"
     p = write_ellipse(src, reverse=reverse)
     out = tmp_path / "out.csv"
-    assert main(["surprisal", str(src), "-o", str(out), "-n", "50", "--A", "0.3", "--b", "0.02"]) == 0
+    argv = ["surprisal", str(src), "-o", str(out), "-n", "50", "--A", "0.3", "--b", "0.02", "--length-unit", "px"]
+    assert main(argv) == 0
     df = pd.read_csv(out)
     assert list(df.columns) == COLUMNS
+    assert set(df["length_unit"]) == {"px"}
     assert len(df) == 50
     assert np.allclose(df[["x", "y"]].iloc[0], p[0])  # starts at the first input point
     n = 50

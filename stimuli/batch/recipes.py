@@ -114,6 +114,9 @@ class GuidedParams(_Params):
     fraction: float = Field(0.3, gt=0, lt=1, description="fraction of the perimeter shown as fragments")
     n_fragments: int = Field(4, ge=1, le=100_000)
     min_gap: float = Field(8.0, ge=0, allow_inf_nan=False, description="px between fragments of one set")
+    min_contrast: float = Field(guided.MIN_CONTRAST, ge=0, lt=1,
+                                description="smallest peak prominence and peak-trough contrast (fraction of the "
+                                            "surprisal range); a base shape below it is drawn again")
     base_draw: Literal["silhouette", "outline"] = "outline"
     max_tries: int = Field(100, ge=1, le=100_000, description="base shapes drawn before giving up")
 
@@ -256,6 +259,9 @@ def deformation_recipe(params, rng, canvas):
     raise InputError(f"deformation: no valid {p.mode} change on {p.max_tries} base shapes; last: {last}")
 
 
+_WARNED: set = set()  # messages of guided_recipe's repeat warning already shown
+
+
 def guided_recipe(params, rng, canvas):
     """Recipe ``guided``: information-guided items from one base shape.
 
@@ -264,32 +270,50 @@ def guided_recipe(params, rng, canvas):
     ``troughs`` (fragments of equal total length and count), ``dots`` and
     ``dots_troughs`` (dots at the `k` most / least informative points).
     Derived items have parent ``base`` when it is made. If the fragments or
-    points do not fit on a base shape, another is drawn, up to ``max_tries``.
+    points do not fit on a base shape, or its peak-trough contrast is below
+    ``min_contrast``, another is drawn from the same stream, up to
+    ``max_tries``; ``base_tries`` and ``base_rejected`` (the reasons) are
+    recorded. A base that draws no random numbers (``from_csv``,
+    ``from_image``) is the same on every call: it is not drawn again, and a
+    ``UserWarning`` says once that repeats of these parameters give
+    identical files.
     """
+    import warnings
+
     p = _validated(GuidedParams, params)
     kinds = list(p.kinds)
     info = dict(n=p.n, model=p.model, A=p.A, b=p.b, prominence=p.prominence)
-    last = None
+    rejected = []
     for tries in range(1, p.max_tries + 1):
+        state = rng.bit_generator.state
         contour, bparams = _base(p, rng, canvas)
+        fixed = rng.bit_generator.state == state
         try:
             made = {}
             if "cat" in kinds:
                 made["cat"] = guided.attneave_cat(contour, k=p.k, min_separation=p.min_separation, **info)
             if "peaks" in kinds or "troughs" in kinds:
                 made["fragments"] = guided.fragments(contour, fraction=p.fraction, n_fragments=p.n_fragments,
-                                                     min_gap=p.min_gap, **info)
+                                                     min_gap=p.min_gap, min_contrast=p.min_contrast, **info)
             for kind, which in (("dots", "peaks"), ("dots_troughs", "troughs")):
                 if kind in kinds:
                     made[kind] = guided.dots(contour, k=p.k, which=which, min_separation=p.min_separation, **info)
         except InputError as exc:
-            last = str(exc)
+            rejected.append(str(exc))
+            if fixed:  # the same base again would fail the same way
+                raise InputError(f"guided: {p.base.generator} base: {exc}") from None
             continue
         break
     else:
-        raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {last}")
+        raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {rejected[-1]}")
+    if fixed:
+        msg = (f"guided: the {p.base.generator} base {p.base.params} draws no random numbers, so every repeat of "
+               f"these parameters gives identical files; use repeats: 1")
+        if msg not in _WARNED:  # once per distinct base in a process, whatever the warnings filters
+            _WARNED.add(msg)
+            warnings.warn(msg, UserWarning, stacklevel=2)
     parent = "base" if "base" in kinds else None
-    common = dict(bparams, base_tries=tries)
+    common = dict(bparams, base_tries=tries, base_rejected=rejected)
     items = []
     for kind in kinds:
         if kind == "base":

@@ -10,9 +10,9 @@ def add_parser(sub):
         description=(
             "Resample a contour (CSV with columns x, y in image pixels, y down) at n equally "
             "spaced points from its first point and write, per point: i, s, t, x, y, "
-            "turning_angle, curvature, surprisal, peak. Curvature is positive on convex parts. "
-            "With --model paper, surprisal = -ln A - b*ds^2*cos(turning_angle - 2*pi/n) "
-            "(eq. 5; eq. 4 with --open), ds = L/n."
+            "turning_angle, curvature, surprisal, peak, length_unit. Curvature is positive on convex "
+            "parts. With --model paper, surprisal = -ln A - b*ds^2*cos(turning_angle - 2*pi/n) "
+            "(eq. 5; eq. 4 with --open), ds = L/n in the --length-unit."
         ),
     )
     p.add_argument("contour", metavar="CONTOUR.csv")
@@ -25,6 +25,10 @@ def add_parser(sub):
     p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
     p.add_argument("--open", action="store_true", help="the contour is open (eq. 4, mean turn 0)")
     p.add_argument("--bits", action="store_true", help="surprisal in bits instead of nats")
+    # the choices mirror stimuli.geometry.information.LENGTH_UNITS (not imported here: --help stays fast)
+    p.add_argument("--length-unit", choices=("sample", "perimeter", "radius", "px"), default=None,
+                   help="unit of ds in eq. 4-5: sample (ds = 1, default), perimeter (ds = 1/n), radius of the "
+                        "equal-area circle (all three scale-free), or px (the paper's literal pixels)")
     p.add_argument("--prominence", type=float, default=None, help="peak prominence (default 5%% of the range)")
     return p
 
@@ -37,7 +41,7 @@ def run(args):
     c = Contour.from_csv(args.contour, closed=not args.open)
     r = surprisal(
         c, n=args.n, spacing=args.spacing, model=args.model, A=args.A, b=args.b, bits=args.bits,
-        prominence=args.prominence,
+        prominence=args.prominence, **({} if args.length_unit is None else {"length_unit": args.length_unit}),
     )
     write_table(r.table(), args.output, float_format="%.17g")
     return 0

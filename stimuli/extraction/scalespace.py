@@ -132,7 +132,7 @@ class ContourInfo:
 
 
 def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False,
-             prominence=None):
+             prominence=None, length_unit=None):
     """Smooth a closed contour at its own scale, then curvature and surprisal.
 
     Parameters
@@ -145,8 +145,9 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     sigma : float, optional
         Smoothing scale in px of arc length (default 1 % of the perimeter,
         at least 1 px).
-    model, A, b, bits
-        As in :func:`stimuli.information.surprisal`.
+    model, A, b, bits, length_unit
+        As in :func:`stimuli.geometry.information.surprisal` (`length_unit`
+        None: its default).
     prominence : float, optional
         Smallest prominence of a surprisal peak. Default: 5 % of the
         surprisal's range or of the surprisal step from the mean turn
@@ -165,7 +166,8 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     s = _resolve_sigma(c, sigma)
     q = c.resample(n=max(int(np.ceil(c.perimeter / min(1.0, s / 4))), 16)).points
     sm = Contour(fourier_smooth(q, s, c.perimeter), orient=False, name=c.name)
-    res = surprisal(sm, n=n, spacing=spacing, model=model, A=A, b=b, bits=bits, prominence=prominence)
+    unit = {} if length_unit is None else {"length_unit": length_unit}
+    res = surprisal(sm, n=n, spacing=spacing, model=model, A=A, b=b, bits=bits, prominence=prominence, **unit)
     if prominence is None:
         res = _with_default_prominence(res, model, A, bits)
     # the Gaussian-derivative curvature of the same samples is the smoothed
@@ -186,7 +188,7 @@ def _with_default_prominence(res, model, A, bits):
     n = res.params["n"]
     mu = 2 * np.pi / n
     if model == "paper":
-        ref = surprisal_paper(np.array([mu, 2 * mu]), res.params["ds"], n, A=A, b=res.params["b"], bits=bits)
+        ref = surprisal_paper(np.array([mu, 2 * mu]), res.params["ds_in_unit"], n, A=A, b=res.params["b"], bits=bits)
     else:
         ref = surprisal_vonmises(np.array([mu, 2 * mu]), n, b=res.params["b"], bits=bits)
     prominence = 0.05 * max(float(np.ptp(res.surprisal)), float(abs(ref[1] - ref[0])))

@@ -16,6 +16,37 @@ Both are computed from the discrete turning angle rather than from curvature,
 so a corner (where curvature is infinite, the paper's eq. 6) has a finite,
 high surprisal. In both, a concave turn carries more information than a convex
 turn of the same size, because the mean turn ``2*pi/n`` is convex.
+
+The unit of length
+------------------
+Turning angles do not depend on the size of a shape, but the paper's factor
+``ds**2`` does: with ds in pixels the same shape drawn twice as large has four
+times the contrast and, on its straight parts, values far below zero. So ``ds``
+enters eq. 4-5 in an explicit ``length_unit`` (:data:`LENGTH_UNITS`), recorded
+in every result:
+
+* ``'sample'`` (default): lengths in units of the sample spacing, so
+  ``ds = 1`` and eq. 5 is eq. 3 of the paper (Feldman & Singh's kernel)
+  applied to the turning angle, ``u = -ln A' - b*cos(a - 2*pi/n)``: ``b`` is
+  the concentration of turning angles and u lies in
+  ``[-ln A' - b, -ln A' + b]`` whatever the size of the shape.
+* ``'perimeter'``: lengths in perimeters, ``ds = 1/n``; scale-free too, but
+  the shape-dependent part shrinks to ``b/n**2`` (1e-4 nats at n = 100).
+* ``'radius'``: lengths in radii of the circle of equal area (closed only),
+  ``ds = L/(n*R)``, ``2*pi/n`` on a circle; scale-free, larger for
+  elongated shapes.
+* ``'px'``: the paper's literal pixels (or a curve's own units), to reproduce
+  its figures; values then scale with the square of the drawing size.
+
+A negative value. ``u = -ln(A' * exp(b*ds**2*cos(a - mu)))`` is negative
+where the paper's unnormalised density of turning angles exceeds 1 per
+radian, i.e. where ``b*ds**2*cos(a - mu) > -ln A'``. ``A'`` is a free
+constant, not the normaliser, so the level of u is arbitrary and only
+differences between points carry meaning. With ``'sample'`` and the default
+``A' = 1/4``, ``b = 1`` it cannot happen (u >= ln 4 - 1 = 0.386 nats); with
+``b > ln(1/A')`` it happens at turns close to the mean turn (the least
+informative points); with ``'px'`` it happens on every nearly straight part
+of a shape a few pixels across or more, and means no more than that.
 """
 
 from __future__ import annotations
@@ -34,11 +65,18 @@ __all__ = [
     "surprisal",
     "surprisal_from_points",
     "find_peaks",
+    "length_scale",
     "SurprisalResult",
     "MODELS",
+    "LENGTH_UNITS",
+    "DEFAULT_LENGTH_UNIT",
 ]
 
 MODELS = ("paper", "vonmises")
+#: Units of length in which ``ds`` enters eq. 4-5 (see the module docstring).
+LENGTH_UNITS = ("sample", "perimeter", "radius", "px")
+#: Scale-free: one shape at any size has the same surprisal.
+DEFAULT_LENGTH_UNIT = "sample"
 _LN2 = np.log(2.0)
 
 
@@ -52,6 +90,51 @@ def _check_params(n, A=None, b=None):
         raise InputError(f"b must be a finite number >= 0, got {b}")
 
 
+def length_scale(length_unit, spacing, length, area=None):
+    """Pixels per unit of length, for ``ds`` in eq. 4-5.
+
+    Parameters
+    ----------
+    length_unit : {'sample', 'perimeter', 'radius', 'px'}
+        See :data:`LENGTH_UNITS` and the module docstring.
+    spacing : float
+        Sample spacing ``ds`` in pixels.
+    length : float
+        Length of the contour in pixels.
+    area : float, optional
+        Enclosed area in px^2; needed for ``'radius'`` only.
+
+    Returns
+    -------
+    float
+        The length of one unit in pixels: `spacing`, `length`,
+        ``sqrt(area/pi)`` or 1. ``ds`` in the unit is ``spacing / scale``.
+
+    Raises
+    ------
+    InputError
+        An unknown unit, or ``'radius'`` without a positive area.
+
+    Examples
+    --------
+    >>> length_scale("perimeter", spacing=2.0, length=200.0)
+    200.0
+    >>> length_scale("radius", spacing=2.0, length=200.0, area=100 * np.pi)
+    10.0
+    """
+    if length_unit == "sample":
+        return float(spacing)
+    if length_unit == "perimeter":
+        return float(length)
+    if length_unit == "px":
+        return 1.0
+    if length_unit == "radius":
+        if area is None or not area > 0:
+            raise InputError("length_unit 'radius' needs a closed contour with a positive area")
+        return float(np.sqrt(area / np.pi))
+    raise InputError(f"unknown length_unit {length_unit!r}; expected one of {', '.join(LENGTH_UNITS)}")
+
+
 def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False):
     """Surprisal in the paper's curvature form (Ziatdinov, eq. 4 and 5).
 
@@ -62,7 +145,10 @@ def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False
         the screen positive, so convex points of a counter-clockwise closed
         contour are positive).
     ds : float
-        Spacing between points, ``L / n``, in pixels (or the curve's units).
+        Spacing between points, ``L / n``, in the unit of length chosen (see
+        :func:`length_scale`): 1 in units of the spacing (``'sample'``),
+        ``1/n`` in perimeters, ``L/n`` in pixels (the paper's literal
+        reading, whose values scale with the square of the drawing size).
     n : int
         Number of equally spaced points on the contour.
     A : float
@@ -88,8 +174,8 @@ def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False
 
     Examples
     --------
-    >>> round(float(surprisal_paper(0.0, ds=10, n=10, A=0.25, b=1, closed=False)), 9)  # -ln(1/4) - 100
-    -98.613705639
+    >>> round(float(surprisal_paper(0.0, ds=10, n=10, A=0.25, b=1, closed=False)), 6)  # -ln(1/4) - 100
+    -98.613706
     """
     _check_params(n, A, b)
     a = np.asarray(turning_angle, dtype=float)
@@ -206,8 +292,9 @@ class SurprisalResult:
     peaks : ndarray of int
         Peak indices, highest first.
     params : dict
-        Every resolved parameter: model, n, ds, length, A, b, closed, bits,
-        prominence.
+        Every resolved parameter: model, n, ds (spacing in px), length (px),
+        length_unit, unit_px (pixels per unit of length), ds_in_unit (the ds
+        of eq. 4-5), A, b, closed, bits, units, prominence.
     """
 
     contour: Contour
@@ -226,7 +313,11 @@ class SurprisalResult:
         return flag
 
     def table(self):
-        """Columns ``i, s, t, x, y, turning_angle, curvature, surprisal, peak``."""
+        """Columns ``i, s, t, x, y, turning_angle, curvature, surprisal, peak, length_unit``.
+
+        ``length_unit`` repeats ``params['length_unit']`` on every row, so a
+        file carries the unit its surprisal values are in.
+        """
         p = self.contour.points
         return {
             "i": np.arange(len(p)),
@@ -238,10 +329,12 @@ class SurprisalResult:
             "curvature": self.curvature,
             "surprisal": self.surprisal,
             "peak": self.is_peak(),
+            "length_unit": np.full(len(p), self.params.get("length_unit", ""), dtype=object),
         }
 
 
-def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits=False, prominence=None):
+def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits=False, prominence=None,
+              length_unit=DEFAULT_LENGTH_UNIT):
     """Surprisal at `n` equally spaced points of a contour.
 
     Parameters
@@ -264,10 +357,22 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
         Bits instead of nats.
     prominence : float, optional
         Peak prominence threshold (see :func:`find_peaks`).
+    length_unit : {'sample', 'perimeter', 'radius', 'px'}
+        Unit of ``ds`` in eq. 4-5 (the 'paper' model only; the von Mises form
+        has no ``ds``). The default, ``'sample'`` (ds = 1), and
+        ``'perimeter'`` (ds = 1/n) and ``'radius'`` give the same values for
+        a shape at any size; ``'px'`` is the paper's literal pixels. Recorded
+        in ``params['length_unit']``; see the module docstring for what a
+        negative value means.
 
     Returns
     -------
     SurprisalResult
+
+    Raises
+    ------
+    InputError
+        Unknown `model` or `length_unit`, or a parameter out of range.
 
     Examples
     --------
@@ -276,9 +381,15 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     >>> r = surprisal(np.c_[50 * np.cos(th), 50 * np.sin(th)], n=64)
     >>> bool(np.ptp(r.surprisal) < 1e-9), len(r.peaks)
     (True, 0)
+    >>> big = surprisal(np.c_[200 * np.cos(th), 100 * np.sin(th)], n=64)
+    >>> small = surprisal(np.c_[2 * np.cos(th), np.sin(th)], n=64)
+    >>> bool(np.allclose(big.surprisal, small.surprisal, rtol=0, atol=1e-9)), big.params["length_unit"]
+    (True, 'sample')
     """
     if model not in MODELS:
         raise InputError(f"unknown model {model!r}; expected one of {', '.join(MODELS)}")
+    if length_unit not in LENGTH_UNITS:
+        raise InputError(f"unknown length_unit {length_unit!r}; expected one of {', '.join(LENGTH_UNITS)}")
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if n is None and spacing is None:
         n = 100
@@ -293,9 +404,10 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
         s = np.arange(n) * ds
     a = r.turning_angles()
     k = a / ds
+    unit = length_scale(length_unit, ds, L, c.area if c.closed and length_unit == "radius" else None)
     if model == "paper":
         b = 1.0 if b is None else b
-        u = surprisal_paper(a, ds, n, A=A, b=b, closed=c.closed, bits=bits)
+        u = surprisal_paper(a, ds / unit, n, A=A, b=b, closed=c.closed, bits=bits)
     else:
         b = 4.0 if b is None else b
         u = surprisal_vonmises(a, n, b=b, closed=c.closed, bits=bits)
@@ -305,6 +417,9 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
         n=int(n),
         ds=float(ds),
         length=float(L),
+        length_unit=length_unit,
+        unit_px=unit,
+        ds_in_unit=float(ds / unit),
         A=float(A) if model == "paper" else None,
         b=float(b),
         closed=c.closed,
@@ -315,7 +430,8 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     return SurprisalResult(r, s, s / L, a, k, u, peaks, params)
 
 
-def surprisal_from_points(points, model="paper", A=0.25, b=None, closed=True, bits=False):
+def surprisal_from_points(points, model="paper", A=0.25, b=None, closed=True, bits=False,
+                          length_unit=DEFAULT_LENGTH_UNIT):
     """Surprisal at the given points as they are (no resampling).
 
     The fast path for large, already equally spaced contours: one pass of
@@ -326,11 +442,15 @@ def surprisal_from_points(points, model="paper", A=0.25, b=None, closed=True, bi
     ----------
     points : (N, 2) array_like
         ``(x, y)`` in image pixels, counter-clockwise on the screen if closed.
+    model, A, b, closed, bits, length_unit
+        As in :func:`surprisal`.
 
     Returns
     -------
     (N,) ndarray
     """
+    if length_unit not in LENGTH_UNITS:
+        raise InputError(f"unknown length_unit {length_unit!r}; expected one of {', '.join(LENGTH_UNITS)}")
     p = np.asarray(points, dtype=float)
     n = len(p)
     a = turning_angles(p, closed)
@@ -340,6 +460,9 @@ def surprisal_from_points(points, model="paper", A=0.25, b=None, closed=True, bi
         if closed:
             L += float(np.hypot(*(p[0] - p[-1])))
         ds = L / n if closed else L / (n - 1)
+        # the area is only computed when the unit needs it (a pass over every point)
+        area = Contour(p, closed, orient=False).area if length_unit == "radius" and closed else None
+        ds = ds / length_scale(length_unit, ds, L, area)
         return surprisal_paper(a, ds, n, A=A, b=1.0 if b is None else b, closed=closed, bits=bits)
     if model == "vonmises":
         return surprisal_vonmises(a, n, b=4.0 if b is None else b, closed=closed, bits=bits)

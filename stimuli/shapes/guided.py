@@ -4,24 +4,32 @@ Surprisal (:func:`stimuli.information.surprisal`) is computed at `n` equally
 spaced points of the contour, and three kinds of stimuli are built from it:
 
 * :func:`attneave_cat` -- Attneave's (1954) cat: the `k` most informative
-  points joined by straight lines, in contour order.
+  points joined by straight lines, in contour order, chosen so that the
+  polygon never crosses itself.
 * :func:`fragments` -- a given fraction of the contour's length kept as
-  `m` equal fragments centred on surprisal peaks, and the same length in
-  the same number of fragments centred on surprisal troughs (minima). The
-  two sets have exactly the same total visible length and fragment count by
-  construction; each set's fragments are at least `min_gap` pixels apart
-  along the contour, so they cannot merge.
+  `m` equal fragments centred on prominent surprisal peaks, and the same
+  length in the same number of fragments centred on surprisal troughs
+  (minima). The two sets have exactly the same total visible length and
+  fragment count by construction; each set's fragments are at least
+  `min_gap` pixels apart along the contour, so they cannot merge. A shape
+  whose peaks do not stand out from its troughs by `min_contrast` of the
+  surprisal's range is refused.
 * :func:`dots` -- dots at the `k` most (or least) informative points.
 
-Choosing the points. Candidates are the local maxima of surprisal (for
-troughs: its local minima), ranked by value, then every other sample point
-ranked by value (so that a contour with too few extrema can still yield `m`
-places); ties, as on the straight sides of a polygon where surprisal is
-constant, are broken by the mean surprisal over the fragment's span and then
-by position. Surprisal is quantised to 1e-9 of its range before ranking so
-that round-off on straight sides does not decide. A candidate is taken when
-it is at least the required arc distance from every point already taken
-(greedy non-maximum suppression), until `m` (or `k`) are taken.
+Choosing the points. Peak fragments are centred on local maxima of
+surprisal whose prominence (height above the higher of the two lowest
+points that separate them from a higher maximum, as in
+:func:`scipy.signal.find_peaks`) is at least `min_contrast` of the range,
+most prominent first; nothing else is a peak. For troughs, the cat and the
+dots, candidates are the local extrema of surprisal, ranked by value, then
+every other sample point ranked by value (so that a contour with too few
+extrema can still yield `m` places); ties, as on the straight sides of a
+polygon where surprisal is constant, are broken by the mean surprisal over
+the fragment's span and then by position. Surprisal is quantised to 1e-9 of
+its range before ranking so that round-off on straight sides does not
+decide. A candidate is taken when it is at least the required arc distance
+from every point already taken (greedy non-maximum suppression), until `m`
+(or `k`) are taken.
 
 Points are ``(x, y)`` in image pixels (y down). Fragment polylines follow the
 contour itself (its own vertices, including corners, between the two ends),
@@ -43,11 +51,13 @@ import numpy as np
 
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
-from stimuli.geometry.information import find_peaks, surprisal
+from stimuli.geometry.information import surprisal
+from stimuli.shapes.selection import rank_by_prominence, rank_candidates, select_separated
 
 __all__ = [
     "information",
     "rank_candidates",
+    "rank_by_prominence",
     "select_separated",
     "arc_polyline",
     "attneave_cat",
@@ -63,96 +73,6 @@ def information(contour, n=256, model="paper", A=0.25, b=None, prominence=None):
     if not contour.closed:
         raise InputError("contour: information-guided stimuli need a closed contour")
     return surprisal(contour, n=int(n), model=model, A=A, b=b, prominence=prominence)
-
-
-def _quantise(u):
-    """u rounded to 1e-9 of its range (same units), so equal-looking values are equal."""
-    lo, hi = float(np.min(u)), float(np.max(u))
-    if hi - lo <= 1e-12 * max(1.0, abs(hi)):
-        return np.full_like(u, lo)
-    step = (hi - lo) * 1e-9
-    return lo + np.round((u - lo) / step) * step
-
-
-def _window_mean(u, half):
-    """Circular mean of u over i-half..i+half."""
-    if half <= 0:
-        return u.astype(float)
-    k = np.ones(2 * half + 1) / (2 * half + 1)
-    ext = np.concatenate([u[-half:], u, u[:half]])
-    return np.convolve(ext, k, mode="valid")
-
-
-def rank_candidates(u, which="peaks", span=0, prominence=None):
-    """Sample indices in the order they are considered as centres.
-
-    Parameters
-    ----------
-    u : (n,) array
-        Surprisal at equally spaced points of a closed contour.
-    which : {'peaks', 'troughs'}
-        Most or least informative first.
-    span : int
-        Half-width in samples of the window whose mean breaks ties.
-    prominence : float, optional
-        Prominence for the local extrema (see :func:`find_peaks`).
-
-    Returns
-    -------
-    order : (n,) int array
-        The local extrema first (best first), then every other point.
-    n_extrema : int
-        How many of `order` are local extrema.
-    """
-    u = np.asarray(u, dtype=float)
-    sign = 1.0 if which == "peaks" else -1.0
-    if which not in ("peaks", "troughs"):
-        raise InputError(f"which: expected 'peaks' or 'troughs', got {which!r}")
-    q = sign * _quantise(u)
-    wm = sign * _window_mean(u, int(span))
-    idx = np.arange(len(u))
-    # descending by quantised value, then window mean, then index
-    by_value = np.lexsort((idx, -wm, -q))
-    ext, _ = find_peaks(q, closed=True, prominence=None if prominence is None else float(prominence))
-    is_ext = np.zeros(len(u), bool)
-    is_ext[ext] = True
-    order = np.concatenate([by_value[is_ext[by_value]], by_value[~is_ext[by_value]]])
-    return order, int(is_ext.sum())
-
-
-def select_separated(order, s, L, count, separation):
-    """The first `count` of `order` at least `separation` apart (circular arc length).
-
-    Parameters
-    ----------
-    order : sequence of int
-        Candidate sample indices, best first.
-    s : (n,) array
-        Arc length of each sample.
-    L : float
-        Perimeter.
-    count : int
-    separation : float
-        Minimum arc distance between chosen samples (px).
-
-    Returns
-    -------
-    list of int, in the order chosen (may be shorter than `count`).
-    """
-    chosen = []
-    pos = []
-    for i in order:
-        si = s[i]
-        if pos:
-            d = np.abs(np.asarray(pos) - si)
-            d = np.minimum(d, L - d)
-            if d.min() < separation - 1e-9:
-                continue
-        chosen.append(int(i))
-        pos.append(si)
-        if len(chosen) == count:
-            break
-    return chosen
 
 
 def arc_polyline(contour, s0, s1):
@@ -180,10 +100,6 @@ def arc_polyline(contour, s0, s1):
     return np.vstack([ends[:1], pp[inner], ends[1:]])
 
 
-def _polyline_length(q):
-    return float(np.hypot(*np.diff(q, axis=0).T).sum())
-
-
 def _points_at_samples(contour, res, idx):
     """Sample points (on the contour) for sample indices, with their t."""
     t = res.t[idx]
@@ -192,6 +108,12 @@ def _points_at_samples(contour, res, idx):
 
 def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_separation=None, prominence=None):
     """Attneave's cat: the most informative points joined by straight lines.
+
+    The polygon never crosses itself. Where it would (as on a deep, narrow
+    notch whose walls are closer than `min_separation`, or whose bottom
+    bends), the worst-ranked end of a crossing edge is dropped until none is
+    left, then the places freed are refilled with the next-ranked points that
+    keep the polygon simple.
 
     Parameters
     ----------
@@ -202,7 +124,7 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
         extrema, the points Attneave's cat joins) come first, best first,
         then the other points. Default: every local maximum whose
         prominence is at least `prominence` (default 0.1% of the range of
-        surprisal), and at least 3.
+        surprisal) and that keeps the polygon simple, and at least 3.
     n : int
         Surprisal sampling (points along the contour).
     model, A, b, prominence
@@ -216,44 +138,104 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
     -------
     points : (k, 2) array
         The chosen points in contour order (image pixels); the polygon
-        through them is the stimulus.
+        through them, a simple polygon, is the stimulus.
     params : dict
         ``k, n, model, A, b, ds, min_separation, indices, t, surprisal,
-        n_extrema, simple`` (whether the polygon through the points is
-        simple) and the surprisal parameters.
+        n_extrema``, ``passed_over`` (sample indices left out because the
+        polygon would cross itself), ``simple`` (always true) and the
+        surprisal parameters.
+
+    Raises
+    ------
+    InputError
+        When fewer than `k` points can be placed.
     """
-    res, k, sep, chosen, n_ext = _choose(contour, k, "peaks", 3, n, model, A, b, min_separation, prominence)
-    idx = np.sort(np.asarray(chosen))
-    pts, t = _points_at_samples(contour, res, idx)
     import shapely
 
-    simple = bool(shapely.is_simple(shapely.LineString(np.vstack([pts, pts[:1]]))))
+    res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
+    at, _ = _points_at_samples(contour, res, np.arange(res.params["n"]))
+
+    def simple(indices):
+        ring = at[np.sort(indices)]
+        return len(ring) < 3 or bool(shapely.is_simple(shapely.LineString(np.vstack([ring, ring[:1]]))))
+
+    k_asked = k
+    k, sep, chosen, n_ext, order = _choose(contour, k, "peaks", 3, min_separation, prominence, res)
+    rank = np.empty(len(order), int)
+    rank[order] = np.arange(len(order))
+    kept, dropped = _untangle(chosen, rank, at)
+    # refill: extrema only when k was not given (every extremum that fits), any point to reach k
+    pool = order if k_asked is not None else order[:n_ext]
+    L = contour.perimeter
+    chosen = select_separated(pool, res.s, L, k, sep, accept=simple, chosen=kept)
+    if len(chosen) < 3 or (k_asked is not None and len(chosen) < k):
+        chosen = select_separated(order, res.s, L, max(3, k if k_asked is not None else 3), sep, accept=simple,
+                                  chosen=chosen)
+    if k_asked is not None and len(chosen) < k:
+        raise InputError(f"k: only {len(chosen)} points {sep:g} px apart keep the polygon simple on this contour, "
+                         f"asked for {k}")
+    if len(chosen) < 3:
+        raise InputError("k: fewer than 3 points keep the polygon simple on this contour")
+    idx = np.sort(np.asarray(chosen))
+    pts, t = _points_at_samples(contour, res, idx)
+    if not simple(list(idx)):  # the choice above makes this impossible
+        raise InputError("attneave_cat: the polygon crosses itself")
     params = dict(
-        k=k,
+        k=len(idx),
         min_separation=sep,
         indices=[int(i) for i in idx],
         rank=[int(chosen.index(int(i))) for i in idx],
         t=[float(x) for x in t],
         surprisal=[float(res.surprisal[i]) for i in idx],
         n_extrema=n_ext,
-        simple=simple,
+        passed_over=sorted(int(i) for i in set(dropped) - set(chosen)),
+        simple=True,
         **_surprisal_params(res),
     )
     return pts, params
 
 
-def _choose(contour, k, which, k_min, n, model, A, b, min_separation, prominence):
-    """The `k` best-ranked samples at least `min_separation` apart (k=None: every extremum)."""
+def _untangle(chosen, rank, at):
+    """Drop the worst-ranked end of a crossing edge until the polygon is simple.
+
+    `chosen` are sample indices, `rank` the rank of every sample (0 best),
+    `at` the sample points. Returns the kept and the dropped indices.
+    """
+    import shapely
+
+    kept, dropped = [int(i) for i in chosen], []
+    while len(kept) > 3:
+        idx = np.sort(kept)
+        ring = Contour(at[idx], orient=False)
+        hits = ring.self_intersections()
+        if len(hits) == 0:
+            break
+        q = np.vstack([ring.points, ring.points[:1]])
+        edges = shapely.linestrings(np.stack([q[:-1], q[1:]], axis=1))
+        near = shapely.distance(edges[:, None], shapely.points(hits)[None, :]).min(axis=1) < 1e-6
+        ends = {int(idx[j]) for j in np.nonzero(near)[0]} | {int(idx[(j + 1) % len(idx)]) for j in np.nonzero(near)[0]}
+        worst = max(ends, key=lambda i: rank[i])
+        kept.remove(worst)
+        dropped.append(worst)
+    return kept, dropped
+
+
+def _cat_prominence(res, prominence):
+    # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
+    # sharpest corners; Attneave's points are every curvature extremum, ranked
+    return 1e-3 * float(np.ptp(res.surprisal)) if prominence is None else prominence
+
+
+def _choose(contour, k, which, k_min, min_separation, prominence, res):
+    """The `k` best-ranked samples at least `min_separation` apart (k=None: every extremum).
+
+    Returns ``k, separation, chosen, n_extrema, order`` (the ranking).
+    """
     if k is not None and int(k) < k_min:
         raise InputError(f"k: must be >= {k_min}, got {k}")
-    res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
     L = contour.perimeter
     sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
-    if prominence is None:
-        # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
-        # sharpest corners; Attneave's points are every curvature extremum, ranked
-        prominence = 1e-3 * float(np.ptp(res.surprisal))
-    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=prominence)
+    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=_cat_prominence(res, prominence))
     if k is None:
         # every extremum that keeps its distance from the better ones, and no fewer than k_min
         k = max(k_min, len(select_separated(order[:n_ext], res.s, L, n_ext, sep)))
@@ -261,25 +243,38 @@ def _choose(contour, k, which, k_min, n, model, A, b, min_separation, prominence
     chosen = select_separated(order, res.s, L, k, sep)
     if len(chosen) < k:
         raise InputError(f"k: only {len(chosen)} points are {sep:g} px apart on this contour, asked for {k}")
-    return res, k, sep, chosen, n_ext
+    return k, sep, chosen, n_ext, order
 
 
 def _surprisal_params(res):
     p = res.params
-    return dict(n=p["n"], model=p["model"], A=p["A"], b=p["b"], ds=p["ds"], units=p["units"], prominence=p["prominence"])
+    return dict(n=p["n"], model=p["model"], A=p["A"], b=p["b"], ds=p["ds"], units=p["units"], prominence=p["prominence"],
+                length_unit=p["length_unit"])
+
+
+#: Default smallest peak-trough contrast of :func:`fragments`, a fraction of the surprisal's range.
+MIN_CONTRAST = 0.2
 
 
 def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25, b=None, min_gap=8.0,
-              prominence=None):
+              prominence=None, min_contrast=MIN_CONTRAST):
     """Fragments on surprisal peaks versus troughs, of equal length and number.
 
     Each set has `n_fragments` pieces of the contour, each of arc length
-    ``fraction * L / n_fragments`` (L the perimeter) and centred on a chosen
-    sample: the best-ranked peaks for ``'peaks'``, the best-ranked troughs
-    (lowest surprisal) for ``'troughs'``. Centres of the same set are at least
-    ``length + min_gap`` apart along the contour, so the pieces are disjoint
-    with gaps of at least `min_gap` px between them. Both sets therefore show
-    exactly ``fraction * L`` of contour in exactly `n_fragments` pieces.
+    ``fraction * L / n_fragments`` (L the perimeter). Peak pieces are
+    centred on local maxima of surprisal whose prominence is at least
+    `min_contrast` of the surprisal's range, the most prominent first;
+    trough pieces on the best-ranked troughs (lowest surprisal). Centres of
+    the same set are at least ``length + min_gap`` apart along the contour,
+    so the pieces are disjoint with gaps of at least `min_gap` px between
+    them. Both sets therefore show exactly ``fraction * L`` of contour in
+    exactly `n_fragments` pieces.
+
+    The peak-trough contrast is ``(min u(peak centres) - max u(trough
+    centres)) / (max u - min u)``: every peak piece sits at least that
+    fraction of the range above every trough piece. Below `min_contrast`
+    the shape is refused: its "peaks" would not be more informative than
+    its "troughs" in any useful sense.
 
     Parameters
     ----------
@@ -292,25 +287,34 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
     n : int
         Surprisal sampling.
     model, A, b, prominence
-        Passed to :func:`stimuli.information.surprisal`.
+        Passed to :func:`stimuli.information.surprisal` (`prominence` also
+        finds the troughs' local minima).
     min_gap : float
         Minimum gap in px along the contour between pieces of one set (>= 0).
+    min_contrast : float
+        Smallest prominence of a peak and smallest peak-trough contrast, as
+        a fraction of the surprisal's range, in [0, 1) (default
+        :data:`MIN_CONTRAST`, 0.2).
 
     Returns
     -------
     dict
         ``'peaks'`` and ``'troughs'``: lists of (M, 2) polylines (image
         pixels), in contour order; ``'params'``: ``fraction, n_fragments,
-        fragment_length, visible_length, min_gap, peaks_t, troughs_t``
-        (centres' arc positions), ``peaks_surprisal, troughs_surprisal``,
-        ``peaks_extrema, troughs_extrema`` (how many centres are true local
-        extrema) and the surprisal parameters.
+        fragment_length, visible_length, min_gap, min_contrast, contrast,
+        surprisal_range, peaks_t, troughs_t`` (centres' arc positions),
+        ``peaks_surprisal, troughs_surprisal``, ``peaks_height,
+        troughs_height`` (``(u - min u) / range`` at the centres),
+        ``peaks_prominence`` (fractions of the range), ``peaks_extrema,
+        troughs_extrema`` (how many centres are true local extrema) and the
+        surprisal parameters.
 
     Raises
     ------
     InputError
         When the pieces and gaps cannot fit (``fraction * L + m * min_gap >
-        L``) or the greedy choice cannot place `n_fragments` of them.
+        L``), fewer than `n_fragments` prominent peaks or troughs can be
+        placed, or the contrast is below `min_contrast`.
     """
     fraction = float(fraction)
     if not 0 < fraction < 1:
@@ -321,6 +325,9 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
     min_gap = float(min_gap)
     if not min_gap >= 0:
         raise InputError(f"min_gap: must be >= 0, got {min_gap}")
+    min_contrast = float(min_contrast)
+    if not 0 <= min_contrast < 1:
+        raise InputError(f"min_contrast: must be in [0, 1), got {min_contrast}")
     L = contour.perimeter
     ell = fraction * L / m
     if fraction * L + m * min_gap > L:
@@ -329,25 +336,44 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
             f"{L:.4g} px contour; lower fraction, n_fragments or min_gap"
         )
     res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
-    span = max(0, int(round(0.5 * ell / res.params["ds"])))
+    u = res.surprisal
+    lo, span = float(np.min(u)), float(np.ptp(u))
+    if span <= 1e-12 * max(1.0, abs(lo)):
+        raise InputError("min_contrast: the surprisal is constant along this contour; it has no peaks")
+    half = max(0, int(round(0.5 * ell / res.params["ds"])))
     out = {}
-    params = dict(fraction=fraction, n_fragments=m, fragment_length=ell, visible_length=m * ell, min_gap=min_gap)
-    for which in ("peaks", "troughs"):
-        order, n_ext = rank_candidates(res.surprisal, which, span=span, prominence=prominence)
+    params = dict(fraction=fraction, n_fragments=m, fragment_length=ell, visible_length=m * ell, min_gap=min_gap,
+                  min_contrast=min_contrast, surprisal_range=span)
+    peak_order, peak_prom = rank_by_prominence(u, min_contrast)
+    trough_order, n_trough_ext = rank_candidates(u, "troughs", span=half, prominence=prominence)
+    for which, order, n_ext, what in (("peaks", peak_order, len(peak_order),
+                                       f"on peaks of prominence >= {min_contrast:g} of the surprisal range"),
+                                      ("troughs", trough_order, n_trough_ext, "on troughs")):
         ext_set = set(int(i) for i in order[:n_ext])
         chosen = select_separated(order, res.s, L, m, ell + min_gap)
         if len(chosen) < m:
             raise InputError(
-                f"n_fragments: only {len(chosen)} {which} fragments of {ell:.3g} px fit {min_gap:g} px apart on "
+                f"n_fragments: only {len(chosen)} fragments of {ell:.3g} px {what} fit {min_gap:g} px apart on "
                 f"this contour, asked for {m}"
             )
         idx = np.sort(np.asarray(chosen))
         centres = res.s[idx]
         out[which] = [arc_polyline(contour, c - ell / 2, c + ell / 2) for c in centres]
         params[f"{which}_t"] = [float(x) for x in res.t[idx]]
-        params[f"{which}_surprisal"] = [float(res.surprisal[i]) for i in idx]
+        params[f"{which}_surprisal"] = [float(u[i]) for i in idx]
+        params[f"{which}_height"] = [float((u[i] - lo) / span) for i in idx]
         params[f"{which}_indices"] = [int(i) for i in idx]
         params[f"{which}_extrema"] = int(sum(int(i) in ext_set for i in idx))
+        if which == "peaks":
+            prom = dict(zip(peak_order.tolist(), peak_prom.tolist()))
+            params["peaks_prominence"] = [float(prom[int(i)]) for i in idx]
+    contrast = min(params["peaks_height"]) - max(params["troughs_height"])
+    params["contrast"] = float(contrast)
+    if contrast < min_contrast:
+        raise InputError(
+            f"min_contrast: the peak fragments sit only {contrast:.3g} of the surprisal range above the trough "
+            f"fragments, below min_contrast = {min_contrast:g}"
+        )
     params.update(_surprisal_params(res))
     out["params"] = params
     return out
@@ -367,7 +393,8 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
         ``k, which, indices, t, surprisal, n_extrema`` and the surprisal
         parameters.
     """
-    res, k, sep, chosen, n_ext = _choose(contour, k, which, 1, n, model, A, b, min_separation, prominence)
+    res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
+    k, sep, chosen, n_ext, _ = _choose(contour, k, which, 1, min_separation, prominence, res)
     idx = np.sort(np.asarray(chosen))
     pts, t = _points_at_samples(contour, res, idx)
     params = dict(
