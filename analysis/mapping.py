@@ -14,10 +14,16 @@ Exclusion
 No row is dropped. A row is excluded, with the first reason that applies,
 in this order:
 
+``malformed_row``
+    The row's field count differs from the header's (see
+    :func:`analysis.clicks.read_clicks`; ``row_error`` says how).
 ``missing_coordinate``
     x or y empty or NA-like.
 ``non_numeric_coordinate``
     x or y text that is not a number, or infinite.
+``coordinate_list``
+    x or y a list of several values that could not be paired (x and y lists
+    of different lengths).
 ``unknown_stimulus``
     The stimulus id is not in the stimulus set (or is empty).
 ``missing_participant``
@@ -44,7 +50,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
-from .clicks import parse_coordinates, to_image_coords
+from .clicks import malformed_rows, parse_coordinates, to_image_coords
 from .stats import midrank_percentile, point_index, standardize
 
 __all__ = [
@@ -57,8 +63,10 @@ __all__ = [
 ]
 
 REASONS = (
+    "malformed_row",
     "missing_coordinate",
     "non_numeric_coordinate",
+    "coordinate_list",
     "unknown_stimulus",
     "missing_participant",
     "outside_image",
@@ -213,6 +221,7 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     x, px = _parse(df["x"])
     y, py = _parse(df["y"])
     reason = np.where(px != "", px, py).astype(object)
+    reason[malformed_rows(df)] = "malformed_row"
     sid = _ids(df["stimulus_id"])
     part = _ids(df["participant"])
     df["stimulus_id"], df["participant"] = sid, part

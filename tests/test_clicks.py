@@ -86,7 +86,7 @@ def test_read_clicks_maps_columns_and_passes_others_through_as_text(tmp_path):
 @pytest.mark.parametrize(
     "text,msg",
     [
-        ("participant,stimulus_id,x\n1,a,2\n", r"missing column\(s\) y; found participant, stimulus_id, x"),
+        ("participant,stimulus_id,x\n1,a,2\n", r"missing column\(s\) y; found 'participant', 'stimulus_id', 'x' \(3 columns\)"),
         ("", "empty file"),
         ("participant,stimulus_id,x,y\n", "no click rows"),
         ("participant,stimulus_id,x,x,y\n1,a,1,2,3\n", "appears twice"),
