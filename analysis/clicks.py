@@ -61,6 +61,8 @@ __all__ = [
     "CANONICAL",
     "COORDS",
     "WINDOW_UNITS",
+    "MAX_COORDINATE",
+    "SCALE_RANGE",
     "MISSING_TOKENS",
     "parse_columns",
     "read_clicks",
@@ -74,6 +76,10 @@ __all__ = [
 
 CANONICAL = ("participant", "stimulus_id", "x", "y")
 COORDS = ("image", "centered", "pix", "height", "norm")
+#: Largest |coordinate| of a click; a larger one is excluded (reason coordinate_out_of_range).
+MAX_COORDINATE = 1e12
+#: Bounds of --scale (shown size / image size).
+SCALE_RANGE = (1e-6, 1e6)
 #: Units relative to the window, which need the window's size in pixels.
 WINDOW_UNITS = ("height", "norm")
 # spellings of "no value" that spreadsheets and R/pandas write
@@ -259,18 +265,18 @@ def _unpack_lists(df):
     out = df.loc[df.index.repeat(counts)].reset_index(drop=True)
     first = np.concatenate(([0], np.cumsum(counts)[:-1]))
     index = np.full(len(out), -1, np.int64)
-    xs, ys = out["x"].to_numpy(dtype=object), out["y"].to_numpy(dtype=object)
-    others = [c for c in out.columns if c not in ("line", "x", "y")]
+    cols = {c: np.array(out[c], dtype=object) for c in out.columns if c != "line"}
     for i, lx in new_x.items():
         k, lo = len(lx), first[i]
-        xs[lo : lo + k], ys[lo : lo + k] = lx, new_y[i]
+        cols["x"][lo : lo + k], cols["y"][lo : lo + k] = lx, new_y[i]
         if k > 1:
             index[lo : lo + k] = np.arange(k)
-            for c in others:  # a list of k values beside k clicks belongs to them (mouse.time, ...)
-                items = _list_items(str(df[c].iat[i]))
+            for c, v in cols.items():  # a list of k values beside k clicks belongs to them (mouse.time, ...)
+                items = _list_items(str(v[lo])) if c not in ("x", "y") else None
                 if items is not None and len(items) == k:
-                    out.loc[lo : lo + k - 1, c] = items
-    out["x"], out["y"] = xs, ys
+                    v[lo : lo + k] = items
+    for c, v in cols.items():
+        out[c] = v
     if (counts > 1).any():
         out["list_index"] = pd.array(index)
     return out
@@ -294,7 +300,8 @@ def parse_coordinates(values):
         NA-like value (see `MISSING_TOKENS`) or an empty list,
         ``'coordinate_list'`` for a list of several values (that
         :func:`read_clicks` could not pair with the other coordinate's),
-        ``'non_numeric_coordinate'`` for text or an infinite value.
+        ``'non_numeric_coordinate'`` for text or an infinite value,
+        ``'coordinate_out_of_range'`` beyond +-:data:`MAX_COORDINATE`.
 
     Examples
     --------
@@ -324,6 +331,11 @@ def parse_coordinates(values):
         problem[idx[still & ~missing & listed]] = "coordinate_list"
         problem[idx[still & ~missing & ~listed]] = "non_numeric_coordinate"
         num[idx[still]] = np.nan
+    # no screen or image has a coordinate near 1e12; beyond it squares and sums lose meaning
+    far = np.abs(num) > MAX_COORDINATE
+    if far.any():
+        problem[far] = "coordinate_out_of_range"
+        num[far] = np.nan
     return num, problem
 
 
@@ -357,8 +369,9 @@ def parse_window_size(spec):
 def _check(coords, scale, window):
     if coords not in COORDS:
         raise InputError(f"--coords must be one of {', '.join(COORDS)}, got {coords!r}")
-    if not (np.isfinite(scale) and scale > 0):
-        raise InputError(f"--scale must be a positive number, got {scale!r}")
+    if not (np.isfinite(scale) and SCALE_RANGE[0] <= scale <= SCALE_RANGE[1]):
+        raise InputError(f"--scale must be a positive number from {SCALE_RANGE[0]:g} to {SCALE_RANGE[1]:g}, "
+                         f"got {scale!r}")
     if coords in WINDOW_UNITS and window is None:
         raise InputError(f"--coords {coords} needs --window-size W,H (the window's size in pixels)")
 

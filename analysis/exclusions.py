@@ -23,7 +23,7 @@ WARN_FRACTION = 0.2
 # hints for the commonest causes of a reason
 _HINTS = {
     "outside_image": "check --coords, --scale and --window-size",
-    "far_from_contour": "check --coords, --scale and --window-size (or --tolerance)",
+    "far_from_contour": "check --coords, --scale and --window-size, or --tolerance",
     "unknown_stimulus": "stimulus values must name a stimulus id, image file name or image path of the set",
     "non_numeric_coordinate": "check the decimal mark (--decimal) and separator (--sep)",
     "malformed_row": "rows whose field count differs from the header's; see row_error in clicks.csv",

@@ -24,6 +24,8 @@ in this order:
 ``coordinate_list``
     x or y a list of several values that could not be paired (x and y lists
     of different lengths).
+``coordinate_out_of_range``
+    x or y beyond +-1e12 (:data:`analysis.clicks.MAX_COORDINATE`).
 ``unknown_stimulus``
     The stimulus id is not in the stimulus set (or is empty).
 ``missing_participant``
@@ -67,6 +69,7 @@ REASONS = (
     "missing_coordinate",
     "non_numeric_coordinate",
     "coordinate_list",
+    "coordinate_out_of_range",
     "unknown_stimulus",
     "missing_participant",
     "outside_image",
