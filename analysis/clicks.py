@@ -34,6 +34,18 @@ image of width W covers x in [-0.5, W - 0.5] and its centre is at
     A click at the window centre maps to the image centre; one at
     ``(-W/2, +H/2) * scale`` (the top-left corner of the drawn image) maps to
     ``(-0.5, -0.5)``, the outer corner of the top-left pixel.
+
+``pix``
+    The same as ``centered``, under PsychoPy's name.
+
+``height`` and ``norm``
+    PsychoPy's window units, with the image drawn at the window centre, y up.
+    They need the window size ``(Ww, Hw)`` in pixels (``--window-size``):
+    ``height`` has 1 unit = the window height, so ``X = Xh * Hw``,
+    ``Y = Yh * Hw`` pixels; ``norm`` runs from -1 to 1 over each window axis,
+    so ``X = Xn * Ww / 2``, ``Y = Yn * Hw / 2``. Then as ``centered``; the
+    scale of an image drawn ``size`` units high (``height`` units) is
+    ``size * Hw / H``.
 """
 
 from __future__ import annotations
@@ -43,22 +55,33 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import read_text_csv
+from stimuli.io import as_number, describe_columns
 
 __all__ = [
     "CANONICAL",
     "COORDS",
+    "WINDOW_UNITS",
+    "MAX_COORDINATE",
+    "SCALE_RANGE",
     "MISSING_TOKENS",
     "parse_columns",
     "read_clicks",
-    "read_text_csv",
+    "malformed_rows",
     "parse_coordinates",
     "to_image_coords",
     "from_image_coords",
+    "parse_window_size",
+    "window_units_to_pixels",
 ]
 
 CANONICAL = ("participant", "stimulus_id", "x", "y")
-COORDS = ("image", "centered")
+COORDS = ("image", "centered", "pix", "height", "norm")
+#: Largest |coordinate| of a click; a larger one is excluded (reason coordinate_out_of_range).
+MAX_COORDINATE = 1e12
+#: Bounds of --scale (shown size / image size).
+SCALE_RANGE = (1e-6, 1e6)
+#: Units relative to the window, which need the window's size in pixels.
+WINDOW_UNITS = ("height", "norm")
 # spellings of "no value" that spreadsheets and R/pandas write
 MISSING_TOKENS = frozenset({"", "nan", "na", "n/a", "null", "none", "<na>"})
 
@@ -107,8 +130,23 @@ def parse_columns(spec):
     return out
 
 
-def read_clicks(path, columns=None):
+def read_clicks(path, columns=None, sep=None, decimal=None):
     """Read a click file as text, with canonical column names.
+
+    The file is read tolerantly (:mod:`analysis.click_csv`): the separator
+    (``,``, ``;``, tab, ``|``) and decimal commas in x and y are recognised,
+    and a row with the wrong number of fields is kept and flagged (analysis
+    excludes it with reason ``malformed_row``) rather than refusing the file.
+
+    Coordinates written as lists, as PsychoPy Builder's mouse component
+    saves them (``[0.109]``; ``[0.1, 0.3]`` and ``[0.2, 0.4]`` for two
+    clicks), are unpacked: a one-element list is its number; x and y lists of
+    the same length k > 1 become k rows, one per click, that share the line
+    number and differ in a column ``list_index`` (0 .. k-1; -1 on rows that
+    held no list), and every other column holding a list of k values in that
+    row (e.g. ``mouse.time``) is split alongside. An empty list ``[]`` is a
+    missing coordinate; lists of unequal lengths are left as written and
+    excluded with reason ``coordinate_list``.
 
     Parameters
     ----------
@@ -117,39 +155,55 @@ def read_clicks(path, columns=None):
     columns : str or dict, optional
         Mapping of canonical names to the file's names (see
         :func:`parse_columns`).
+    sep : str, optional
+        Field separator (``','``, ``';'``, ``'tab'``, ``'|'``); default: found
+        from the header.
+    decimal : {'.', ','}, optional
+        Decimal mark of x and y; default: ``','`` when x or y values look like
+        ``12,5`` and none like ``12.5``. Decimal commas are converted to points
+        in the x, y columns; other columns pass through as written.
 
     Returns
     -------
     pandas.DataFrame
-        One row per data row of the file, all values as text (``str``),
-        columns renamed to ``participant, stimulus_id, x, y`` where mapped,
-        other columns unchanged. A column of the file that already bears a
-        canonical name which the mapping gives to another column, or the name
-        ``line``, is kept as ``input_<name>``. A first column ``line`` holds
-        the line number in the file (the header is line 1).
+        One row per data row of the file (more for unpacked lists), all values
+        as text (``str``), columns renamed to ``participant, stimulus_id, x,
+        y`` where mapped, other columns unchanged. A column of the file that
+        already bears a canonical name which the mapping gives to another
+        column, or one of the names added here, is kept as ``input_<name>``.
+        A first column ``line`` holds the line number in the file (the header
+        is line 1); a column ``row_error`` (only when some row is malformed)
+        says what is wrong with a row; ``list_index`` as above.
 
     Raises
     ------
     InputError
-        The file is missing, unreadable, empty, has no data rows, or lacks a
-        required column (the message names the file, the missing columns and
-        the columns found).
+        The file is missing, not a regular file, too large, not text, empty,
+        has no data rows, or lacks a required column (the message names the
+        file and the missing columns, and the columns found when the first
+        line looks like a CSV header).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "clicks.csv"
+    >>> _ = f.write_text("participant;stimulus_id;x;y\\nP1;rf_003;12,5;40\\n")
+    >>> read_clicks(f)[["participant", "x", "y"]].values.tolist()
+    [['P1', '12.5', '40']]
     """
+    from .click_csv import read_tolerant_csv, sniff_decimal, to_decimal_point
+
     path = Path(path)
     mapping = parse_columns(columns)
-    df, lines = read_text_csv(path, what="a CSV click file",
-                              empty=f"expected a header with {', '.join(CANONICAL)}")
-    header = _header(path)
-    seen = set()
-    for c in header:
-        if c in seen:
-            raise InputError(f"{path}: column {c!r} appears twice in the header")
-        seen.add(c)
-    df.columns = [str(c).strip() for c in df.columns]
+    if decimal not in (None, ".", ","):
+        raise InputError(f"--decimal: expected '.' or ',', got {decimal!r}")
+    df, lines, row_error, _ = read_tolerant_csv(path, sep=sep, what="a CSV click file",
+                                                empty=f"expected a header with {', '.join(CANONICAL)}")
     absent = [f"{v} (for {k})" for k, v in mapping.items() if v not in df.columns]
     if absent:
-        raise InputError(f"{path}: --columns names column(s) not in the file: {', '.join(absent)}; found {', '.join(df.columns)}")
-    rename = {}
+        raise InputError(f"{path}: --columns names column(s) not in the file: {', '.join(absent)}; "
+                         f"{describe_columns(df.columns)}")
+    rename = {c: f"input_{c}" for c in _ADDED if c in df.columns}
     for k, v in mapping.items():
         if v != k and k in df.columns and k not in mapping.values():
             rename[k] = f"input_{k}"
@@ -157,29 +211,75 @@ def read_clicks(path, columns=None):
     df = df.rename(columns=rename)
     missing = [c for c in CANONICAL if c not in df.columns]
     if missing:
-        hint = " (map other names with --columns NAME=COLUMN,...)"
-        raise InputError(
-            f"{path}: missing column(s) {', '.join(missing)}; found {', '.join(df.columns) or 'none'}{hint}"
-        )
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(df.columns)} "
+                         "(map other names with --columns NAME=COLUMN,...)")
     if len(df) == 0:
         raise InputError(f"{path}: no click rows (only a header)")
     for c in ("participant", "stimulus_id"):
         df[c] = df[c].str.strip()
-    if "line" in df.columns:
-        df = df.rename(columns={"line": "input_line"})
+    if decimal is None:
+        decimal = sniff_decimal(df["x"].tolist() + df["y"].tolist())
+    if decimal == ",":
+        for c in ("x", "y"):
+            df[c] = to_decimal_point(df[c].tolist())
     df.insert(0, "line", lines)
-    return df
+    if any(row_error):
+        df["row_error"] = row_error
+    return _unpack_lists(df)
 
 
+# columns read_clicks adds; a file's own columns of these names are kept as input_<name>
+_ADDED = ("line", "row_error", "list_index")
 
 
-def _header(path):
-    """Header names as written (pandas renames duplicates to 'x.1')."""
-    import csv
+def _list_items(value):
+    """``'[a, b]'`` -> ``['a', 'b']``; None when `value` is not written as a list."""
+    v = value.strip()
+    if len(v) < 2 or v[0] != "[" or v[-1] != "]":
+        return None
+    inner = v[1:-1].strip()
+    return [t.strip().strip("'\"") for t in inner.split(",")] if inner else []
 
-    with open(path, newline="", encoding="utf-8", errors="replace") as fh:
-        row = next(csv.reader(fh), [])
-    return [c.strip() for c in row]
+
+def _unpack_lists(df):
+    """Coordinates written as lists -> numbers, one row per click (see :func:`read_clicks`)."""
+    import pandas as pd
+
+    x, y = df["x"].to_numpy(dtype=object), df["y"].to_numpy(dtype=object)
+    is_list = df["x"].str.lstrip().str.startswith("[").to_numpy() | df["y"].str.lstrip().str.startswith("[").to_numpy()
+    if not is_list.any():
+        return df
+    counts = np.ones(len(df), np.int64)
+    new_x, new_y = {}, {}
+    for i in np.flatnonzero(is_list):
+        lx, ly = _list_items(x[i]), _list_items(y[i])
+        if lx is None or ly is None or len(lx) != len(ly):
+            continue  # left as written: parse_coordinates names the problem
+        if len(lx) == 0:
+            new_x[i], new_y[i] = [""], [""]
+        else:
+            new_x[i], new_y[i] = lx, ly
+            counts[i] = len(lx)
+    if not new_x:
+        return df
+    out = df.loc[df.index.repeat(counts)].reset_index(drop=True)
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))
+    index = np.full(len(out), -1, np.int64)
+    cols = {c: np.array(out[c], dtype=object) for c in out.columns if c != "line"}
+    for i, lx in new_x.items():
+        k, lo = len(lx), first[i]
+        cols["x"][lo : lo + k], cols["y"][lo : lo + k] = lx, new_y[i]
+        if k > 1:
+            index[lo : lo + k] = np.arange(k)
+            for c, v in cols.items():  # a list of k values beside k clicks belongs to them (mouse.time, ...)
+                items = _list_items(str(v[lo])) if c not in ("x", "y") else None
+                if items is not None and len(items) == k:
+                    v[lo : lo + k] = items
+    for c, v in cols.items():
+        out[c] = v
+    if (counts > 1).any():
+        out["list_index"] = pd.array(index)
+    return out
 
 
 def parse_coordinates(values):
@@ -188,6 +288,8 @@ def parse_coordinates(values):
     Parameters
     ----------
     values : sequence of str
+        Numbers as text; a one-element list (``'[0.109]'``, as PsychoPy
+        writes) is its number, an empty list ``'[]'`` is missing.
 
     Returns
     -------
@@ -195,8 +297,17 @@ def parse_coordinates(values):
         NaN where the value is missing or not a finite number.
     problem : (M,) ndarray of object
         ``''`` for a good value, ``'missing_coordinate'`` for an empty or
-        NA-like value (see `MISSING_TOKENS`), ``'non_numeric_coordinate'`` for
-        text or an infinite value.
+        NA-like value (see `MISSING_TOKENS`) or an empty list,
+        ``'coordinate_list'`` for a list of several values (that
+        :func:`read_clicks` could not pair with the other coordinate's),
+        ``'non_numeric_coordinate'`` for text or an infinite value,
+        ``'coordinate_out_of_range'`` beyond +-:data:`MAX_COORDINATE`.
+
+    Examples
+    --------
+    >>> v, p = parse_coordinates(["1.5", "[0.25]", "[]", "[1, 2]", "abc"])
+    >>> v.tolist()[:2], p.tolist()
+    ([1.5, 0.25], ['', '', 'missing_coordinate', 'coordinate_list', 'non_numeric_coordinate'])
     """
     import pandas as pd
 
@@ -207,22 +318,71 @@ def parse_coordinates(values):
     if bad.any():
         # only the rows that failed are looked at as text (few, usually)
         idx = np.flatnonzero(bad)
-        raw = s.iloc[idx]
-        missing = raw.isna().to_numpy() | raw.astype(str).str.strip().str.lower().isin(MISSING_TOKENS).to_numpy()
-        problem[idx[missing]] = "missing_coordinate"
-        problem[idx[~missing]] = "non_numeric_coordinate"
-        num[idx] = np.nan
+        raw = s.iloc[idx].astype(str).str.strip()
+        items = raw.str.extract(r"^\[\s*([^,\]]*?)\s*\]$")[0]  # the element of a one-element list
+        one = items.notna().to_numpy() & (items.fillna("") != "").to_numpy()
+        if one.any():
+            num[idx[one]] = pd.to_numeric(items[one], errors="coerce").to_numpy(dtype=float)
+        still = ~np.isfinite(num[idx])
+        missing = (s.iloc[idx].isna().to_numpy() | raw.str.lower().isin(MISSING_TOKENS).to_numpy()
+                   | raw.str.fullmatch(r"\[\s*\]").to_numpy(dtype=bool))
+        listed = raw.str.fullmatch(r"\[.*,.*\]").to_numpy(dtype=bool)
+        problem[idx[still & missing]] = "missing_coordinate"
+        problem[idx[still & ~missing & listed]] = "coordinate_list"
+        problem[idx[still & ~missing & ~listed]] = "non_numeric_coordinate"
+        num[idx[still]] = np.nan
+    # no screen or image has a coordinate near 1e12; beyond it squares and sums lose meaning
+    far = np.abs(num) > MAX_COORDINATE
+    if far.any():
+        problem[far] = "coordinate_out_of_range"
+        num[far] = np.nan
     return num, problem
 
 
-def _check(coords, scale):
+def malformed_rows(clicks):
+    """Rows that :func:`read_clicks` found malformed (wrong field count), as a bool array.
+
+    Frames built otherwise (e.g. simulated clicks) have no malformed rows.
+    """
+    if "row_error" not in clicks.columns:
+        return np.zeros(len(clicks), bool)
+    return (clicks["row_error"].astype(str) != "").to_numpy()
+
+
+def parse_window_size(spec):
+    """Parse ``--window-size W,H`` (pixels) -> ``(W, H)`` floats.
+
+    Examples
+    --------
+    >>> parse_window_size("1920,1080")
+    (1920.0, 1080.0)
+    """
+    if spec is None:
+        return None
+    parts = spec if isinstance(spec, (tuple, list)) else str(spec).replace("x", ",").split(",")
+    if len(parts) != 2:
+        raise InputError(f"--window-size: expected W,H in pixels (e.g. 1920,1080), got {spec!r}")
+    w, h = (as_number(v, "--window-size", gt=0, le=1e6) for v in parts)
+    return w, h
+
+
+def _check(coords, scale, window):
     if coords not in COORDS:
         raise InputError(f"--coords must be one of {', '.join(COORDS)}, got {coords!r}")
-    if not (np.isfinite(scale) and scale > 0):
-        raise InputError(f"--scale must be a positive number, got {scale!r}")
+    if not (np.isfinite(scale) and SCALE_RANGE[0] <= scale <= SCALE_RANGE[1]):
+        raise InputError(f"--scale must be a positive number from {SCALE_RANGE[0]:g} to {SCALE_RANGE[1]:g}, "
+                         f"got {scale!r}")
+    if coords in WINDOW_UNITS and window is None:
+        raise InputError(f"--coords {coords} needs --window-size W,H (the window's size in pixels)")
 
 
-def to_image_coords(x, y, width, height, coords="image", scale=1.0):
+def _window_factors(coords, window):
+    """Screen pixels per unit of `coords` along x and y (y up)."""
+    w, h = parse_window_size(window)
+    return (h, h) if coords == "height" else (w / 2.0, h / 2.0)
+
+
+def to_image_coords(x, y, width, height, coords="image", scale=1.0, window=None):
     """Convert click coordinates to image pixels (y down, pixel centres at integers).
 
     Parameters
@@ -231,10 +391,12 @@ def to_image_coords(x, y, width, height, coords="image", scale=1.0):
         Click coordinates in the system `coords`.
     width, height : array_like
         Image size in pixels (per click, or scalars).
-    coords : {'image', 'centered'}
+    coords : {'image', 'centered', 'pix', 'height', 'norm'}
         See the module docstring.
     scale : float
         Shown size / image size (> 0).
+    window : (float, float), optional
+        Window size ``(W, H)`` in pixels; needed for 'height' and 'norm'.
 
     Returns
     -------
@@ -247,20 +409,25 @@ def to_image_coords(x, y, width, height, coords="image", scale=1.0):
     [255.5, 255.5]
     >>> [float(v) for v in to_image_coords(-256.0, 256.0, 512, 512, "centered")]
     [-0.5, -0.5]
+    >>> [float(v) for v in to_image_coords(-0.25, 0.25, 512, 512, "height", window=(1920, 1024))]
+    [-0.5, -0.5]
     """
-    _check(coords, scale)
+    _check(coords, scale, window)
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if coords == "image":
         if scale == 1.0:
             return x.copy(), y.copy()
         return (x + 0.5) / scale - 0.5, (y + 0.5) / scale - 0.5
+    if coords in WINDOW_UNITS:
+        fx, fy = _window_factors(coords, window)
+        x, y = x * fx, y * fy
     cx = (np.asarray(width, dtype=float) - 1.0) / 2.0
     cy = (np.asarray(height, dtype=float) - 1.0) / 2.0
     return cx + x / scale, cy - y / scale
 
 
-def from_image_coords(x, y, width, height, coords="image", scale=1.0):
+def from_image_coords(x, y, width, height, coords="image", scale=1.0, window=None):
     """Inverse of :func:`to_image_coords`: image pixels to `coords`.
 
     Examples
@@ -268,7 +435,7 @@ def from_image_coords(x, y, width, height, coords="image", scale=1.0):
     >>> [float(v) for v in from_image_coords(255.5, 255.5, 512, 512, "centered")]
     [0.0, 0.0]
     """
-    _check(coords, scale)
+    _check(coords, scale, window)
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if coords == "image":
@@ -277,4 +444,43 @@ def from_image_coords(x, y, width, height, coords="image", scale=1.0):
         return (x + 0.5) * scale - 0.5, (y + 0.5) * scale - 0.5
     cx = (np.asarray(width, dtype=float) - 1.0) / 2.0
     cy = (np.asarray(height, dtype=float) - 1.0) / 2.0
-    return (x - cx) * scale, (cy - y) * scale
+    xs, ys = (x - cx) * scale, (cy - y) * scale
+    if coords in WINDOW_UNITS:
+        fx, fy = _window_factors(coords, window)
+        xs, ys = xs / fx, ys / fy
+    return xs, ys
+
+
+def window_units_to_pixels(clicks, coords, window):
+    """Clicks in PsychoPy's 'height' or 'norm' units -> 'centered' screen pixels.
+
+    The analysis maps 'centered' pixels; this converts the other two window
+    units to them (see the module docstring), keeping the values as written
+    in columns ``x_<coords>`` and ``y_<coords>``.
+
+    Parameters
+    ----------
+    clicks : pandas.DataFrame
+        From :func:`read_clicks`.
+    coords : {'height', 'norm'}
+    window : str or (float, float)
+        Window size ``W,H`` in pixels.
+
+    Returns
+    -------
+    pandas.DataFrame
+        A copy, x and y in pixels from the window centre, y up.
+    """
+    _check(coords, 1.0, window)
+    fx, fy = _window_factors(coords, window)
+    x, px = parse_coordinates(clicks["x"].to_numpy())
+    y, py = parse_coordinates(clicks["y"].to_numpy())
+    out = clicks.copy()
+    keep = {c: f"input_{c}" for c in (f"x_{coords}", f"y_{coords}") if c in out.columns}
+    out = out.rename(columns=keep)
+    out.insert(out.columns.get_loc("y") + 1, f"x_{coords}", clicks["x"].to_numpy())
+    out.insert(out.columns.get_loc(f"x_{coords}") + 1, f"y_{coords}", clicks["y"].to_numpy())
+    # a value that is not a number stays as written, so that its reason is the same
+    out["x"] = np.where(px == "", x * fx, clicks["x"].to_numpy(dtype=object))
+    out["y"] = np.where(py == "", y * fy, clicks["y"].to_numpy(dtype=object))
+    return out

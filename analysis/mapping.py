@@ -14,10 +14,18 @@ Exclusion
 No row is dropped. A row is excluded, with the first reason that applies,
 in this order:
 
+``malformed_row``
+    The row's field count differs from the header's (see
+    :func:`analysis.clicks.read_clicks`; ``row_error`` says how).
 ``missing_coordinate``
     x or y empty or NA-like.
 ``non_numeric_coordinate``
     x or y text that is not a number, or infinite.
+``coordinate_list``
+    x or y a list of several values that could not be paired (x and y lists
+    of different lengths).
+``coordinate_out_of_range``
+    x or y beyond +-1e12 (:data:`analysis.clicks.MAX_COORDINATE`).
 ``unknown_stimulus``
     The stimulus id is not in the stimulus set (or is empty).
 ``missing_participant``
@@ -45,7 +53,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
-from .clicks import parse_coordinates, to_image_coords
+from .clicks import malformed_rows, parse_coordinates, to_image_coords
 from .choice import point_index, standardize
 from .circular import midrank_percentile
 from .predictors import RIVALS, rival_values
@@ -60,8 +68,11 @@ __all__ = [
 ]
 
 REASONS = (
+    "malformed_row",
     "missing_coordinate",
     "non_numeric_coordinate",
+    "coordinate_list",
+    "coordinate_out_of_range",
     "unknown_stimulus",
     "missing_participant",
     "outside_image",
@@ -215,6 +226,7 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     x, px = _parse(df["x"])
     y, py = _parse(df["y"])
     reason = np.where(px != "", px, py).astype(object)
+    reason[malformed_rows(df)] = "malformed_row"
     sid = _ids(df["stimulus_id"])
     part = _ids(df["participant"])
     df["stimulus_id"], df["participant"] = sid, part

@@ -1,13 +1,18 @@
-"""File helpers: atomic writes and reading point tables.
+"""File helpers: atomic writes, checked input files and reading point tables.
 
 Every file the project writes goes through :func:`atomic_write`, so that an
-interrupted run never leaves a half-written file under its final name.
+interrupted run never leaves a half-written file under its final name. Every
+file it reads is first checked by :func:`check_regular_file`: a FIFO, a device
+(``/dev/zero``) or a socket would hang the reader or feed it without end, so
+only regular files (or links to them) are read, and text inputs (CSV files,
+configs) are bounded by :data:`MAX_TEXT_BYTES`.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -15,7 +20,23 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["atomic_write", "write_table", "read_text_csv", "read_table", "read_points", "as_points", "as_number"]
+__all__ = [
+    "MAX_TEXT_BYTES",
+    "atomic_write",
+    "write_table",
+    "check_regular_file",
+    "describe_columns",
+    "shorten",
+    "read_text_csv",
+    "read_table",
+    "read_points",
+    "as_points",
+    "as_number",
+]
+
+#: Largest CSV or other text input read (bytes): 200 MB holds millions of
+#: clicks or contour points; a larger file is a mistake (or ``/dev/zero``).
+MAX_TEXT_BYTES = 200 * 1000**2
 
 
 @contextlib.contextmanager
@@ -96,6 +117,132 @@ def write_table(table, path, float_format="%.10g"):
         df.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
 
 
+def check_regular_file(path, what="a file", max_bytes=None):
+    """Check that `path` is a regular file that may be read, before opening it.
+
+    Opening a FIFO blocks until someone writes to it, and a device such as
+    ``/dev/zero`` never ends: every reader of user-given paths calls this
+    first (it follows symbolic links, so a link to a regular file is fine).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file to read.
+    what : str
+        What the file should be, for messages (e.g. ``'a CSV click file'``).
+    max_bytes : int, optional
+        Largest size accepted; :data:`MAX_TEXT_BYTES` is the limit for text
+        inputs. None: no limit.
+
+    Returns
+    -------
+    Path
+        `path` as a :class:`pathlib.Path`.
+
+    Raises
+    ------
+    InputError
+        One line naming the file: missing, a directory, a FIFO, device or
+        socket, unreadable, or larger than `max_bytes`.
+
+    Examples
+    --------
+    >>> check_regular_file("/dev/null", "a CSV file")
+    Traceback (most recent call last):
+    ...
+    stimuli.errors.InputError: /dev/null: is a character device, not a regular file; expected a CSV file
+    """
+    import stat
+
+    path = Path(path)
+    try:
+        st = path.stat()
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such file") from None
+    except OSError as exc:  # no permission on a parent, a name too long, a loop of links, ...
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    mode = st.st_mode
+    if stat.S_ISDIR(mode):
+        raise InputError(f"{path}: is a directory, expected {what}")
+    if not stat.S_ISREG(mode):
+        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
+                else "a block device" if stat.S_ISBLK(mode) else "a socket" if stat.S_ISSOCK(mode)
+                else "a special file")
+        raise InputError(f"{path}: is {kind}, not a regular file; expected {what}")
+    if max_bytes is not None and st.st_size > max_bytes:
+        raise InputError(f"{path}: {st.st_size / 1e6:,.0f} MB is larger than the limit of "
+                         f"{max_bytes / 1e6:,.0f} MB for {what}")
+    if not os.access(path, os.R_OK):
+        raise InputError(f"{path}: cannot read (permission denied)")
+    return path
+
+
+def shorten(text, limit=30):
+    """`text` as ``repr``, cut to about `limit` characters (for messages that quote a file).
+
+    Examples
+    --------
+    >>> shorten("x")
+    "'x'"
+    >>> shorten("a" * 40, limit=10)
+    "'aaaaaaaaa...'"
+    """
+    text = str(text)
+    return repr(text if len(text) <= limit else text[: limit - 1] + "...")
+
+
+# a column name as people write them: words, digits, spaces and a little punctuation;
+# anything else (':' of /etc/passwd, '$' of a password hash, binary) is not a header
+_HEADER_NAME = re.compile(r"^[\w .()\[\]/%#+*'-]{1,64}$")
+_OTHER_SEPARATORS = {";": "';'", "\t": "tab", "|": "'|'"}
+
+
+def describe_columns(columns, limit=5):
+    """Name the columns found in a file, for a message about missing columns.
+
+    Quoting a file's first line in a message would echo the contents of any
+    file a user (or an attacker) points the program at, so the names are
+    given only when they look like a CSV header, and cut short: the first
+    `limit` names, each to 30 characters.
+
+    Parameters
+    ----------
+    columns : sequence of str
+        Column names as read.
+    limit : int
+        How many names to quote at most.
+
+    Returns
+    -------
+    str
+        E.g. ``"found 'a', 'b' (2 columns)"``, ``"found no columns"`` or a
+        sentence saying the first line is not a CSV header (naming the
+        separator it seems to use, if it is ';', tab or '|').
+
+    Examples
+    --------
+    >>> describe_columns(["participant", "x"])
+    "found 'participant', 'x' (2 columns)"
+    >>> describe_columns(["participant;stimulus_id;x;y"])
+    "found 1 column whose name holds ';': the file seems to use ';' as separator; expected commas"
+    >>> describe_columns(["root:x:0:0:root:/root:/bin/bash"])
+    'the first line is not a CSV header with comma-separated column names'
+    """
+    # pandas names an empty header field 'Unnamed: 3' (a trailing comma, as PsychoPy writes)
+    names = [str(c) for c in columns if not re.fullmatch(r"Unnamed: \d+", str(c))]
+    if not names:
+        return "found no columns"
+    if len(names) == 1:
+        for sep, name in _OTHER_SEPARATORS.items():
+            if sep in names[0] and all(_HEADER_NAME.match(p.strip() or "_") for p in names[0].split(sep)):
+                return (f"found 1 column whose name holds {name}: the file seems to use {name} as separator; "
+                        "expected commas")
+    if not all(_HEADER_NAME.match(c.strip()) for c in names if c.strip()):
+        return "the first line is not a CSV header with comma-separated column names"
+    shown = ", ".join(shorten(c) for c in names[:limit]) + (", ..." if len(names) > limit else "")
+    return f"found {shown} ({len(names)} column{'s' if len(names) != 1 else ''})"
+
+
 _NEWLINE = r"\r\n|\r|\n"
 
 
@@ -127,14 +274,15 @@ def read_text_csv(path, what="a CSV file", empty="expected a header"):
     Raises
     ------
     InputError
-        Missing, a directory, empty, not UTF-8 text, not parseable, or a row
+        Missing, a directory or other non-regular file, larger than
+        :data:`MAX_TEXT_BYTES`, empty, not UTF-8 text, not parseable, or a row
         with values beyond the header.
     """
     import warnings
 
     import pandas as pd
 
-    path = Path(path)
+    path = check_regular_file(path, what, max_bytes=MAX_TEXT_BYTES)
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", pd.errors.ParserWarning)
@@ -174,8 +322,6 @@ def read_text_csv(path, what="a CSV file", empty="expected a header"):
 
 def _blank_lines(path):
     """Numbers (from 1) of the lines of `path` that hold only white space."""
-    import re
-
     text = Path(path).read_text(encoding="utf-8-sig", errors="replace")
     return np.array([i + 1 for i, ln in enumerate(re.split(_NEWLINE, text)) if not ln.strip()], dtype=np.int64)
 
@@ -189,7 +335,7 @@ def _check_extra_fields(path):
         n = len(next(reader, []))
         for row in reader:
             if len(row) > n and any(v.strip() for v in row[n:]):
-                extra = ", ".join(repr(v) for v in row[n:])
+                extra = ", ".join(shorten(v) for v in row[n:][:3]) + (", ..." if len(row) - n > 3 else "")
                 raise InputError(f"{path}: line {reader.line_num}: {len(row)} fields but the header has {n} "
                                  f"(extra value(s) {extra}); add a column name to the header or remove them")
 
@@ -223,16 +369,14 @@ def read_table(path, required=(), numeric=()):
     df, lines = read_text_csv(path)
     missing = [c for c in required if c not in df.columns]
     if missing:
-        raise InputError(
-            f"{path}: missing column(s) {', '.join(missing)}; found {', '.join(df.columns) or 'none'}"
-        )
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(df.columns)}")
     for col in numeric:
         values = pd.to_numeric(df[col], errors="coerce")
         bad = ~np.isfinite(values.to_numpy(dtype=float))
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise InputError(
-                f"{path}: line {lines[i]}: column {col!r} must be a finite number, got {df[col].iloc[i]!r}"
+                f"{path}: line {lines[i]}: column {col!r} must be a finite number, got {shorten(df[col].iloc[i])}"
             )
         df[col] = values.astype(float)
     return df

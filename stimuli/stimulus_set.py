@@ -42,7 +42,7 @@ import numpy as np
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
 
-from stimuli.io import read_text_csv
+from stimuli.io import describe_columns, read_text_csv
 
 __all__ = [
     "StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS",
@@ -222,7 +222,7 @@ def read_stimulus_set(directory):
     manifest, lines = read_text_csv(mpath, what="a manifest", empty=f"expected a header with {', '.join(REQUIRED_COLUMNS)}")
     missing = [c for c in REQUIRED_COLUMNS if c not in manifest.columns]
     if missing:
-        raise InputError(f"{mpath}: missing column(s) {', '.join(missing)}; found {', '.join(manifest.columns) or 'none'}")
+        raise InputError(f"{mpath}: missing column(s) {', '.join(missing)}; {describe_columns(manifest.columns)}")
     if len(manifest) == 0:
         raise InputError(f"{mpath}: no stimuli (the manifest has no rows)")
     ids, contours, sizes, images = [], {}, {}, {}

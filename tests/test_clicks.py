@@ -41,11 +41,11 @@ def test_image_scale_uses_pixel_edges():
 @settings(max_examples=60, deadline=None)
 @given(
     x=st.floats(-1000, 1000), y=st.floats(-1000, 1000), W=st.integers(1, 4000), H=st.integers(1, 4000),
-    coords=st.sampled_from(["image", "centered"]), scale=st.floats(0.1, 10),
+    coords=st.sampled_from(["image", "centered", "pix", "height", "norm"]), scale=st.floats(0.1, 10),
 )
 def test_coordinate_round_trip(x, y, W, H, coords, scale):
-    a, b = from_image_coords(x, y, W, H, coords, scale)
-    x2, y2 = to_image_coords(a, b, W, H, coords, scale)
+    a, b = from_image_coords(x, y, W, H, coords, scale, window=(1920, 1080))
+    x2, y2 = to_image_coords(a, b, W, H, coords, scale, window=(1920, 1080))
     assert x2 == pytest.approx(x, abs=1e-9) and y2 == pytest.approx(y, abs=1e-9)
 
 
@@ -86,7 +86,7 @@ def test_read_clicks_maps_columns_and_passes_others_through_as_text(tmp_path):
 @pytest.mark.parametrize(
     "text,msg",
     [
-        ("participant,stimulus_id,x\n1,a,2\n", r"missing column\(s\) y; found participant, stimulus_id, x"),
+        ("participant,stimulus_id,x\n1,a,2\n", r"missing column\(s\) y; found 'participant', 'stimulus_id', 'x' \(3 columns\)"),
         ("", "empty file"),
         ("participant,stimulus_id,x,y\n", "no click rows"),
         ("participant,stimulus_id,x,x,y\n1,a,1,2,3\n", "appears twice"),
@@ -219,3 +219,98 @@ def test_default_tolerance_is_five_percent_of_the_diagonal(square_set):
     tol = 0.05 * np.hypot(300, 300)  # 21.2 px
     clicks = pd.DataFrame(dict(participant="a", stimulus_id="sq", x=[100 - tol + 0.1, 100 - tol - 0.1], y=150.0))
     assert map_clicks(clicks, pred)["reason"].tolist() == ["", "far_from_contour"]
+
+
+# ------------------------------------------- files as PsychoPy, jsPsych and spreadsheets write them
+def test_window_units_of_psychopy():
+    # a 400 x 300 image drawn at the centre of a 1000 x 800 window at its own size:
+    # its top-left corner (outer edge of pixel (0, 0)) is 200 px left of and 150 px above the centre
+    win = (1000, 800)
+    assert to_image_coords(-200 / 800, 150 / 800, 400, 300, "height", window=win) == (-0.5, -0.5)
+    assert to_image_coords(-200 / 500, 150 / 400, 400, 300, "norm", window=win) == (-0.5, -0.5)
+    assert to_image_coords(0.0, 0.0, 400, 300, "pix") == (199.5, 149.5)
+    with pytest.raises(InputError, match="--window-size"):
+        to_image_coords(0.0, 0.0, 400, 300, "height")
+
+
+def test_separator_and_decimal_sniffing(tmp_path):
+    from analysis.click_csv import sniff_separator
+
+    assert sniff_separator("a\tb\tc") == "\t" and sniff_separator("a|b") == "|"
+    assert sniff_separator('"x;y",b') == ","  # a separator inside quotes does not count
+    f = tmp_path / "c.tsv"
+    f.write_text("participant\tstimulus_id\tx\ty\nP1\ta\t1,5\t-2,25\nP1\ta\t3\t4\n")
+    assert read_clicks(f)[["x", "y"]].values.tolist() == [["1.5", "-2.25"], ["3", "4"]]
+    # decimal commas are not guessed beside decimal points; --decimal decides
+    g = tmp_path / "g.csv"
+    g.write_text('participant;stimulus_id;x;y\nP1;a;1,5;2.5\n')
+    assert read_clicks(g)["x"].tolist() == ["1,5"]
+    assert read_clicks(g, decimal=",")["x"].tolist() == ["1.5"]
+    with pytest.raises(InputError, match="seems to use ';' as separator"):
+        read_clicks(g, sep=",")
+    with pytest.raises(InputError, match="--sep"):
+        read_clicks(g, sep="ab")
+
+
+def test_malformed_rows_and_unclosed_quotes_are_flagged_not_fatal(tmp_path):
+    f = tmp_path / "c.csv"
+    f.write_text('participant,stimulus_id,x,y\nP1,a,1,2\nP1,a,3\nP1,a,5,6\nP1,"a,7,8\nP1,a,9,10\n')
+    df = read_clicks(f)
+    assert df["line"].tolist() == [2, 3, 4, 5]
+    assert df["row_error"].tolist() == ["", "3 fields, the header has 4", "", df["row_error"].iloc[3]]
+    assert "never closed (lines 5-6" in df["row_error"].iloc[3]
+
+
+def test_utf16_file_as_excel_writes_unicode_text(tmp_path):
+    f = tmp_path / "c.txt"
+    f.write_bytes("participant\tstimulus_id\tx\ty\r\nJosé\ta\t1\t2\r\n".encode("utf-16"))
+    assert read_clicks(f)[["participant", "x"]].values.tolist() == [["José", "1"]]
+    g = tmp_path / "latin1.csv"
+    g.write_bytes("participant,stimulus_id,x,y\nJos\xe9,a,1,2\n".encode("latin-1"))
+    with pytest.raises(InputError, match=r"line 2: not UTF-8 text"):
+        read_clicks(g)
+
+
+def test_coordinate_lists_are_unpacked_or_excluded(tmp_path):
+    f = tmp_path / "c.csv"
+    f.write_text('participant,stimulus_id,x,y,t\n'
+                 'P1,a,[0.5],[1.5],[0.2]\n'
+                 'P1,a,"[1, 2]","[3, 4]","[0.1, 0.2]"\n'
+                 'P1,a,"[1, 2]",[3],x\n'
+                 'P1,a,[],[],\n')
+    df = read_clicks(f)
+    assert df["line"].tolist() == [2, 3, 3, 4, 5]
+    assert df["list_index"].tolist() == [-1, 0, 1, -1, -1]
+    assert df["t"].tolist() == ["[0.2]", "0.1", "0.2", "x", ""]
+    v, p = parse_coordinates(df["x"])
+    assert v[:3].tolist() == [0.5, 1.0, 2.0]
+    assert p.tolist() == ["", "", "", "coordinate_list", "missing_coordinate"]
+
+
+def test_stimulus_values_match_by_id_image_path_or_file_name(tmp_path):
+    from analysis.exclusions import match_stimulus_ids
+
+    sq = np.array([[10, 10], [50, 10], [50, 50], [10, 50]], float)
+    write_stimulus_set(tmp_path, {"a1": sq, "b1": sq, "c1": sq}, size=(64, 64))
+    man = tmp_path / "manifest.csv"
+    m = pd.read_csv(man, dtype=str, keep_default_na=False)
+    m["image"] = ["set_a/shape.png", "set_b/shape.png", "images/c1.png"]
+    m.to_csv(man, index=False)
+    s = read_stimulus_set(tmp_path)
+    ids, how = match_stimulus_ids(["a1", "x/set_b/shape.png", "D:\\exp\\set_a\\shape.png", "shape.png",
+                                   "c1.jpg", " b1 ", ""], s)
+    # the bare file name is shared by two images: nothing tells them apart, no guess
+    assert ids.tolist() == ["a1", "b1", "a1", "shape.png", "c1", "b1", ""]
+    assert how.tolist() == ["id", "image", "image", "", "file_stem", "id", ""]
+
+
+def test_exclusion_report_threshold():
+    from analysis.exclusions import exclusion_report
+
+    def table(k, n):
+        return pd.DataFrame(dict(reason=["far_from_contour"] * k + [""] * (n - k), excluded=[True] * k + [False] * (n - k),
+                                 line=np.arange(n) + 2, stimulus_id="a"))
+
+    assert exclusion_report(table(2, 10)) is None  # 20% is not more than 20%
+    assert exclusion_report(table(3, 10)).startswith("30% of the clicks (3 of 10) were excluded: far_from_contour 3")
+    assert exclusion_report(table(0, 0)) is None

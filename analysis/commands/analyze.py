@@ -25,12 +25,20 @@ def add_parser(sub):
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="output directory (must not exist or be empty)")
     p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper", help="surprisal model (default paper)")
-    p.add_argument("--coords", choices=("image", "centered"), default="image",
-                   help="image: pixels, origin top-left, y down (default); centered: PsychoPy 'pix', "
-                        "origin at the image centre, y up")
+    p.add_argument("--coords", choices=("image", "centered", "pix", "height", "norm"), default="image",
+                   help="image: pixels, origin top-left, y down (default); centered or pix: PsychoPy 'pix', "
+                        "origin at the image centre, y up; height, norm: PsychoPy's window units (image at "
+                        "the window centre; need --window-size)")
+    p.add_argument("--window-size", default=None, metavar="W,H",
+                   help="window size in pixels, for --coords height or norm")
     p.add_argument("--scale", type=float, default=1.0, help="shown image size / image size (default 1)")
     p.add_argument("--columns", default=None, metavar="MAP",
-                   help="column names, e.g. participant=subj,stimulus_id=stim,x=mouse_x,y=mouse_y")
+                   help="column names, e.g. participant=subj,stimulus_id=stim,x=mouse_x,y=mouse_y; the "
+                        "stimulus column may hold ids, image file names or image paths")
+    p.add_argument("--sep", default=None, metavar="SEP",
+                   help="field separator of CLICKS.csv: ',', ';', 'tab' or '|' (default: found from the header)")
+    p.add_argument("--decimal", choices=(".", ","), default=None,
+                   help="decimal mark of x and y (default: ',' when values look like 12,5)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PX",
                    help="exclude clicks farther than PX from the contour (default 5%% of the image diagonal)")
     p.add_argument("--bandwidth", type=float, default=None, metavar="PX",
@@ -64,21 +72,34 @@ def add_parser(sub):
 def run(args):
     import sys
 
-    from analysis.clicks import read_clicks
     from analysis.analyze import analyze
+    from analysis.clicks import WINDOW_UNITS, parse_window_size, read_clicks, window_units_to_pixels
+    from analysis.exclusions import exclusion_report, resolve_stimulus_ids
     from analysis.report import check_output_dir, write_analysis
     from stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written
-    clicks = read_clicks(args.clicks, columns=args.columns)
+    clicks = read_clicks(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
+    window, coords = parse_window_size(args.window_size), args.coords
+    if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
+        clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
     check_output_dir(args.output, args.force)
     stimset = read_stimulus_set(args.stimuli)
+    clicks = resolve_stimulus_ids(clicks, stimset)
     res = analyze(
-        clicks, stimset, n=args.n, model=args.model, coords=args.coords, scale=args.scale,
+        clicks, stimset, n=args.n, model=args.model, coords=coords, scale=args.scale,
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
         permutations=args.permutations, grid=args.grid, seed=args.seed, click_sd=args.click_sd,
         group_simulations=args.group_simulations, predictors=args.predictors, length_unit=args.length_unit,
     )
+    if res.summary["n_used"] == 0:
+        why = exclusion_report(res.clicks, threshold=0.0)
+        print(f"attneave analyze: error: no usable click, nothing analysed or written: {why}", file=sys.stderr)
+        return 1
+    res.summary["params"].update(coords=args.coords, window_size=list(window) if window else None)
+    warning = exclusion_report(res.clicks)
+    if warning:
+        res.summary["warnings"].append(warning)
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
                    inputs=dict(clicks=args.clicks, stimuli=args.stimuli))
     s = res.summary

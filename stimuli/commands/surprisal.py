@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+#: Largest number of output points: a million rows (~150 MB of CSV) is far more than any
+#: contour needs (surprisal peaks are a few per shape); beyond it the run would only
+#: exhaust memory or disk.
+MAX_POINTS = 1_000_000
+
 
 def add_parser(sub):
     p = sub.add_parser(
@@ -18,8 +23,10 @@ def add_parser(sub):
     p.add_argument("contour", metavar="CONTOUR.csv")
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv")
     g = p.add_mutually_exclusive_group()
-    g.add_argument("-n", type=int, default=None, help="number of equally spaced points (default 100)")
-    g.add_argument("--spacing", type=float, default=None, metavar="PX", help="spacing in pixels instead of -n")
+    g.add_argument("-n", type=int, default=None,
+                   help=f"number of equally spaced points, 3..{MAX_POINTS:,} (default 100)")
+    g.add_argument("--spacing", type=float, default=None, metavar="PX",
+                   help=f"spacing in pixels instead of -n (giving at most {MAX_POINTS:,} points)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
     p.add_argument("--A", type=float, default=0.25, help="A' of the paper's form (default 0.25)")
     p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
@@ -39,9 +46,25 @@ def run(args):
     from stimuli.io import write_table
 
     c = Contour.from_csv(args.contour, closed=not args.open)
+    _check_size(args, c)
     r = surprisal(
         c, n=args.n, spacing=args.spacing, model=args.model, A=args.A, b=args.b, bits=args.bits,
         prominence=args.prominence, **({} if args.length_unit is None else {"length_unit": args.length_unit}),
     )
     write_table(r.table(), args.output, float_format="%.17g")
     return 0
+
+
+def _check_size(args, contour):
+    """Bound the number of output points before anything is allocated."""
+    from stimuli.errors import InputError
+    from stimuli.io import as_number
+
+    if args.n is not None and not 3 <= args.n <= MAX_POINTS:
+        raise InputError(f"-n: must be 3 <= n <= {MAX_POINTS:,} points, got {args.n}")
+    if args.spacing is not None:
+        spacing = as_number(args.spacing, "--spacing", gt=0)
+        n = contour.perimeter / spacing
+        if n > MAX_POINTS:
+            raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
+                             f"n = {n:.3g} points; n <= {MAX_POINTS:,} (use a larger spacing)")

@@ -20,9 +20,18 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.io import as_points
 
-__all__ = ["Contour", "turning_angles", "gaussian_curvature", "shoelace"]
+__all__ = ["Contour", "turning_angles", "gaussian_curvature", "shoelace", "MAX_COORDINATE", "MIN_EXTENT"]
 
 _MAX_RESAMPLE = 10**8  # points; 1.6 GB of coordinates, far beyond any stimulus
+#: Largest |coordinate| (px) a contour may have: squares and products of coordinates
+#: (lengths, areas) stay far from overflow, and no image is a million times larger.
+MAX_COORDINATE = 1e12
+#: Smallest extent (px, the larger side of the bounding box) of a contour: squared
+#: segment lengths of smaller ones underflow towards 0 and their geometry is rounding.
+MIN_EXTENT = 1e-6
+# the extent must also be this fraction of the largest |coordinate|: a shape drawn far from
+# the origin is resolved by doubles to eps / 1e-10 ~ 2e-6 of its size, no worse
+_MIN_RELATIVE_EXTENT = 1e-10
 
 
 def turning_angles(points, closed=True):
@@ -135,7 +144,10 @@ class Contour:
     ------
     InputError
         Non-finite coordinates, a wrong shape, fewer than 3 distinct points,
-        or (with ``simple=True``) a self-intersection.
+        coordinates beyond +-:data:`MAX_COORDINATE` px, a shape smaller than
+        :data:`MIN_EXTENT` px or than 1e-10 of its distance from the origin
+        (its geometry would overflow or be rounding noise), or (with
+        ``simple=True``) a self-intersection.
 
     Examples
     --------
@@ -155,6 +167,7 @@ class Contour:
         self.closed = bool(closed)
         where = f"{name}: " if name else ""
         p = as_points(points, f"{name}: points" if name else "points")
+        _check_scale(p, where)
         # consecutive duplicates carry no direction; drop them (and a repeated end point)
         p = np.ascontiguousarray(p)
         z = p.view(np.complex128).ravel()  # one complex per point: cheap row comparisons
@@ -512,6 +525,23 @@ class Contour:
         from stimuli.io import write_table
 
         write_table({"x": self._points[:, 0], "y": self._points[:, 1]}, path)
+
+
+def _check_scale(p, where):
+    """Refuse coordinates whose geometry would overflow or be only rounding noise."""
+    if not len(p):
+        return
+    big = float(np.abs(p).max())
+    if big > MAX_COORDINATE:
+        row = int(np.argmax(np.abs(p).max(axis=1)))
+        raise InputError(f"{where}point {row}: coordinates must lie within +-{MAX_COORDINATE:g} px, "
+                         f"got {p[row].tolist()}; rescale the contour")
+    # the larger side of the bounding box (ptp of all-equal points is 0, caught below as too few points)
+    extent = float(np.ptp(p, axis=0).max())
+    if 0 < extent < max(MIN_EXTENT, _MIN_RELATIVE_EXTENT * big):
+        raise InputError(f"{where}the contour spans only {extent:.3g} px (at coordinates up to {big:.3g}); "
+                         f"a contour must span at least {MIN_EXTENT:g} px and 1e-10 of its distance from "
+                         "the origin: rescale it")
 
 
 def _count_distinct_upto3(z):

@@ -1,0 +1,213 @@
+"""Reading click files as the tools of the lab write them: separators, decimal commas, bad rows.
+
+A contour file or a manifest is written by a program and read strictly
+(:func:`stimuli.io.read_text_csv`). A click file comes from an experiment
+run in PsychoPy, jsPsych, a spreadsheet or a script, often saved by a
+spreadsheet with a European locale, so it is read tolerantly:
+
+* the separator is found from the header line (``,``, ``;``, tab or ``|``:
+  the one that splits it into the most fields; ties go to the comma), unless
+  it is given (``--sep``);
+* decimal commas (``12,5``) in the coordinate columns are recognised when
+  such values occur there and no value with a decimal point does (or when
+  ``--decimal ,`` is given), and are converted to ``12.5``;
+* a row whose field count differs from the header's (a hand edit, a field
+  with an unquoted separator, a quote left open) is not a reason to refuse
+  the file: it is kept, with its fields as far as they go, and flagged so
+  that analysis excludes it with reason ``malformed_row``. Empty fields after
+  the last column (PsychoPy ends every line with a separator) are not extra
+  fields.
+* The text is UTF-8 (with or without a byte-order mark) or UTF-16 with a
+  byte-order mark (Excel's "Unicode text").
+"""
+
+from __future__ import annotations
+
+import codecs
+import csv
+import io
+import re
+
+import numpy as np
+
+from stimuli.errors import InputError
+from stimuli.io import MAX_TEXT_BYTES, check_regular_file
+
+__all__ = ["SEPARATORS", "read_tolerant_csv", "sniff_separator", "sniff_decimal", "to_decimal_point"]
+
+#: Separators recognised in a header line, by name for messages.
+SEPARATORS = {",": "','", ";": "';'", "\t": "tab", "|": "'|'"}
+_COMMA_NUMBER = re.compile(r"^\s*[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?\s*$")
+_POINT_NUMBER = re.compile(r"^\s*[+-]?(\d+\.\d*|\.\d+)([eE][+-]?\d+)?\s*$")
+# rows looked at to decide on decimal commas
+_SNIFF_ROWS = 500
+
+
+def _separator(sep):
+    """A separator as given on the command line (``;``, ``tab``, ``\\t``) -> one character."""
+    if sep is None:
+        return None
+    s = {"tab": "\t", "\\t": "\t", "semicolon": ";", "comma": ",", "pipe": "|"}.get(str(sep).lower(), str(sep))
+    if len(s) != 1 or s in "\"\r\n" or s.isalnum() or s == ".":
+        raise InputError(f"--sep: expected one separator character such as ',', ';', '|' or 'tab', got {sep!r}")
+    return s
+
+
+def sniff_separator(header):
+    """The separator that splits a header line into the most fields.
+
+    Parameters
+    ----------
+    header : str
+        The first line of the file.
+
+    Returns
+    -------
+    str
+        One of :data:`SEPARATORS`; ``','`` when none splits the line.
+
+    Examples
+    --------
+    >>> sniff_separator("participant;stimulus_id;x;y")
+    ';'
+    >>> sniff_separator('"rt","stimulus","response"')
+    ','
+    """
+    best, count = ",", 1
+    for sep in SEPARATORS:
+        fields = next(csv.reader([header], delimiter=sep), [])
+        while fields and not fields[-1].strip():
+            fields.pop()
+        if len(fields) > count:
+            best, count = sep, len(fields)
+    return best
+
+
+def sniff_decimal(values):
+    """``','`` when text numbers use decimal commas, else ``'.'``.
+
+    Decimal commas are recognised when some values look like ``12,5`` and none
+    like ``12.5``; integers say nothing either way.
+
+    Examples
+    --------
+    >>> sniff_decimal(["12,5", "3", "-0,25"]), sniff_decimal(["12.5", "3"]), sniff_decimal(["1,5", "2.5"])
+    (',', '.', '.')
+    """
+    comma = point = False
+    for v in values[:_SNIFF_ROWS]:
+        comma = comma or bool(_COMMA_NUMBER.match(v))
+        point = point or bool(_POINT_NUMBER.match(v))
+    return "," if comma and not point else "."
+
+
+def to_decimal_point(values):
+    """Text numbers with a decimal comma -> with a decimal point; other values unchanged.
+
+    Examples
+    --------
+    >>> to_decimal_point(["12,5", "abc", "", "3"])
+    ['12.5', 'abc', '', '3']
+    """
+    return [v.replace(",", ".") if _COMMA_NUMBER.match(v) else v for v in values]
+
+
+def _decode(path, raw):
+    """File bytes -> text: UTF-16 with a byte-order mark, else UTF-8 (optional BOM)."""
+    if raw.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):
+        encoding = "utf-16"
+    else:
+        encoding = "utf-8-sig"
+    try:
+        return raw.decode(encoding)
+    except UnicodeDecodeError as exc:
+        line = raw.count(b"\n", 0, exc.start) + 1
+        raise InputError(f"{path}: line {line}: not {encoding.upper().replace('-SIG', '')} text (byte "
+                         f"0x{raw[exc.start]:02x}); save the file as UTF-8 (a spreadsheet's 'CSV UTF-8')") from None
+
+
+def read_tolerant_csv(path, sep=None, what="a CSV file", empty="expected a header"):
+    """Read a CSV file as text, keeping rows whose field count is wrong.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (a regular file of at most :data:`stimuli.io.MAX_TEXT_BYTES`).
+    sep : str, optional
+        Field separator (``','``, ``';'``, ``'tab'``, ...); default: found
+        from the header line (:func:`sniff_separator`).
+    what, empty : str
+        What the file should be and what an empty file lacks (for messages).
+
+    Returns
+    -------
+    df : pandas.DataFrame
+        Columns named as in the header (stripped; an empty name in the middle
+        becomes ``Unnamed: i``, empty names at the end are dropped), one row
+        per non-blank record, every value a ``str`` as written (leading spaces
+        skipped). A malformed row holds its first fields, padded with ``''``.
+    lines : (M,) ndarray of int
+        Line of the file on which each row starts (the header is line 1).
+    row_error : (M,) ndarray of str
+        ``''``, or what is wrong with the row (e.g. ``'5 fields, the header
+        has 4'``).
+    sep : str
+        The separator used.
+
+    Raises
+    ------
+    InputError
+        Not a regular file, too large, not text, empty, a header naming a
+        column twice, or an invalid `sep`.
+    """
+    import pandas as pd
+
+    path = check_regular_file(path, what, max_bytes=MAX_TEXT_BYTES)
+    sep = _separator(sep)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    text = _decode(path, raw)
+    if not text.strip():
+        raise InputError(f"{path}: empty file ({empty})")
+    if sep is None:
+        sep = sniff_separator(text.splitlines()[0])
+    reader = csv.reader(io.StringIO(text, newline=""), delimiter=sep, skipinitialspace=True)
+    try:
+        header = next(reader)
+    except csv.Error as exc:
+        raise InputError(f"{path}: line 1: not a readable CSV header ({exc})") from None
+    names = [c.strip() for c in header]
+    while names and not names[-1]:
+        names.pop()
+    names = [c or f"Unnamed: {i}" for i, c in enumerate(names)]
+    seen = set()
+    for c in names:
+        if c in seen:
+            raise InputError(f"{path}: column {c[:30]!r} appears twice in the header")
+        seen.add(c)
+    n = len(names)
+    rows, lines, errors = [], [], []
+    prev = reader.line_num
+    try:
+        for row in reader:
+            start, prev = prev + 1, reader.line_num
+            if not row or (len(row) == 1 and not row[0].strip()):
+                continue  # a blank line is not a row
+            err = ""
+            if len(row) > n and not any(v.strip() for v in row[n:]):
+                row = row[:n]  # empty fields after the last column
+            if len(row) != n:
+                err = f"{len(row)} field{'s' if len(row) != 1 else ''}, the header has {n}"
+                row = (row + [""] * n)[:n]
+            rows.append(row)
+            lines.append(start)
+            errors.append(err)
+    except csv.Error as exc:  # a NUL byte, a field beyond csv's size limit
+        raise InputError(f"{path}: line {reader.line_num}: not readable as CSV ({exc})") from None
+    if rows and text.count('"') % 2 and prev > lines[-1]:
+        # a quote left open swallows every line after it into one field of the last row
+        errors[-1] = f"a quote opened here is never closed (lines {lines[-1]}-{prev} read as one row)"
+    df = pd.DataFrame(rows, columns=names, dtype=object) if rows else pd.DataFrame(columns=names, dtype=object)
+    return df, np.asarray(lines, dtype=np.int64), np.asarray(errors, dtype=object), sep
