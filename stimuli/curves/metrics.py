@@ -217,6 +217,7 @@ def curve_metrics(curve, rtol=1e-9):
         ``interior_extrema`` (total count), ``extrema_per_segment`` (list),
         ``max_abs_curvature`` (1/px), ``bending_energy`` (1/px),
         ``loops`` (number of segments whose tangent turns by more than pi),
+        ``max_segment_turn`` (radians),
         ``n_segments``, ``length`` (px).
     """
     per = interior_extrema(curve.curvature, curve.segment, rtol)
@@ -229,6 +230,7 @@ def curve_metrics(curve, rtol=1e-9):
         "max_abs_curvature": float(np.max(np.abs(k))) if k.size else 0.0,
         "bending_energy": bending_energy(curve.s, curve.curvature, curve.segment),
         "loops": int(np.count_nonzero(turning > np.pi)),
+        "max_segment_turn": float(np.max(turning)) if turning.size else 0.0,
         "n_segments": int(per.size),
         "length": float(curve.s[-1] - curve.s[0]) if k.size else 0.0,
     }
