@@ -144,3 +144,108 @@ def test_cusp_in_a_polynomial_spline_is_nan_without_warnings(tmp_path):
     import pandas as pd
 
     assert pd.read_csv(out)["curvature"].isna().any()  # undefined at the cusp, and said so
+
+
+LOOPING = np.array([[221.3, 200.0], [326.0, 128.1], [232.9, 83.6], [184.9, 153.4], [97.0, 130.0],
+                    [121.8, 203.1], [73.8, 281.9], [136.3, 301.9], [206.3, 258.6], [280.0, 361.8],
+                    [239.9, 245.9], [328.4, 266.2]])  # the pure G2 spline loops on segment 9 or so
+
+
+def test_summary_reports_corners_and_problems(tmp_path, capsys):
+    path = tmp_path / "j.csv"
+    _write_points(path, LOOPING)
+    out, summ = tmp_path / "o.csv", tmp_path / "s.json"
+    assert main(["spline", str(path), "-o", str(out), "--summary", str(summ)]) == 0
+    assert capsys.readouterr().err == ""
+    s = json.loads(summ.read_text())
+    assert s["self_intersections"] == 0 and s["max_segment_turn"] <= np.pi and s["loops"] == 0
+    assert s["corners"] and len(s["corner_kinds"]) == len(s["corners"])
+    # G2 everywhere but at the listed corners, measured on the written samples
+    df = pd.read_csv(out)
+    first = df.groupby("segment")["curvature"].first().to_numpy()
+    last = df.groupby("segment")["curvature"].last().to_numpy()
+    jump = np.abs(first - np.roll(last, 1))
+    smooth = np.setdiff1d(np.arange(len(LOOPING)), s["corners"])
+    assert jump[smooth].max() <= 1e-10 * df["curvature"].abs().max()
+    assert jump[s["corners"]].max() > 1e-6 * df["curvature"].abs().max()
+
+
+def test_looping_curve_warns_and_strict_writes_nothing(tmp_path, capsys):
+    path = tmp_path / "j.csv"
+    _write_points(path, LOOPING)
+    out, summ = tmp_path / "o.csv", tmp_path / "s.json"
+    assert main(["spline", str(path), "-o", str(out), "--method", "qic-g2", "--summary", str(summ)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "warning" in err[0] and "more than pi (segments" in err[0]
+    s = json.loads(summ.read_text())
+    assert s["loops"] >= 1 and s["max_segment_turn"] > np.pi and s["corners"] == []
+    out2, summ2 = tmp_path / "o2.csv", tmp_path / "s2.json"
+    assert main(["spline", str(path), "-o", str(out2), "--method", "qic-g2", "--summary", str(summ2),
+                 "--strict"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "error" in err[0] and "--strict" in err[0]
+    assert not out2.exists() and not summ2.exists()
+
+
+@pytest.mark.parametrize("argv, bound", [
+    (["spline", "PTS", "--samples", "1e7"], "at most 1000000"),
+    (["spline", "PTS", "--samples", "10000000"], "at most 1000000"),
+    (["spline", "PTS", "--samples", "1e12"], "at most 1000000"),
+    (["spline", "PTS", "--samples", "300000"], "at most 1000000 rows"),  # x 14 segments
+    (["curve", "clothoid", "--c", "1", "--s-end", "1", "--points", "1e8"], "at most 1000000"),
+    (["curve", "clothoid", "--c", "1", "--s-end", "1", "--points", "1e12"], "at most 1000000"),
+])
+def test_size_arguments_are_bounded(blob, tmp_path, capsys, argv, bound):
+    # issue 11 item 9: one line naming the bound, exit 2, nothing allocated
+    path, _ = blob
+    argv = [str(path) if a == "PTS" else a for a in argv] + ["-o", str(tmp_path / "o.csv")]
+    assert _exit_code(argv) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and bound in err[0]
+    assert not (tmp_path / "o.csv").exists()
+
+
+def _exit_code(argv):
+    """main()'s status, whether returned or raised by argparse."""
+    try:
+        return main(argv)
+    except SystemExit as exc:
+        return exc.code
+
+
+def test_tiny_square_gives_the_right_curve(tmp_path):
+    # issue 11 item 11: a square of side 1e-300 gave NaN everywhere with exit 0;
+    # fitted in a rescaled frame it is the circle through the corners
+    path = tmp_path / "tiny.csv"
+    path.write_text("x,y\n0,0\n1e-300,0\n1e-300,1e-300\n0,1e-300\n")
+    out = tmp_path / "o.csv"
+    assert main(["spline", str(path), "-o", str(out), "--samples", "5"]) == 0
+    df = pd.read_csv(out)
+    assert np.isfinite(df.to_numpy()).all()
+    np.testing.assert_allclose(df["curvature"], np.sqrt(2) * 1e300, rtol=1e-12)
+    np.testing.assert_allclose(df["s"].iloc[-1], 2 * np.pi * 1e-300 / np.sqrt(2), rtol=1e-12)
+
+
+def test_huge_coordinates_without_runtime_warnings(tmp_path):
+    # coordinates near 1e308: the right curve, and no RuntimeWarning reaches the user
+    import subprocess
+    import sys
+
+    src = tmp_path / "big.csv"
+    src.write_text("x,y\n1e308,1e308\n1.0000001e308,1e308\n1.0000001e308,1.0000001e308\n1e308,1.0000001e308\n")
+    out = tmp_path / "o.csv"
+    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "analysis.cli", "spline", str(src),
+                           "-o", str(out), "--summary", str(tmp_path / "s.json")], capture_output=True, text=True)
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    df = pd.read_csv(out)
+    side = 1.0000001e308 - 1e308
+    np.testing.assert_allclose(df["curvature"], np.sqrt(2) / side, rtol=1e-9)
+    assert np.isfinite(df.to_numpy()).all()
+
+
+def test_overflowing_span_is_one_line(tmp_path, capsys):
+    src = tmp_path / "inf.csv"
+    src.write_text("x,y\n-1e308,-1e308\n1e308,-1e308\n1e308,1e308\n-1e308,1e308\n")
+    assert main(["spline", str(src), "-o", str(tmp_path / "o.csv")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "at most 1e306" in err[0] and str(src) in err[0]

@@ -99,6 +99,8 @@ def add_parser(sub):
     import argparse
     import textwrap
 
+    from stimuli.commands.counts import MAX_ROWS, count
+
     p = sub.add_parser(
         "curve",
         help="a curve from its natural equation (clothoid, pseudospiral, lac, superspiral, constant-info)",
@@ -128,7 +130,8 @@ def add_parser(sub):
                 "--s-start", type=float, default=None, help="first arc length (default: start of the domain)"
             )
             fp.add_argument("--s-end", type=float, required=True, help="last arc length")
-        fp.add_argument("--points", type=int, default=201, metavar="K", help="number of points (default 201)")
+        fp.add_argument("--points", type=count(2), default=201, metavar="K",
+                        help=f"number of points, 2 .. {MAX_ROWS} (default 201)")
     return p
 
 

@@ -3,13 +3,15 @@ its curvature and a summary of what it adds between the points."""
 
 from __future__ import annotations
 
-METHOD_CHOICES = ("qic", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1")
+METHOD_CHOICES = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1")
 
 
 def add_parser(sub):
+    from stimuli.commands.counts import MAX_ROWS, count
+
     p = sub.add_parser(
         "spline",
-        help="QIC (G2 clothoid) or polynomial spline through points, with curvature",
+        help="QIC (clothoid), log-aesthetic or polynomial spline through points, with curvature",
         description=(
             "Fit a spline through the points of POINTS.csv (columns x, y in image pixels, y down; "
             "a closed curve must not repeat its first point) and write samples with columns "
@@ -17,22 +19,33 @@ def add_parser(sub):
             "1/px, positive where a closed curve is convex (for --open, positive for a left turn "
             "on the screen), and segment is the index of the input point at which the sample's "
             "segment starts; every segment's samples include both of its end points. "
-            "qic (default): G2 spline of clothoid segments, monotone curvature on every segment. "
+            "qic (default): clothoid segments (monotone curvature on every segment), G2 except at "
+            "the few nodes where the G2 spline would loop, swing out or cross itself: there the "
+            "tangent is held at the bisector of the polygon's turn (G1) or, at sharp turns or "
+            "where that is not enough, the curve has a corner (G0); every such node is listed in "
+            "the summary's corners. qic-g2: the pure G2 clothoid spline (may loop). "
             "cubic: periodic cubic (not-a-knot with --open); cubic-natural: natural cubic (--open); "
             "poly2..poly5: interpolating splines of that degree (periodic, or not-a-knot open); "
             "all polynomial splines use chord-length parameters. lac-g1: G1 log-aesthetic spline "
-            "(Yoshida-Saito segments, clothoid fallback where no segment exists)."
+            "(Yoshida-Saito segments, clothoid fallback where no segment exists). A curve that crosses itself "
+            "or has a segment turning by more than pi gets a warning on stderr naming the "
+            "segments (--strict: exit 1, nothing written)."
         ),
     )
     p.add_argument("points", metavar="POINTS.csv")
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv")
     p.add_argument("--method", choices=METHOD_CHOICES, default="qic")
     p.add_argument("--open", action="store_true", help="open curve (default: closed)")
-    p.add_argument("--samples", type=int, default=32, metavar="K",
-                   help="samples per segment, both ends included (default 32)")
+    p.add_argument("--samples", type=count(2), default=32, metavar="K",
+                   help=f"samples per segment, both ends included (default 32); at most {MAX_ROWS} "
+                        "rows in all")
     p.add_argument("--summary", metavar="OUT.json",
-                   help="write method, n_points, closed, g2_error, interior_extrema, loops, "
-                        "iterations, seconds (and more) as JSON")
+                   help="write method, n_points, closed, g2_error, interior_extrema, loops, corners, "
+                        "corner_kinds, self_intersections, max_segment_turn, iterations, seconds "
+                        "(and more) as JSON")
+    p.add_argument("--strict", action="store_true",
+                   help="exit 1 and write nothing when the curve crosses itself or a segment turns "
+                        "by more than pi")
     p.add_argument("--alpha", type=float, default=0.0,
                    help="lac-g1 only: log-aesthetic slope alpha (default 0)")
     return p
@@ -62,12 +75,43 @@ def _check_points(P, path, closed):
         raise InputError(f"{path}: lines {i + 2} and {j + 2} are the same point; consecutive points must differ")
 
 
-def _summary(args, P, sp, curve, closed):
+def _frame(P, path):
+    """Centre and scale of the frame the fit runs in. Points of ordinary size
+    are fitted as they are (centre 0, scale 1); points spanning less than
+    1e-150 or more than 1e150 px, or lying that far out, are moved to the
+    origin and scaled by a power of two to a span of about 1, so that neither
+    curvature nor arc length overflows."""
+    import numpy as np
+
+    from stimuli.errors import InputError
+
+    lo, hi = P.min(axis=0), P.max(axis=0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        centre = 0.5 * lo + 0.5 * hi
+        span = float(np.max(0.5 * hi - 0.5 * lo)) * 2.0
+    if not np.isfinite(span) or span > 1e306:
+        raise InputError(f"{path}: the points span {span:.3g} px; at most 1e306 can be fitted without overflow")
+    if span < 1e-300:
+        raise InputError(f"{path}: the points span {span:.3g} px; at least 1e-300 is needed to fit a curve")
+    if 1e-150 <= span <= 1e150 and float(np.max(np.abs(P))) <= 1e150:
+        return np.zeros(2), 1.0
+    return centre, float(2.0 ** np.round(np.log2(span)))
+
+
+def _summary(args, P, sp, unit, span, closed, crossings):
+    """The summary; `unit` is the curve fitted in the frame of span 1."""
     import math
+
+    import numpy as np
 
     from stimuli.curves.metrics import curve_metrics
 
-    m = curve_metrics(curve)
+    m = curve_metrics(unit)
+    with np.errstate(over="ignore"):  # an overflow is reported as null
+        m["max_abs_curvature"] = float(np.float64(m["max_abs_curvature"]) / span)
+        m["bending_energy"] = float(np.float64(m["bending_energy"]) / span)
+        m["length"] = float(np.float64(m["length"]) * span)
+    corners = [int(c) for c in getattr(sp, "corners", ())]
     summary = {
         "method": args.method,
         "n_points": int(len(P)),
@@ -75,6 +119,10 @@ def _summary(args, P, sp, curve, closed):
         "g2_error": m["g2_error"],
         "interior_extrema": m["interior_extrema"],
         "loops": m["loops"],
+        "corners": corners,
+        "corner_kinds": list(getattr(sp, "corner_kinds", ())),
+        "self_intersections": int(crossings),
+        "max_segment_turn": m["max_segment_turn"],
         "iterations": int(getattr(sp, "iterations", 0)),
         "seconds": float(sp.seconds),
         "samples_per_segment": int(args.samples),
@@ -90,31 +138,82 @@ def _summary(args, P, sp, curve, closed):
     return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in summary.items()}
 
 
+def _problems(curve, closed):
+    """(crossing count, crossing segments, segments turning by more than pi)."""
+    import numpy as np
+
+    from stimuli.curves.metrics import segment_slices, segment_turning, self_crossing_segments, self_intersections
+
+    crossings = self_intersections(curve.x, curve.y, closed)
+    crossing = self_crossing_segments(curve.x, curve.y, curve.segment, closed) if crossings else []
+    turn = segment_turning(curve.s, curve.curvature, curve.segment, curve.theta)
+    labels = [int(curve.segment[q.start]) for q in segment_slices(curve.segment)]
+    looping = [labels[i] for i in np.flatnonzero(turn > np.pi)]
+    return crossings, crossing, looping
+
+
 def run(args):
     import contextlib
     import json
+    import sys
+    import warnings
+    from dataclasses import replace
 
+    import numpy as np
+
+    from stimuli.commands.counts import MAX_ROWS
+    from stimuli.curves.splines import fit_spline
     from stimuli.errors import InputError
     from stimuli.io import atomic_write, read_points, write_table
-    from stimuli.curves.splines import fit_spline
 
-    if args.samples < 2:
-        raise InputError(f"--samples: expected at least 2 per segment, got {args.samples}")
     closed = not args.open
     P = read_points(args.points)
     _check_points(P, args.points, closed)
+    n_seg = len(P) if closed else len(P) - 1
+    if args.samples * n_seg > MAX_ROWS:
+        raise InputError(
+            f"--samples: {args.samples} per segment x {n_seg} segments = {args.samples * n_seg} rows; "
+            f"at most {MAX_ROWS} rows"
+        )
+    centre, span = _frame(P, args.points)
     kwargs = {"alpha": args.alpha} if args.method == "lac-g1" else {}
-    try:
-        sp = fit_spline(P, args.method, closed=closed, **kwargs)
-    except InputError as exc:
-        raise InputError(f"{args.points}: {exc}") from None
-    curve = sp.sample(args.samples)
-    summary = _summary(args, P, sp, curve, closed) if args.summary else None
+    with warnings.catch_warnings():
+        # an overflow would show as non-finite output, refused below with one line
+        warnings.simplefilter("ignore", RuntimeWarning)
+        try:
+            sp = fit_spline((P - centre) / span, args.method, closed=closed, **kwargs)
+        except InputError as exc:
+            raise InputError(f"{args.points}: {exc}") from None
+        unit = sp.sample(args.samples)
+        curve = replace(unit, s=unit.s * span, x=centre[0] + unit.x * span, y=centre[1] + unit.y * span,
+                        curvature=unit.curvature / span)
+        # the nodes exactly as given, not to round-off of the change of frame
+        sl = curve.segment
+        first = np.r_[True, sl[1:] != sl[:-1]]
+        curve.x[first], curve.y[first] = P[sl[first], 0], P[sl[first], 1]
+    table = curve.table()
+    if not all(np.all(np.isfinite(v)) for k, v in table.items() if k != "curvature") or np.any(
+        np.isinf(table["curvature"])
+    ):
+        raise InputError(f"{args.points}: the curve does not fit in float64 at this scale (non-finite values)")
+    crossings, crossing, looping = _problems(unit, closed)
+    if crossing or looping:
+        parts = []
+        if crossing:
+            parts.append(f"crosses itself ({crossings} crossings; segments {', '.join(map(str, crossing))})")
+        if looping:
+            parts.append(f"has segments turning by more than pi (segments {', '.join(map(str, looping))})")
+        what = "error" if args.strict else "warning"
+        print(f"attneave spline: {what}: {args.points}: the {args.method} curve " + " and ".join(parts)
+              + (" ; nothing written (--strict)" if args.strict else ""), file=sys.stderr)
+        if args.strict:
+            return 1
+    summary = _summary(args, P, sp, unit, span, closed, crossings) if args.summary else None
     with contextlib.ExitStack() as stack:
         # open the summary's temporary file first: an unwritable --summary must fail
         # before OUT.csv is renamed into place, so that no half of the output appears
         fh = stack.enter_context(atomic_write(args.summary, "w")) if summary is not None else None
-        write_table(curve.table(), args.output, float_format="%.17g")
+        write_table(table, args.output, float_format="%.17g")
         if fh is not None:
             json.dump(summary, fh, indent=2)
             fh.write("\n")

@@ -41,6 +41,7 @@ __all__ = [
     "g1_hermite",
     "clothoid_points",
     "guess_A",
+    "segment_state",
     "wrap_angle",
 ]
 
@@ -249,7 +250,7 @@ def guess_A(phi0, phi1):
     )
 
 
-def _segment_state(phi0, phi1, A, r, derivatives=True):
+def segment_state(phi0, phi1, A, r, derivatives=True):
     """Everything about a family of segments at a (not necessarily solved) A.
 
     ``phi0``, ``phi1``: end angles relative to the chord; ``r``: chord
@@ -385,7 +386,7 @@ def g1_hermite(x0, y0, theta0, x1, y1, theta1, tol=1e-14, max_iter=20, derivativ
             f"g1_hermite: Newton did not converge in {max_iter} iterations "
             f"(max |g| = {np.max(np.abs(g)):.3g})"
         )
-    st = _segment_state(phi0, phi1, A, r, derivatives=derivatives)
+    st = segment_state(phi0, phi1, A, r, derivatives=derivatives)
     L = st["L"]
     out = {
         "k": st["k0"], "dk": 2.0 * A / L**2, "L": L, "k1": st["k1"], "A": A,

@@ -43,6 +43,7 @@ from scipy.optimize import brentq
 
 from stimuli.curves.euler import clothoid_points, g1_hermite, wrap_angle
 from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
 from stimuli.errors import InputError
 
 __all__ = [
@@ -320,21 +321,6 @@ class LACSpline:
         return out
 
 
-def _circle_tangents(P, closed):
-    """Tangent angle at each point: the circle through it and its two
-    neighbours (open ends: the parabola-like estimate phi0 = -phi1/2)."""
-    from stimuli.curves.splines import _initial_angles
-
-    D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
-    r = np.hypot(D[:, 0], D[:, 1])
-    phi = np.arctan2(D[:, 1], D[:, 0])
-    p0, p1 = _initial_angles(phi, r / r.mean(), closed)
-    theta = phi + p0
-    if not closed:
-        theta = np.r_[theta, phi[-1] + p1[-1]]
-    return theta
-
-
 def lac_g1_spline(points, closed=True, alpha=0.0, tangents=None, y_down=True):
     """G1 spline of Yoshida-Saito log-aesthetic segments through points.
 
@@ -362,14 +348,12 @@ def lac_g1_spline(points, closed=True, alpha=0.0, tangents=None, y_down=True):
     Curvature is monotone on every segment (LAC and clothoid alike) but only
     tangent-continuous (G1) at the points: curvature jumps there.
     """
-    from stimuli.curves.splines import _as_points, _geometric_sign
-
     t0 = time.perf_counter()
-    P = _as_points(points, closed)
+    P = spline_points(points, closed)
     if not np.isfinite(alpha):
         raise InputError(f"alpha: expected a finite number, got {alpha!r}")
     if tangents is None:
-        theta = _circle_tangents(P, closed)
+        theta = circle_tangents(P, closed)
     else:
         theta = np.asarray(tangents, dtype=float)
         if theta.shape != (len(P),) or not np.all(np.isfinite(theta)):
@@ -390,6 +374,6 @@ def lac_g1_spline(points, closed=True, alpha=0.0, tangents=None, y_down=True):
         segments.append(seg)
     return LACSpline(
         points=P, closed=closed, alpha=float(alpha), theta=theta, segments=segments,
-        fallback_segments=tuple(fallback), sign=_geometric_sign(P, closed, y_down),
+        fallback_segments=tuple(fallback), sign=geometric_sign(P, closed, y_down),
         seconds=time.perf_counter() - t0,
     )

@@ -28,6 +28,8 @@ __all__ = [
     "bending_energy",
     "segment_turning",
     "curve_metrics",
+    "self_intersections",
+    "self_crossing_segments",
 ]
 
 
@@ -215,6 +217,7 @@ def curve_metrics(curve, rtol=1e-9):
         ``interior_extrema`` (total count), ``extrema_per_segment`` (list),
         ``max_abs_curvature`` (1/px), ``bending_energy`` (1/px),
         ``loops`` (number of segments whose tangent turns by more than pi),
+        ``max_segment_turn`` (radians),
         ``n_segments``, ``length`` (px).
     """
     per = interior_extrema(curve.curvature, curve.segment, rtol)
@@ -227,6 +230,91 @@ def curve_metrics(curve, rtol=1e-9):
         "max_abs_curvature": float(np.max(np.abs(k))) if k.size else 0.0,
         "bending_energy": bending_energy(curve.s, curve.curvature, curve.segment),
         "loops": int(np.count_nonzero(turning > np.pi)),
+        "max_segment_turn": float(np.max(turning)) if turning.size else 0.0,
         "n_segments": int(per.size),
         "length": float(curve.s[-1] - curve.s[0]) if k.size else 0.0,
     }
+
+
+def self_intersections(x, y, closed=True):
+    """Number of points where a sampled curve crosses or touches itself.
+
+    Counted on the polyline through the samples (consecutive repeats, e.g. a
+    segment's end and the next one's start, are one point) with
+    :meth:`stimuli.geometry.contour.Contour.self_intersections` (GEOS).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> self_intersections(np.array([0, 1, 1, 0.]), np.array([0, 1, 0, 1.]))  # a bow tie
+    1
+    >>> self_intersections(np.array([0, 1, 1, 0.]), np.array([0, 0, 1, 1.]))  # a square
+    0
+    """
+    from stimuli.errors import InputError
+    from stimuli.geometry.contour import Contour
+
+    try:
+        c = Contour(np.column_stack([x, y]), closed=closed, orient=False)
+    except InputError:  # fewer than 3 distinct points: nothing to cross
+        return 0
+    return int(len(c.self_intersections()))
+
+
+def self_crossing_segments(x, y, segment, closed=True):
+    """Labels of the segments of a sampled curve that cross another segment
+    (or themselves), touching at a shared end point not counted.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Samples, each segment's samples including both its end points.
+    segment : ndarray of int
+        Segment label of every sample (as in :class:`SampledCurve`).
+    closed : bool
+
+    Returns
+    -------
+    list of int
+        Sorted labels; empty when the curve is simple.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x, y = np.array([0, 1, 1, 1, 1, 0, 0, 0.]), np.array([0, 1, 1, 0, 0, 1, 1, 0.])
+    >>> self_crossing_segments(x, y, np.array([0, 0, 1, 1, 2, 2, 3, 3]))
+    [0, 2]
+    """
+    import shapely
+
+    xy = np.column_stack([x, y])
+    keep = np.r_[True, np.any(xy[1:] != xy[:-1], axis=1)]
+    ring = xy[keep]
+    if closed and len(ring) > 1 and np.all(ring[0] == ring[-1]):
+        ring = ring[:-1]
+    if len(ring) < 3 or shapely.is_simple(shapely.LinearRing(ring) if closed else shapely.LineString(ring)):
+        return []
+    sl = segment_slices(segment)
+    labels = [int(segment[q.start]) for q in sl]
+    lines = [shapely.LineString(xy[q]) if q.stop - q.start > 1 else shapely.Point(xy[q.start]) for q in sl]
+    m = len(lines)
+    out = set()
+    for i, line in enumerate(lines):
+        if not shapely.is_simple(line):
+            out.add(labels[i])
+    tree = shapely.STRtree(lines)
+    pairs = tree.query(lines, predicate="intersects")
+    for i, j in zip(*pairs):
+        if j <= i:
+            continue
+        adjacent = j == i + 1 or (closed and i == 0 and j == m - 1)
+        if adjacent:
+            shared = shapely.intersection(lines[i], lines[j])
+            # adjacent segments always share their end point: only more is a crossing
+            if shapely.get_type_id(shared) == 0 and (
+                np.allclose(shapely.get_coordinates(shared)[0], xy[sl[i].stop - 1])
+                or np.allclose(shapely.get_coordinates(shared)[0], xy[sl[i].start])
+            ):
+                continue
+        out.update((labels[i], labels[j]))
+    return sorted(out)

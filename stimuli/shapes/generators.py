@@ -319,10 +319,13 @@ _SLACK = 0.1  # a curved version may leave its polygon's bounding box by this fr
 
 
 def _stays_near(curve, polygon):
-    """Whether `curve` stays within the polygon's bounding box grown by 10% of its size."""
-    x0, y0, x1, y1 = polygon.bbox
+    """Whether `curve` stays within the polygon's bounding box grown by 10% of its size
+    (Contours or (N, 2) point arrays)."""
+    c = np.asarray(getattr(curve, "points", curve))
+    p = np.asarray(getattr(polygon, "points", polygon))
+    x0, y0, x1, y1 = (*p.min(axis=0), *p.max(axis=0))
     gx, gy = _SLACK * (x1 - x0), _SLACK * (y1 - y0)
-    cx0, cy0, cx1, cy1 = curve.bbox
+    cx0, cy0, cx1, cy1 = (*c.min(axis=0), *c.max(axis=0))
     return cx0 >= x0 - gx and cy0 >= y0 - gy and cx1 <= x1 + gx and cy1 <= y1 + gy
 
 
@@ -341,8 +344,9 @@ def smooth_closed(points, method="cubic", samples_per_edge=32):
         the vertices as control points; C2, it stays inside the convex hull
         of each four consecutive vertices and so rounds the corners without
         passing through them (what Chaikin's corner cutting converges to, one
-        degree higher). ``'qic'``: the project's QIC spline
-        (:func:`stimuli.splines.qic_spline`), if installed.
+        degree higher). ``'qic'``: the project's robust QIC spline
+        (:func:`stimuli.curves.qic.qic_spline`): clothoid segments, G2
+        except at the few vertices where that would loop or swing out.
     samples_per_edge : int
         Points per polygon side in the output (>= 2).
 
@@ -394,19 +398,26 @@ class _NoCurve(InputError):
     """The smoothing did not converge for these vertices (draw another polygon)."""
 
 
+# Robust QIC settings tried in turn, (corner_turn, max_tangent_deviation): the
+# default rule first; where its curve still leaves the polygon's box, G0
+# corners at turns over 90 degrees and tangents held closer to the bisector.
+_QIC_STEPS = ((np.pi, None), (0.5 * np.pi, 0.125 * np.pi), (0.5 * np.pi, 0.0))
+
+
 def _qic(p, m):
-    try:
-        from stimuli.curves import splines
-    except ImportError:  # pragma: no cover - only while the package is incomplete
-        raise InputError("method 'qic' needs stimuli.curves.splines, which is not installed") from None
-    try:
-        spline = splines.qic_spline(p, closed=True)
-    except splines.ConvergenceError as exc:
-        raise _NoCurve(str(exc)) from None
-    sc = spline.sample(m + 1)
-    # segment i runs from vertex i to vertex i+1, sampled at m+1 points
-    # equally spaced in arc length, both ends included: keep all but the last
-    xy = np.column_stack([sc.x, sc.y]).reshape(len(p), m + 1, 2)[:, :m].reshape(-1, 2)
+    from stimuli.curves.qic import ConvergenceError, qic_spline
+
+    for corner_turn, deviation in _QIC_STEPS:
+        try:
+            spline = qic_spline(p, closed=True, corner_turn=corner_turn, max_tangent_deviation=deviation)
+        except ConvergenceError as exc:
+            raise _NoCurve(str(exc)) from None
+        sc = spline.sample(m + 1)
+        # segment i runs from vertex i to vertex i+1, sampled at m+1 points
+        # equally spaced in arc length, both ends included: keep all but the last
+        xy = np.column_stack([sc.x, sc.y]).reshape(len(p), m + 1, 2)[:, :m].reshape(-1, 2)
+        if _stays_near(xy, p):
+            break
     xy[::m] = p
     return xy
 

@@ -1,0 +1,140 @@
+"""Validation: splines through real outlines reduced to N points (issue 9).
+
+Every silhouette of a directory of PNG masks (default
+``../shared/data/mpeg7``) is traced with :func:`stimuli.extraction.extract`
+(method 'mask'), reduced to N points equally spaced by arc length
+(:meth:`Contour.resample`) and, where the N-gon is simple, passed to each
+spline method. Per N and method the script prints:
+
+- ``fail``: shapes without a curve (an error);
+- ``cross``: shapes whose curve crosses itself (the N-gon does not);
+- ``turn>pi``: shapes with a segment whose tangent turns by more than pi;
+- ``extrema``: shapes with an interior curvature extremum on some segment;
+- ``g2``: the largest relative curvature jump at nodes not listed in
+  ``corners``;
+- ``corners``: relaxed nodes as a share of all nodes;
+- ``p90 dist``: 90th percentile over shapes of the largest distance from the
+  curve to the dense outline, divided by the outline's perimeter, and its
+  ratio to scipy's periodic ``CubicSpline`` through the same points.
+
+Targets (issue 9): cross <= 1 %, turn>pi = 0, extrema = 0, g2 <= 1e-10,
+corners <= 10 % at N = 12, 20 and <= 5 % at N = 40, p90 ratio <= 1.1.
+
+Usage::
+
+    python benchmarks/validate_spline.py [--data DIR] [--n 12 20 40 80] [--limit K]
+        [--methods qic qic-g2 cubic]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import shapely
+from scipy.spatial import cKDTree
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _machine import header  # noqa: E402
+
+from stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning  # noqa: E402
+from stimuli.curves.splines import fit_spline  # noqa: E402
+from stimuli.errors import InputError  # noqa: E402
+from stimuli.extraction import extract  # noqa: E402
+
+SAMPLES = 32
+
+
+def outlines(folder, limit=None, every=1):
+    """(name, dense Contour) of every PNG mask in `folder`, sorted by name
+    (every `every`-th file, the first `limit` of those)."""
+    files = sorted(Path(folder).glob("*.png"))[::every][:limit]
+    for f in files:
+        try:
+            yield f.name, extract(str(f), method="mask").contour
+        except InputError as exc:
+            print(f"skip {f.name}: {exc}", file=sys.stderr)
+
+
+def measure(P, outline_tree, perimeter, method):
+    """The measures of one fit (None when it raises)."""
+    try:
+        sp = fit_spline(P, method, closed=True)
+    except InputError:
+        return None
+    c = sp.sample(SAMPLES)
+    xy = np.column_stack([c.x, c.y])
+    keep = np.r_[True, np.any(np.diff(xy, axis=0) != 0, axis=1)]
+    ring = xy[keep]
+    if np.all(ring[0] == ring[-1]):
+        ring = ring[:-1]
+    crosses = not shapely.is_simple(shapely.LinearRing(ring))
+    seg = c.segment
+    turn = float(segment_turning(c.s, c.curvature, seg, c.theta).max())
+    extrema = int(np.sum(interior_extrema(c.curvature, seg)))
+    corners = tuple(getattr(sp, "corners", ()))
+    sl = segment_slices(seg)
+    k = c.curvature
+    start_k = np.array([k[q.start] for q in sl])
+    end_k = np.array([k[q.stop - 1] for q in sl])
+    jumps = np.abs(start_k - np.roll(end_k, 1))  # at the node where each segment starts
+    smooth = np.ones(len(sl), bool)
+    smooth[list(corners)] = False
+    kmax = float(np.nanmax(np.abs(k)))
+    g2 = float(np.max(jumps[smooth])) / kmax if smooth.any() and kmax > 0 else 0.0
+    dist = float(outline_tree.query(xy)[0].max()) / perimeter
+    return dict(crosses=crosses, turn=turn, extrema=extrema, g2=g2, corners=len(corners), dist=dist,
+                seconds=sp.seconds)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--data", default=str(Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "mpeg7"))
+    ap.add_argument("--n", type=int, nargs="+", default=[12, 20, 40, 80])
+    ap.add_argument("--limit", type=int, default=None, help="first K files only")
+    ap.add_argument("--every", type=int, default=1, help="every K-th file only")
+    ap.add_argument("--methods", nargs="+", default=["qic", "qic-g2", "cubic"])
+    args = ap.parse_args(argv)
+    header("validate_spline: splines through real outlines reduced to N points")
+    t0 = time.perf_counter()
+    shapes = []
+    for name, c in outlines(args.data, args.limit, args.every):
+        dense = c.resample(spacing=0.25).points
+        shapes.append((name, c, cKDTree(dense), c.perimeter))
+    print(f"{len(shapes)} outlines from {args.data} ({time.perf_counter() - t0:.1f} s)")
+    print(f"{'N':>4} {'method':>8} {'shapes':>6} {'fail':>5} {'cross':>7} {'turn>pi':>8} {'extrema':>8} "
+          f"{'g2':>8} {'corners':>8} {'p90 dist':>9} {'/cubic':>7} {'ms':>7}")
+    for n in args.n:
+        rows = {m: [] for m in args.methods}
+        simple = 0
+        for name, c, tree, per in shapes:
+            P = c.resample(n).points
+            if not shapely.is_simple(shapely.LinearRing(P)):
+                continue
+            simple += 1
+            for m in args.methods:
+                rows[m].append(measure(P, tree, per, m))
+        ref = None
+        if "cubic" in rows:
+            ref = np.percentile([r["dist"] for r in rows["cubic"] if r], 90)
+        for m in args.methods:
+            ok = [r for r in rows[m] if r]
+            fail = len(rows[m]) - len(ok)
+            cross = 100.0 * sum(r["crosses"] for r in ok) / max(simple, 1)
+            turn = sum(r["turn"] > np.pi for r in ok)
+            ext = sum(r["extrema"] > 0 for r in ok)
+            g2 = max((r["g2"] for r in ok), default=0.0)
+            corners = 100.0 * sum(r["corners"] for r in ok) / max(n * len(ok), 1)
+            p90 = np.percentile([r["dist"] for r in ok], 90) if ok else float("nan")
+            ratio = p90 / ref if ref else float("nan")
+            ms = 1e3 * np.median([r["seconds"] for r in ok]) if ok else float("nan")
+            print(f"{n:>4} {m:>8} {simple:>6} {fail:>5} {cross:>6.1f}% {turn:>8} {ext:>8} {g2:>8.1e} "
+                  f"{corners:>7.1f}% {p90:>9.4f} {ratio:>7.2f} {ms:>7.2f}", flush=True)
+    print(f"total {time.perf_counter() - t0:.0f} s")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,570 @@
+"""The QIC spline: a spline of clothoid segments through points, G2 wherever
+that adds no information the points do not carry.
+
+The **QIC spline** (quantity-of-information continuous; Ziatdinov, DESIGN.md)
+passes through the given points; every segment between two consecutive
+points is a clothoid (Euler spiral), whose curvature is linear in arc length
+and so monotone: no curvature extremum, hence no spurious information,
+appears between the points. The pure form (``robust=False``, the command
+line's ``--method qic-g2``) joins every segment with curvature continuity
+(G2) and is solved by :func:`stimuli.curves.qic_newton.solve_nodes`.
+
+On jagged points the pure G2 spline can loop or swing far from the polygon
+(a segment turning by more than pi, a self-crossing the polygon does not
+have). The robust form (the default) then relaxes continuity at a few nodes.
+The *bisector tangent* of a node is the direction of the sum of the unit
+vectors along the two polygon sides that meet there
+(:func:`stimuli.curves.points.bisector_tangents`). The rule, repeated until
+nothing changes (at most N + 1 rounds):
+
+1. Fit the spline (G2 at every node not yet relaxed).
+2. *Straying nodes*: a G2 node whose tangent differs from its bisector
+   tangent by more than :data:`MAX_TANGENT_DEVIATION` (pi/4), and by at least
+   as much as at both neighbours, becomes a **G1 node**: its tangent is held
+   at the bisector tangent and its curvature may jump.
+3. *Bad segments*: a segment whose tangent turns by more than pi, whose
+   tangent leaves its chord's direction by more than
+   ``max(pi/2, a + pi/10)`` (``a`` the larger angle between the chord and the
+   bisector tangents at its ends: what a smooth curve cannot avoid), or that
+   crosses another segment although the polygon of the points is simple. In
+   every run of consecutive bad segments, the G2 node with the sharpest
+   polygon turn among the run's nodes becomes a G1 node; where all of them
+   already are G1 nodes, the sharpest becomes a **G0 corner** (the curve is
+   cut there into open pieces with natural ends; corners carry
+   information, the seed's eq. 6).
+4. Where Newton does not converge, the G2 node with the sharpest polygon
+   turn becomes a G1 node.
+
+On MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally spaced by arc
+length this relaxes about 9 / 7 / 4 / 0.6 % of the nodes
+(``benchmarks/validate_spline.py``).
+
+Every relaxed node is reported in ``corners`` (0-based input rows) with its
+kind ('G1' or 'G0') in ``corner_kinds``; everywhere else the curve is G2 to
+the solver's tolerance.
+
+Coordinates: points are ``(x, y)`` in image pixels (x = column, y = row,
+y down) unless ``y_down=False``. Reported curvature follows the project's
+geometric sign (:func:`stimuli.curves.points.geometric_sign`). Tangent
+angles stored on the spline (``theta0``) are in the input coordinates.
+
+References
+----------
+.. [1] E. Bertolazzi and M. Frego, "Interpolating clothoid splines with
+       curvature continuity", Math. Meth. Appl. Sci. 41(4), 1723-1737, 2018.
+.. [2] R. Ziatdinov, "Visual perception, quantity of information function and
+       the concept of the quantity of information continuous splines".
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from stimuli.curves.euler import clothoid_points, wrap_angle
+from stimuli.curves.metrics import SampledCurve, curve_metrics, self_crossing_segments
+from stimuli.curves.points import bisector_tangents, chord_end_angles, geometric_sign, spline_points
+from stimuli.curves.qic_newton import solve_nodes
+from stimuli.errors import InputError
+
+__all__ = ["ConvergenceError", "QICSpline", "qic_spline", "MAX_CHORD_ANGLE", "CHORD_MARGIN", "MAX_TANGENT_DEVIATION"]
+
+#: A segment whose tangent leaves its chord's direction by more than this
+#: (radians), and by more than the bisector tangents at its ends do plus
+#: CHORD_MARGIN, swings out of the polygon: the robust rule relaxes a node.
+MAX_CHORD_ANGLE = 0.5 * np.pi
+CHORD_MARGIN = 0.1 * np.pi
+#: A G2 node whose tangent differs from the bisector tangent by more than
+#: this (radians) strays: the robust rule holds it at the bisector (G1).
+MAX_TANGENT_DEVIATION = 0.25 * np.pi
+
+# chord / segment length below which a segment counts as degenerate (length -> inf)
+_MIN_X0 = 1e-6
+# samples per segment for the crossing test of the robust rule
+_CROSS_SAMPLES = 12
+
+
+class ConvergenceError(InputError):
+    """The QIC spline could not be computed for these points.
+
+    Raised when damped Newton does not reach the tolerance within its
+    iteration bound (typical of jagged or randomly ordered points). A
+    subclass of :class:`~stimuli.errors.InputError`, so the command line
+    reports it in one line with exit status 2.
+    """
+
+
+@dataclass(frozen=True)
+class QICSpline:
+    """A spline of clothoid segments through points (see :func:`qic_spline`).
+
+    Attributes
+    ----------
+    points : ndarray, shape (N, 2)
+        The interpolated points (image pixels, y down unless ``y_down`` was
+        False).
+    closed : bool
+    x0, y0, theta0 : ndarray, shape (M,)
+        Start point and tangent angle (input coordinates) of each segment.
+    k0, dk, length : ndarray, shape (M,)
+        Start curvature and curvature rate, in the input coordinates'
+        sign (d theta / ds), and length of each segment (px).
+    start : ndarray of int, shape (M,)
+        Index of the point at which each segment starts.
+    sign : float
+        Factor from input-coordinate curvature to geometric curvature.
+    iterations : int
+        Newton iterations (summed over pieces and rounds).
+    g2_error : float
+        Largest curvature jump at a G2 node divided by the largest
+        |curvature|, as solved.
+    closure_error : float
+        Largest segment end-point miss relative to the curve's size.
+    loops : int
+        Segments whose tangent turns by more than pi.
+    corners : tuple of int
+        Nodes where the curve is not G2 (sorted).
+    corner_kinds : tuple of str
+        'G1' (tangent continuous, curvature jumps) or 'G0' (tangent breaks)
+        for each of `corners`.
+    segment_turn : ndarray, shape (M,)
+        Range of the tangent angle on each segment (radians).
+    seconds : float
+        Time taken by the fit.
+    method : str
+        'qic' (robust) or 'qic-g2' (pure).
+    """
+
+    points: np.ndarray
+    closed: bool
+    x0: np.ndarray
+    y0: np.ndarray
+    theta0: np.ndarray
+    k0: np.ndarray
+    dk: np.ndarray
+    length: np.ndarray
+    start: np.ndarray
+    sign: float
+    iterations: int
+    g2_error: float
+    closure_error: float
+    loops: int
+    corners: tuple = field(default_factory=tuple)
+    corner_kinds: tuple = field(default_factory=tuple)
+    segment_turn: np.ndarray = None
+    seconds: float = 0.0
+    method: str = "qic"
+
+    @property
+    def n_points(self):
+        return len(self.points)
+
+    @property
+    def max_segment_turn(self):
+        """Largest range of the tangent angle on one segment (radians)."""
+        return float(np.max(self.segment_turn)) if self.segment_turn is not None and self.segment_turn.size else 0.0
+
+    @property
+    def interior_extrema(self):
+        """Curvature extrema strictly inside segments, counted on 32 samples
+        per segment (zero by construction: curvature is linear in arc length
+        on every segment)."""
+        return self.metrics(32)["interior_extrema"]
+
+    @property
+    def node_curvature(self):
+        """Geometric curvature at the start of each segment (1/px)."""
+        return self.sign * self.k0
+
+    @property
+    def end_curvature(self):
+        """Geometric curvature at the end of each segment (1/px)."""
+        return self.sign * (self.k0 + self.dk * self.length)
+
+    def sample(self, samples=32):
+        """Sample every segment at `samples` points equally spaced in arc
+        length, both end points included.
+
+        Returns
+        -------
+        SampledCurve
+        """
+        samples = int(samples)
+        if samples < 2:
+            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        u = np.linspace(0.0, 1.0, samples)
+        s_loc = self.length[:, None] * u[None, :]
+        x, y, th, k = clothoid_points(
+            self.x0[:, None], self.y0[:, None], self.theta0[:, None],
+            self.k0[:, None], self.dk[:, None], s_loc,
+        )
+        # each segment ends on the next point: put it there exactly, not to
+        # round-off, so that joins are not tiny zig-zags
+        nxt = (self.start + 1) % len(self.points)
+        x[:, -1], y[:, -1] = self.points[nxt, 0], self.points[nxt, 1]
+        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
+        s = (offs[:, None] + s_loc).ravel()
+        seg = np.repeat(self.start, samples)
+        return SampledCurve(
+            s=s, x=x.ravel(), y=y.ravel(), curvature=self.sign * k.ravel(), segment=seg,
+            theta=th.ravel(), closed=self.closed, breaks=tuple(self.corners),
+        )
+
+    def metrics(self, samples=32):
+        """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`,
+        with the solver's own figures (``iterations``, ``solver_g2_error``,
+        ``closure_error``)."""
+        out = curve_metrics(self.sample(samples))
+        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
+        return out
+
+
+def _unit_angle(vec, what):
+    v = np.asarray(vec, dtype=float).reshape(-1)
+    if v.size == 1:
+        raise InputError(f"{what}: expected a direction vector (dx, dy), got a single number")
+    if v.size != 2 or not np.all(np.isfinite(v)) or np.hypot(*v) == 0:
+        raise InputError(f"{what}: expected a non-zero finite direction vector (dx, dy)")
+    return float(np.arctan2(v[1], v[0]))
+
+
+def _pieces(N, closed, g0, ts, te):
+    """(node indices, closed?, start tangent, end tangent) of the pieces
+    between G0 corners."""
+    if closed and not g0:
+        return [(np.arange(N), True, None, None)]
+    if closed:
+        order = np.roll(np.arange(N), -g0[0])
+        cuts = [int(np.flatnonzero(order == c)[0]) for c in g0] + [N]
+        return [(np.r_[order[a:b], order[b % N]], False, None, None) for a, b in zip(cuts[:-1], cuts[1:])]
+    cuts = [0] + list(g0) + [N - 1]
+    return [
+        (np.arange(a, b + 1), False, ts if a == 0 else None, te if b == N - 1 else None)
+        for a, b in zip(cuts[:-1], cuts[1:])
+    ]
+
+
+class _Fit:
+    """Segments of one fit, in order from the first point, before packing."""
+
+    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter):
+        N = len(P)
+        segs, self.iterations, self.g2, self.closure = [], 0, 0.0, 0.0
+        self.failed_piece = None
+        size = float(np.max(np.ptp(P, axis=0))) or 1.0
+        for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
+            Q = P[idx]
+            Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
+            D = Qn - Q[: len(Qn)]
+            r = np.hypot(D[:, 0], D[:, 1])
+            h = float(np.mean(r))
+            rn = r / h
+            phi = np.arctan2(D[:, 1], D[:, 0])
+            p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
+            nodes = idx if pclosed else idx  # node k of the piece is input row idx[k]
+            hold = np.array([int(i) in held for i in nodes[: p0i.size + (0 if pclosed else 1)]])
+            if not pclosed:
+                # a piece's end nodes are free ends (or the open curve's given tangents)
+                hold[0] = hold[-1] = False
+            for k in np.flatnonzero(hold):
+                th = held[int(nodes[k])]
+                if k < p0i.size:
+                    p0i[k] = wrap_angle(th - phi[k])
+                km = k - 1 if k > 0 else (p0i.size - 1 if pclosed else None)
+                if km is not None:
+                    p1i[km] = wrap_angle(th - phi[km])
+            res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold if hold.any() else None,
+                              tol, max_iter)
+            if res is None or not res.ok or res.st["X0"].min() < _MIN_X0:
+                self.failed_piece = (idx, res)
+                return
+            self.iterations += res.iterations
+            st, d, A = res.st, res.d, res.A
+            nseg = r.size
+            nxt = np.r_[1 : d.size, 0] if pclosed else np.arange(1, d.size)
+            p0 = p0i + d[:nseg]
+            p1 = p1i + d[nxt]
+            L = st["L"] * h
+            # each segment ends at r (1, G / X0) in its chord frame: the miss is
+            # r |G| / X0 (the tests check it independently by sampling)
+            self.closure = max(self.closure, float(np.abs(r * st["G"] / st["X0"]).max()) / size)
+            self.g2 = max(self.g2, res.g2)
+            # range of theta(tau) - phi = p0 + (delta - A) tau + A tau^2 on [0, 1]
+            delta = p1 - p0
+            with np.errstate(divide="ignore", invalid="ignore"):
+                tv = np.clip(np.where(A != 0, (A - delta) / (2 * A), 0.0), 0.0, 1.0)
+            th_v = (delta - A) * tv + A * tv * tv
+            hi = np.maximum(np.maximum(0.0, delta), th_v)
+            lo = np.minimum(np.minimum(0.0, delta), th_v)
+            segs.append(dict(start=idx[:nseg], x=Q[:nseg], theta0=phi + p0, k0=st["k0"] / h,
+                             dk=(st["k1"] - st["k0"]) / st["L"] / h**2, L=L, turn=hi - lo,
+                             chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo))))
+        start = np.concatenate([s["start"] for s in segs])
+        # pieces of a closed curve with corners start at the first corner: put
+        # the segments back in order from the first point
+        order = np.argsort(start, kind="stable")
+        self.seg = {key: np.concatenate([s[key] for s in segs])[order] for key in segs[0]}
+
+
+def _turns(P, closed):
+    """Polygon turning angle at every node (0 at the ends of an open curve)."""
+    D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
+    phi = np.arctan2(D[:, 1], D[:, 0])
+    if closed:
+        return np.abs(wrap_angle(phi - np.roll(phi, 1)))
+    return np.r_[0.0, np.abs(wrap_angle(np.diff(phi))), 0.0]
+
+
+def _polygon_simple(P, closed):
+    import shapely
+
+    return bool(shapely.is_simple(shapely.LinearRing(P) if closed else shapely.LineString(P)))
+
+
+def _pack(P, closed, fit, g0, held, sign, t_start, method):
+    seg = fit.seg
+    corners = sorted(set(g0) | set(held))
+    kinds = tuple("G0" if c in g0 else "G1" for c in corners)
+    return QICSpline(
+        points=P, closed=closed, x0=seg["x"][:, 0], y0=seg["x"][:, 1], theta0=seg["theta0"],
+        k0=seg["k0"], dk=seg["dk"], length=seg["L"], start=seg["start"], sign=sign,
+        iterations=fit.iterations, g2_error=fit.g2, closure_error=fit.closure,
+        loops=int(np.count_nonzero(seg["turn"] > np.pi)), corners=tuple(corners), corner_kinds=kinds,
+        segment_turn=seg["turn"], seconds=time.perf_counter() - t_start, method=method,
+    )
+
+
+def _raise_failure(fit):
+    idx, res = fit.failed_piece
+    if res is None:
+        raise ConvergenceError("QIC spline: the initial guess gives a degenerate segment")
+    if not res.ok:
+        raise ConvergenceError(
+            f"QIC spline did not converge in {res.iterations} iterations (max curvature jump "
+            f"{res.g2:.2g} of max |k|, closure {res.closure:.2g}); the points may be jagged, "
+            "out of order or too sparse for a smooth curve"
+        )
+    # Newton can also "converge" towards a segment of unbounded length whose
+    # curvature and closure residuals vanish with it (e.g. a closed curve
+    # through collinear points): a bad curve, not a solution
+    j = int(np.argmin(res.st["X0"]))
+    raise ConvergenceError(
+        f"QIC spline degenerates: the segment from point {int(idx[j])} would be "
+        f"{1 / res.st['X0'][j]:.2g} times as long as its chord; the points may be "
+        "collinear, out of order or too sparse for a smooth curve"
+    )
+
+
+def _bad_segments(sp, fit, check_crossings, ref_dev):
+    """Indices (into the segment arrays) of segments the robust rule repairs."""
+    seg = fit.seg
+    limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[seg["start"]] + CHORD_MARGIN)
+    bad = (seg["turn"] > np.pi) | (seg["chord_dev"] > limit)
+    if check_crossings:
+        c = sp.sample(_CROSS_SAMPLES)
+        for s in self_crossing_segments(c.x, c.y, c.segment, sp.closed):
+            bad[np.flatnonzero(seg["start"] == s)] = True
+    return np.flatnonzero(bad)
+
+
+def _hold_strays(seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev):
+    """Hold the tangent of nodes where the G2 tangent strays from the
+    bisector of the polygon's sides by more than MAX_TANGENT_DEVIATION and by more
+    than at both neighbours. Returns whether any node changed."""
+    theta = np.full(N, np.nan)
+    theta[seg["start"]] = seg["theta0"]
+    dev = np.abs(wrap_angle(theta - tangents))
+    dev[list(g0) + list(held)] = 0.0
+    if not closed:
+        dev[0] = dev[-1] = 0.0
+    dev = np.nan_to_num(dev)
+    peak = (dev > max_dev) & (dev >= np.roll(dev, 1)) & (dev >= np.roll(dev, -1))
+    for e in np.flatnonzero(peak):
+        _relax_node(int(e), g0, held, tangents, turns, corner_turn)
+    return bool(peak.any())
+
+
+def _relax_node(e, g0, held, tangents, turns, corner_turn):
+    """A G2 node becomes a G1 node, its tangent held at the bisector, or a
+    G0 corner where the polygon turns by more than `corner_turn`."""
+    if turns[e] > corner_turn:
+        g0.add(e)
+    else:
+        held[e] = tangents[e]
+
+
+def _runs(bad, m, closed):
+    """Runs of consecutive segment indices (cyclic when closed)."""
+    runs, cur = [], [int(bad[0])]
+    for j in bad[1:]:
+        if j == cur[-1] + 1:
+            cur.append(int(j))
+        else:
+            runs.append(cur)
+            cur = [int(j)]
+    runs.append(cur)
+    if closed and len(runs) > 1 and runs[0][0] == 0 and runs[-1][-1] == m - 1:
+        runs[0] = runs.pop() + runs[0]
+    return runs
+
+
+def _relax(bad, seg, N, closed, turns, g0, held, tangents, corner_turn):
+    """Apply one round of the robust rule: one node per run of bad segments.
+    Returns False when nothing is left to relax."""
+    changed = False
+    for run in _runs(bad, len(seg["start"]), closed):
+        nodes = {int(seg["start"][j]) for j in run} | {(int(seg["start"][j]) + 1) % N for j in run}
+        nodes = [e for e in nodes if (closed or 0 < e < N - 1) and e not in g0]
+        if not nodes:
+            continue
+        g2 = [e for e in nodes if e not in held]
+        if g2:
+            _relax_node(max(g2, key=lambda i: turns[i]), g0, held, tangents, turns, corner_turn)
+        else:
+            e = max(nodes, key=lambda i: turns[i])
+            del held[e]
+            g0.add(e)
+        changed = True
+    return changed
+
+
+def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tangent_deviation=None,
+               end_tangents=(None, None), corners=(), tol=1e-12, max_iter=50, y_down=True):
+    """Fit the QIC spline: clothoid segments through points, G2 except at the
+    few nodes the robust rule relaxes.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        Points ``(x, y)`` in image pixels (x = column, y = row, y down). A
+        closed curve must not repeat its first point at the end.
+    closed : bool
+        Closed curve (N segments) or open curve (N - 1 segments).
+    robust : bool
+        True (default): relax continuity where the G2 spline loops, swings
+        out or crosses itself (the rule in the module notes). False: the
+        pure G2 spline (``'qic-g2'``), which raises where Newton fails.
+    corner_turn : float
+        Robust rule: a node it relaxes becomes a G0 corner at once, instead
+        of a G1 node, where the polygon turns there by more than this
+        (radians; default pi: never).
+    max_tangent_deviation : float, optional
+        Robust rule: the largest difference between a G2 node's tangent and
+        its bisector tangent (radians; default
+        :data:`MAX_TANGENT_DEVIATION`, pi/4). Smaller values hug the polygon
+        at the price of more G1 nodes.
+    end_tangents : (vector or None, vector or None)
+        Open curves only: tangent direction ``(dx, dy)`` at the first and at
+        the last point, in the input coordinates. ``None`` gives a natural
+        end (zero curvature).
+    corners : sequence of int
+        Points where the spline must break its tangent (G0 corners). The
+        curve is split there into open pieces with natural ends.
+    tol : float
+        Newton stops when every curvature jump at a G2 node is below ``tol``
+        times the largest |curvature| and every segment closes to 1e-14 of
+        its chord.
+    max_iter : int
+        Bound on Newton iterations (each with at most 30 step halvings).
+    y_down : bool
+        Whether y points down (image pixels). Only the sign of reported
+        curvature for open curves depends on it.
+
+    Returns
+    -------
+    QICSpline
+        The segments, with ``corners``, ``corner_kinds``, ``loops``,
+        ``max_segment_turn``, ``iterations``, ``g2_error``,
+        ``closure_error`` and ``seconds``. ``.sample(k)`` gives the curve.
+
+    Raises
+    ------
+    InputError
+        Bad points (non-finite, too few, repeated consecutive points) or
+        options.
+    ConvergenceError
+        The pure G2 spline: Newton did not converge within `max_iter`
+        iterations (e.g. jagged or randomly ordered points). The robust
+        spline raises it only when no relaxation converges.
+
+    Notes
+    -----
+    Scale invariant: each piece is scaled by its mean chord length before
+    solving. Each Newton iteration costs O(N) (a tridiagonal, cyclic for
+    closed curves, solve by LAPACK ``dgtsv`` and Sherman-Morrison); the
+    robust rule adds a crossing test per round (GEOS, through shapely).
+
+    References
+    ----------
+    .. [1] E. Bertolazzi and M. Frego, "G1 fitting with clothoids", Math.
+           Meth. Appl. Sci. 38(5), 881-897, 2015.
+    .. [2] E. Bertolazzi and M. Frego, "Interpolating clothoid splines with
+           curvature continuity", Math. Meth. Appl. Sci. 41(4), 2018.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    >>> sp = qic_spline(np.c_[50 + 20 * np.cos(t), 50 - 20 * np.sin(t)])
+    >>> round(float(sp.node_curvature[0]), 10)   # a circle of radius 20
+    0.05
+    >>> sp.corners
+    ()
+    """
+    t_start = time.perf_counter()
+    P = spline_points(points, closed)
+    N = len(P)
+    g0 = set()
+    for c in corners:
+        c = int(c)
+        if not (0 <= c < N):
+            raise InputError(f"corners: index {c} out of range 0..{N - 1}")
+        if closed or 0 < c < N - 1:
+            g0.add(c)
+    ts, te = end_tangents if end_tangents is not None else (None, None)
+    if closed and (ts is not None or te is not None):
+        raise InputError("end_tangents: only for open curves")
+    ts = None if ts is None else _unit_angle(ts, "end_tangents[0]")
+    te = None if te is None else _unit_angle(te, "end_tangents[1]")
+    sign = geometric_sign(P, closed, y_down)
+    method = "qic" if robust else "qic-g2"
+    held = {}
+    if not robust:
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, max_iter)
+        if fit.failed_piece is not None:
+            _raise_failure(fit)
+        return _pack(P, closed, fit, g0, held, sign, t_start, method)
+
+    max_dev = MAX_TANGENT_DEVIATION if max_tangent_deviation is None else float(max_tangent_deviation)
+    tangents = bisector_tangents(P, closed)
+    turns = _turns(P, closed)
+    check_crossings = _polygon_simple(P, closed)
+    # the tangent's largest angle to the chord were the points' circle
+    # tangents held at both ends: what no smooth curve can avoid
+    D = (np.roll(P, -1, axis=0) - P)
+    phi = np.arctan2(D[:, 1], D[:, 0])
+    ref_dev = np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
+    iterations = 0
+    sp = fit = None
+    for _ in range(N + 1):
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, max_iter)
+        iterations += fit.iterations
+        if fit.failed_piece is not None:
+            free = [i for i in range(N) if i not in held and i not in g0 and (closed or 0 < i < N - 1)]
+            if not free:
+                break
+            e = max(free, key=lambda i: turns[i])
+            held[e] = tangents[e]
+            continue
+        sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
+        bad = _bad_segments(sp, fit, check_crossings, ref_dev)
+        changed = _hold_strays(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
+        if bad.size:
+            changed |= _relax(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
+        if not changed:
+            break
+    if sp is None:
+        _raise_failure(fit)
+    return replace(sp, iterations=iterations, seconds=time.perf_counter() - t_start)
