@@ -11,6 +11,7 @@ configs) are bounded by :data:`MAX_TEXT_BYTES`.
 from __future__ import annotations
 
 import contextlib
+import math
 import os
 import re
 import tempfile
@@ -108,13 +109,36 @@ def write_table(table, path, float_format="%.10g"):
 
     Floats are written with 10 significant digits by default, enough for
     sub-micro-pixel coordinates, and deterministic so that the same input
-    gives byte-identical files.
+    gives byte-identical files. NaN and None are written as empty fields.
+    A mapping of columns is written with the csv module (no pandas import:
+    commands that write one table start faster); a DataFrame with its own
+    ``to_csv``, with the same formatting.
     """
-    import pandas as pd
+    if hasattr(table, "to_csv"):
+        with atomic_write(path, "w", newline="") as fh:
+            table.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
+        return
+    import csv
 
-    df = table if isinstance(table, pd.DataFrame) else pd.DataFrame(table)
+    names = list(table)
+    columns = [_format_column(table[name], float_format) for name in names]
     with atomic_write(path, "w", newline="") as fh:
-        df.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
+        writer = csv.writer(fh, lineterminator="\n")
+        writer.writerow(names)
+        writer.writerows(zip(*columns))
+
+
+def _format_column(values, float_format):
+    """The text of every value of a column, as pandas' ``to_csv`` writes it."""
+    a = np.asarray(values)
+    if a.ndim == 0:
+        a = a.reshape(1)
+    if a.dtype.kind == "f":
+        return ["" if v != v else float_format % v for v in a.tolist()]
+    if a.dtype.kind in "iub":
+        return [str(v) for v in a.tolist()]
+    return ["" if v is None or (isinstance(v, float) and v != v) else
+            (float_format % v if isinstance(v, float) else str(v)) for v in a.tolist()]
 
 
 def check_regular_file(path, what="a file", max_bytes=None):
@@ -243,9 +267,6 @@ def describe_columns(columns, limit=5):
     return f"found {shown} ({len(names)} column{'s' if len(names) != 1 else ''})"
 
 
-_NEWLINE = r"\r\n|\r|\n"
-
-
 def read_text_csv(path, what="a CSV file", empty="expected a header"):
     """Read a CSV file as text, with the physical line of each row.
 
@@ -254,7 +275,8 @@ def read_text_csv(path, what="a CSV file", empty="expected a header"):
     never read shifted (pandas would take its first field as an index):
     empty extra fields (a delimiter at the end of every row, as some
     exporters write) are ignored, and a non-empty one is an error naming the
-    line. Blank lines are not rows; a row of empty fields is.
+    line. A row with fewer fields than the header is padded with empty
+    values. Blank lines are not rows; a row of empty fields is.
 
     Parameters
     ----------
@@ -278,66 +300,61 @@ def read_text_csv(path, what="a CSV file", empty="expected a header"):
         :data:`MAX_TEXT_BYTES`, empty, not UTF-8 text, not parseable, or a row
         with values beyond the header.
     """
-    import warnings
-
     import pandas as pd
 
+    header, rows, lines = _read_records(path, what, empty)
+    df = pd.DataFrame(rows, columns=header, dtype=str) if rows else pd.DataFrame(columns=header, dtype=str)
+    return df, np.asarray(lines, dtype=np.int64)
+
+
+def _read_records(path, what, empty):
+    """``(header, rows, lines)`` of a CSV file, read with the csv module.
+
+    The one CSV parser behind :func:`read_text_csv` and :func:`read_points`
+    (pandas only wraps its result), so that reading a contour file costs no
+    pandas import.
+    """
+    import csv
+
     path = check_regular_file(path, what, max_bytes=MAX_TEXT_BYTES)
+    header, rows, lines = None, [], []
     try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", pd.errors.ParserWarning)
-            # index_col=False: never take a first field as the index; blank lines
-            # are kept as rows here so that row i + 2 is a line number
-            df = pd.read_csv(path, dtype=str, keep_default_na=False, skipinitialspace=True, index_col=False,
-                             skip_blank_lines=False)
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            reader = csv.reader(fh, skipinitialspace=True, strict=True)
+            end = 0
+            for record in reader:
+                start, end = end + 1, reader.line_num
+                if not record:
+                    continue  # a blank line
+                if header is None:
+                    header = [c.strip() for c in record]
+                    continue
+                rows.append(_fit_record(path, record, len(header), start))
+                lines.append(start)
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
     except IsADirectoryError:
         raise InputError(f"{path}: is a directory, expected {what}") from None
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: not a readable CSV file (not UTF-8 text: {exc.reason})") from None
+    except csv.Error as exc:
+        raise InputError(f"{path}: not a readable CSV file ({exc})") from None
     except OSError as exc:  # no permission, ...
         raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except pd.errors.EmptyDataError:
-        raise InputError(f"{path}: empty file ({empty})") from None
-    except (pd.errors.ParserError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: not a readable CSV file ({str(exc).splitlines()[0]})") from None
-    if any(issubclass(w.category, pd.errors.ParserWarning) for w in caught):
-        _check_extra_fields(path)
-    df.columns = [str(c).strip() for c in df.columns]
-    # a row starts one line after the previous one ends; quoted values may hold line breaks
-    breaks = np.zeros(len(df), np.int64)
-    for c in df.columns:
-        col = df[c]
-        if len(col) and col.str.contains(r"[\r\n]", regex=True).any():
-            breaks += col.str.count(_NEWLINE).to_numpy(dtype=np.int64)
-    lines = 2 + np.arange(len(df), dtype=np.int64) + np.concatenate(([0], np.cumsum(breaks)[:-1]))[: len(df)]
-    empty_row = (df == "").all(axis=1).to_numpy() if len(df.columns) else np.ones(len(df), bool)
-    if empty_row.any():
-        blank = _blank_lines(path)
-        drop = empty_row & np.isin(lines, blank)
-        if drop.any():
-            df = df.loc[~drop].reset_index(drop=True)
-            lines = lines[~drop]
-    return df, lines
+    if header is None:
+        raise InputError(f"{path}: empty file ({empty})")
+    return header, rows, lines
 
 
-def _blank_lines(path):
-    """Numbers (from 1) of the lines of `path` that hold only white space."""
-    text = Path(path).read_text(encoding="utf-8-sig", errors="replace")
-    return np.array([i + 1 for i, ln in enumerate(re.split(_NEWLINE, text)) if not ln.strip()], dtype=np.int64)
-
-
-def _check_extra_fields(path):
-    """Raise for the first row with non-empty values beyond the header's columns."""
-    import csv
-
-    with open(path, newline="", encoding="utf-8-sig", errors="replace") as fh:
-        reader = csv.reader(fh, skipinitialspace=True)
-        n = len(next(reader, []))
-        for row in reader:
-            if len(row) > n and any(v.strip() for v in row[n:]):
-                extra = ", ".join(shorten(v) for v in row[n:][:3]) + (", ..." if len(row) - n > 3 else "")
-                raise InputError(f"{path}: line {reader.line_num}: {len(row)} fields but the header has {n} "
-                                 f"(extra value(s) {extra}); add a column name to the header or remove them")
+def _fit_record(path, record, n, line):
+    """A record cut or padded to the header's `n` fields; non-empty extras are an error."""
+    if len(record) > n:
+        if any(v.strip() for v in record[n:]):
+            extra = ", ".join(shorten(v) for v in record[n:][:3]) + (", ..." if len(record) - n > 3 else "")
+            raise InputError(f"{path}: line {line}: {len(record)} fields but the header has {n} "
+                             f"(extra value(s) {extra}); add a column name to the header or remove them")
+        return record[:n]
+    return record + [""] * (n - len(record))
 
 
 def read_table(path, required=(), numeric=()):
@@ -386,11 +403,33 @@ def read_points(path, columns=("x", "y")):
     """Read an (N, 2) array of points from a CSV file with columns `x`, `y`.
 
     Points are ``(x, y)`` in image pixels (x = column, y = row, y down).
+
+    Raises
+    ------
+    InputError
+        As :func:`read_table`: a missing column, a value that is not a finite
+        number (naming its line), or no rows.
     """
-    df = read_table(path, required=columns, numeric=columns)
-    if len(df) == 0:
+    path = Path(path)
+    header, rows, lines = _read_records(path, "a CSV file", "expected a header")
+    missing = [c for c in columns if c not in header]
+    if missing:
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(header)}")
+    if not rows:
         raise InputError(f"{path}: no rows")
-    return df[list(columns)].to_numpy(dtype=float)
+    out = np.empty((len(rows), len(columns)))
+    for j, name in enumerate(columns):
+        c = header.index(name)
+        for i, row in enumerate(rows):
+            try:
+                v = float(row[c])
+            except ValueError:
+                v = math.nan
+            if not math.isfinite(v):
+                raise InputError(f"{path}: line {lines[i]}: column {name!r} must be a finite number, "
+                                 f"got {shorten(row[c])}")
+            out[i, j] = v
+    return out
 
 
 def as_points(obj, what="points", min_points=1):

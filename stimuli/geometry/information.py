@@ -54,9 +54,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-import scipy.special
 
 from stimuli.geometry.contour import Contour, turning_angles
+from stimuli.geometry.peaks import circular_peaks_and_prominences, peaks_and_prominences
 from stimuli.errors import InputError
 
 __all__ = [
@@ -214,10 +214,24 @@ def surprisal_vonmises(turning_angle, n, b=4.0, closed=True, bits=False):
     _check_params(n, None, b)
     a = np.asarray(turning_angle, dtype=float)
     mu = 2 * np.pi / n if closed else 0.0
-    # ln I0(b) = ln i0e(b) + b keeps large concentrations finite
-    log_norm = np.log(2 * np.pi) + np.log(scipy.special.i0e(b)) + b
+    log_norm = np.log(2 * np.pi) + _log_i0(b)
     u = log_norm - b * np.cos(a - mu)
     return u / _LN2 if bits else u
+
+
+def _log_i0(b):
+    """ln I0(b), finite for any concentration b >= 0.
+
+    numpy's ``i0`` (Cephes, about 1e-15 relative) overflows above b ~ 700;
+    there the asymptotic series ``b - ln(2 pi b)/2 + ln(1 + 1/(8b) + 9/(128
+    b^2) + 225/(3072 b^3))`` is exact to 1e-12 (Abramowitz & Stegun 9.7.1).
+    Used instead of scipy.special.i0e, whose import alone costs a command
+    more than its work.
+    """
+    if b < 700.0:
+        return float(np.log(np.i0(b)))
+    t = 1.0 / (8.0 * b)
+    return float(b - 0.5 * np.log(2 * np.pi * b) + np.log1p(t + 4.5 * t * t + 37.5 * t**3))
 
 
 def find_peaks(u, closed=True, prominence=None):
@@ -230,7 +244,8 @@ def find_peaks(u, closed=True, prominence=None):
     closed : bool
         Treat `u` as circular, so a peak can sit at the first point.
     prominence : float, optional
-        Minimum prominence (see :func:`scipy.signal.find_peaks`); default 5%
+        Minimum prominence (as :func:`scipy.signal.find_peaks` defines it;
+        computed by :mod:`stimuli.geometry.peaks`); default 5%
         of the range of `u`. A constant `u` (a circle) has no peaks.
 
     Returns
@@ -245,8 +260,6 @@ def find_peaks(u, closed=True, prominence=None):
     InputError
         A `prominence` that is negative, NaN or infinite.
     """
-    import scipy.signal  # slow to import (about 1 s); only peak finding needs it
-
     if prominence is not None and not (np.ndim(prominence) == 0 and 0 <= prominence < np.inf):
         # max(nan, floor) is nan, which silently finds no peaks at all
         raise InputError(f"prominence must be a finite number >= 0, got {prominence}")
@@ -261,16 +274,14 @@ def find_peaks(u, closed=True, prominence=None):
         return np.empty(0, int), np.empty(0)
     v = np.where(finite, u, lo - 1.0)
     prom_min = max(prominence, 1e-12 * max(1.0, abs(hi)))
-    n = len(v)
     if closed:
-        # three copies so that prominences and edge peaks see the wrap-around
-        idx, props = scipy.signal.find_peaks(np.tile(v, 3), prominence=prom_min)
-        keep = (idx >= n) & (idx < 2 * n)
-        idx, prom = idx[keep] - n, props["prominences"][keep]
+        idx, prom = circular_peaks_and_prominences(v)
     else:
         # pad so that a maximum at an end point counts as a peak
-        idx, props = scipy.signal.find_peaks(np.concatenate(([lo - 1.0], v, [lo - 1.0])), prominence=prom_min)
-        idx, prom = idx - 1, props["prominences"]
+        idx, prom = peaks_and_prominences(np.concatenate(([lo - 1.0], v, [lo - 1.0])))
+        idx = idx - 1
+    big = prom >= prom_min
+    idx, prom = idx[big], prom[big]
     order = np.lexsort((idx, -v[idx]))
     return idx[order], prom[order]
 
