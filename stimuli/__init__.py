@@ -30,7 +30,7 @@ from stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "Contour": ".geometry.contour",
-    "turning_angles": ".geometry.contour",
+    "turning_angles": ".geometry.polyline",
     "InputError": ".errors",
     "find_peaks": ".geometry.information",
     "surprisal": ".geometry.information",

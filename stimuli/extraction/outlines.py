@@ -68,7 +68,7 @@ The pipeline
    smoothed along its arc with a periodic Gaussian whose scale is tied to
    the shape, ``sigma = SIGMA_FRACTION * perimeter`` (1 %) unless given, at
    least ``MIN_SIGMA`` px; curvature is the Gaussian-derivative curvature
-   at that scale (:func:`stimuli.contour.gaussian_curvature`); surprisal
+   at that scale (:func:`stimuli.geometry.polyline.gaussian_curvature`); surprisal
    (:func:`stimuli.information.surprisal`) is computed on the smoothed
    contour resampled at ``n`` points (or a spacing in px).
 

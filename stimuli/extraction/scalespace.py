@@ -17,7 +17,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.geometry.contour import Contour, gaussian_curvature
+from stimuli.geometry.contour import Contour
+from stimuli.geometry.polyline import gaussian_curvature
 
 __all__ = ["SIGMA_FRACTION", "MIN_SIGMA", "ContourInfo", "default_sigma", "smooth", "contour_curvature",
            "describe", "curvature_peaks", "fourier_smooth"]

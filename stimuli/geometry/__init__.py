@@ -5,8 +5,9 @@ from stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "Contour": ".contour",
-    "turning_angles": ".contour",
-    "gaussian_curvature": ".contour",
+    "turning_angles": ".polyline",
+    "gaussian_curvature": ".polyline",
+    "shoelace": ".polyline",
     "surprisal": ".information",
     "surprisal_paper": ".information",
     "surprisal_vonmises": ".information",

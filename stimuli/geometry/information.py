@@ -55,7 +55,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.geometry.contour import Contour, turning_angles
+from stimuli.geometry.contour import Contour
+from stimuli.geometry.polyline import turning_angles
 from stimuli.geometry.peaks import circular_peaks_and_prominences, peaks_and_prominences
 from stimuli.errors import InputError
 

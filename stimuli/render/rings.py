@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.geometry.contour import shoelace
+from stimuli.geometry.polyline import shoelace
 from stimuli.io import as_points
 
 def resolve_shape(size=None, shape=None):
