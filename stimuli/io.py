@@ -23,6 +23,8 @@ from stimuli.errors import InputError
 
 __all__ = [
     "MAX_TEXT_BYTES",
+    "as_int",
+    "as_rng",
     "atomic_write",
     "write_table",
     "check_regular_file",
@@ -479,3 +481,36 @@ def as_number(value, name, gt=None, ge=None, lt=None, le=None):
     if le is not None and not v <= le:
         raise InputError(f"{name}: must be <= {le}, got {value!r}")
     return v
+
+
+def as_int(value, name, lo=None, hi=None):
+    """Check that `value` is an integer (in [lo, hi] where given); return it as int.
+
+    Raises
+    ------
+    InputError
+        Naming `name`, for a non-integer or out-of-range value.
+
+    Examples
+    --------
+    >>> as_int(12.0, "n_points", lo=3)
+    12
+    """
+    try:
+        v = int(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: must be an integer, got {value!r}") from None
+    if v != value:
+        raise InputError(f"{name}: must be an integer, got {value!r}")
+    if lo is not None and v < lo:
+        raise InputError(f"{name}: must be >= {lo}, got {value!r}")
+    if hi is not None and v > hi:
+        raise InputError(f"{name}: must be <= {hi}, got {value!r}")
+    return v
+
+
+def as_rng(rng):
+    """Check that `rng` is a `numpy.random.Generator` (the only source of randomness)."""
+    if not isinstance(rng, np.random.Generator):
+        raise InputError(f"rng: expected a numpy.random.Generator, got {type(rng).__name__}")
+    return rng
