@@ -642,8 +642,9 @@ def guided_recipe(params, rng, canvas):
     else:
         raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {rejected[-1]}")
     if fixed:
-        msg = (f"guided: the {p.base.generator} base {p.base.params} draws no random numbers, so every repeat of "
-               f"these parameters gives identical files; use repeats: 1")
+        where = p.base.params.get("path", "")
+        msg = (f"guided: base {p.base.generator} {where} draws no random numbers: every repeat of these "
+               f"parameters gives identical files (use repeats: 1)")
         if msg not in _WARNED:  # once per distinct base in a process, whatever the warnings filters
             _WARNED.add(msg)
             warnings.warn(msg, UserWarning, stacklevel=2)
