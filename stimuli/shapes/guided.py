@@ -164,18 +164,19 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
     rank = np.empty(len(order), int)
     rank[order] = np.arange(len(order))
     kept, dropped = _untangle(chosen, rank, at)
-    # refill: extrema only when k was not given (every extremum that fits), any point to reach k
-    pool = order if k_asked is not None else order[:n_ext]
+    # refill the places freed: with every extremum that fits when k was not given (then other
+    # points up to 3), with any point, best first, up to k when it was
     L = contour.perimeter
-    chosen = select_separated(pool, res.s, L, k, sep, accept=simple, chosen=kept)
-    if len(chosen) < 3 or (k_asked is not None and len(chosen) < k):
-        chosen = select_separated(order, res.s, L, max(3, k if k_asked is not None else 3), sep, accept=simple,
-                                  chosen=chosen)
-    if k_asked is not None and len(chosen) < k:
+    if k_asked is None:
+        chosen = select_separated(order[:n_ext], res.s, L, k, sep, accept=simple, chosen=kept)
+        if len(chosen) < 3:
+            chosen = select_separated(order, res.s, L, 3, sep, accept=simple, chosen=chosen)
+    else:
+        chosen = select_separated(order, res.s, L, k, sep, accept=simple, chosen=kept)
+    need = 3 if k_asked is None else k
+    if len(chosen) < need:
         raise InputError(f"k: only {len(chosen)} points {sep:g} px apart keep the polygon simple on this contour, "
-                         f"asked for {k}")
-    if len(chosen) < 3:
-        raise InputError("k: fewer than 3 points keep the polygon simple on this contour")
+                         f"asked for {need}")
     idx = np.sort(np.asarray(chosen))
     pts, t = _points_at_samples(contour, res, idx)
     if not simple(list(idx)):  # the choice above makes this impossible
@@ -220,7 +221,7 @@ def _untangle(chosen, rank, at):
     return kept, dropped
 
 
-def _cat_prominence(res, prominence):
+def _extremum_prominence(res, prominence):
     # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
     # sharpest corners; Attneave's points are every curvature extremum, ranked
     return 1e-3 * float(np.ptp(res.surprisal)) if prominence is None else prominence
@@ -235,7 +236,7 @@ def _choose(contour, k, which, k_min, min_separation, prominence, res):
         raise InputError(f"k: must be >= {k_min}, got {k}")
     L = contour.perimeter
     sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
-    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=_cat_prominence(res, prominence))
+    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=_extremum_prominence(res, prominence))
     if k is None:
         # every extremum that keeps its distance from the better ones, and no fewer than k_min
         k = max(k_min, len(select_separated(order[:n_ext], res.s, L, n_ext, sep)))
