@@ -609,9 +609,9 @@ def guided_recipe(params, rng, canvas):
     ``min_contrast``, another is drawn from the same stream, up to
     ``max_tries``; ``base_tries`` and ``base_rejected`` (the reasons) are
     recorded. A base that draws no random numbers (``from_csv``,
-    ``from_image``) is the same on every call: it is not drawn again, and a
-    ``UserWarning`` says once that repeats of these parameters give
-    identical files.
+    ``from_image``) is the same on every call (``base_random`` false): it is
+    not drawn again, and a ``UserWarning`` says once per process that
+    repeats of these parameters give identical files.
     """
     import warnings
 
@@ -649,7 +649,7 @@ def guided_recipe(params, rng, canvas):
             _WARNED.add(msg)
             warnings.warn(msg, UserWarning, stacklevel=2)
     parent = "base" if "base" in kinds else None
-    common = dict(bparams, base_tries=tries, base_rejected=rejected)
+    common = dict(bparams, base_tries=tries, base_rejected=rejected, base_random=not fixed)
     items = []
     for kind in kinds:
         if kind == "base":

@@ -141,7 +141,7 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
         through them, a simple polygon, is the stimulus.
     params : dict
         ``k, n, model, A, b, ds, min_separation, indices, t, surprisal,
-        n_extrema``, ``passed_over`` (sample indices left out because the
+        height`` (``(u - min u) / range``), ``n_extrema``, ``passed_over`` (sample indices left out because the
         polygon would cross itself), ``simple`` (always true) and the
         surprisal parameters.
 
@@ -188,6 +188,7 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
         rank=[int(chosen.index(int(i))) for i in idx],
         t=[float(x) for x in t],
         surprisal=[float(res.surprisal[i]) for i in idx],
+        height=_heights(res.surprisal, idx),
         n_extrema=n_ext,
         passed_over=sorted(int(i) for i in set(dropped) - set(chosen)),
         simple=True,
@@ -245,6 +246,12 @@ def _choose(contour, k, which, k_min, min_separation, prominence, res):
     if len(chosen) < k:
         raise InputError(f"k: only {len(chosen)} points are {sep:g} px apart on this contour, asked for {k}")
     return k, sep, chosen, n_ext, order
+
+
+def _heights(u, idx):
+    """``(u - min u) / range`` at `idx`: where between the least and most informative point (0 on a circle)."""
+    lo, span = float(np.min(u)), float(np.ptp(u))
+    return [float((u[i] - lo) / span) if span > 0 else 0.0 for i in idx]
 
 
 def _surprisal_params(res):
@@ -362,7 +369,7 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
         out[which] = [arc_polyline(contour, c - ell / 2, c + ell / 2) for c in centres]
         params[f"{which}_t"] = [float(x) for x in res.t[idx]]
         params[f"{which}_surprisal"] = [float(u[i]) for i in idx]
-        params[f"{which}_height"] = [float((u[i] - lo) / span) for i in idx]
+        params[f"{which}_height"] = _heights(u, idx)
         params[f"{which}_indices"] = [int(i) for i in idx]
         params[f"{which}_extrema"] = int(sum(int(i) in ext_set for i in idx))
         if which == "peaks":
@@ -391,8 +398,8 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
     points : (k, 2) array
         In contour order (image pixels, y down).
     params : dict
-        ``k, which, indices, t, surprisal, n_extrema`` and the surprisal
-        parameters.
+        ``k, which, indices, t, surprisal, height`` (``(u - min u) /
+        range`` at each dot), ``n_extrema`` and the surprisal parameters.
     """
     res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
     k, sep, chosen, n_ext, _ = _choose(contour, k, which, 1, min_separation, prominence, res)
@@ -405,6 +412,7 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
         indices=[int(i) for i in idx],
         t=[float(x) for x in t],
         surprisal=[float(res.surprisal[i]) for i in idx],
+        height=_heights(res.surprisal, idx),
         n_extrema=n_ext,
         **_surprisal_params(res),
     )
