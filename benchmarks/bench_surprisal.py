@@ -9,15 +9,17 @@ implementation must do. Project, in the same process on the same array:
   validation (finite, duplicates, orientation), equal-arc resampling,
   turning angles, curvature, eq. 5, circular peak finding.
 
-Prints medians of repeats and the ratios. Target (issue 2): at most 3x.
+Both project paths run with ``length_unit='px'`` (ds in pixels, as the
+anchor computes it) and the fast path also with the default scale-free unit.
+Prints the machine, medians of repeats and the ratios. Target (issue 2): at
+most 3x.
 Usage: python benchmarks/bench_surprisal.py [--n 1000000] [--repeats 7]
 """
 
 import argparse
-import statistics
-import time
 
 import numpy as np
+from _machine import header, median_time
 
 from stimuli import Contour, surprisal
 from stimuli.geometry.information import surprisal_from_points
@@ -33,20 +35,12 @@ def bare_numpy(p, A=0.25, b=1.0):
     return -np.log(A) - b * ds * ds * np.cos(turn - 2 * np.pi / n)
 
 
-def median_time(fn, repeats):
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=1_000_000)
     ap.add_argument("--repeats", type=int, default=7)
     args = ap.parse_args()
+    header("bench_surprisal: surprisal against a bare numpy pass")
     n = args.n
     th = 2 * np.pi * np.arange(n) / n
     # a wobbly closed contour, counter-clockwise on the screen (y down)
@@ -55,15 +49,17 @@ def main():
 
     # the two agree where they should: same turning angles up to the sign convention (y down)
     u_bare = bare_numpy(np.c_[p[:, 0], -p[:, 1]])
-    u_fast = surprisal_from_points(p)
+    u_fast = surprisal_from_points(p, length_unit="px")
     assert np.allclose(u_bare, u_fast, atol=1e-6 * np.abs(u_fast).max()), "fast path disagrees with anchor"
 
     t_bare = median_time(lambda: bare_numpy(p), args.repeats)
-    t_fast = median_time(lambda: surprisal_from_points(p), args.repeats)
-    t_full = median_time(lambda: surprisal(Contour(p), n=n), max(3, args.repeats // 2))
+    t_fast = median_time(lambda: surprisal_from_points(p, length_unit="px"), args.repeats)
+    t_default = median_time(lambda: surprisal_from_points(p), args.repeats)
+    t_full = median_time(lambda: surprisal(Contour(p), n=n, length_unit="px"), max(3, args.repeats // 2))
     print(f"contour: {n:,} points, closed; median of {args.repeats} repeats")
     print(f"  bare numpy (arctan2, diff, cos)     {t_bare * 1e3:9.1f} ms   1.00x")
     print(f"  attneave surprisal_from_points      {t_fast * 1e3:9.1f} ms   {t_fast / t_bare:.2f}x")
+    print(f"    same, default length unit         {t_default * 1e3:9.1f} ms   {t_default / t_bare:.2f}x")
     print(f"  attneave Contour + surprisal(n=N)   {t_full * 1e3:9.1f} ms   {t_full / t_bare:.2f}x")
     print("target: at most 3x the bare numpy pass")
 

@@ -257,6 +257,7 @@ def test_cat_of_random_attneave_polygons_never_crosses():
 def test_dots_on_an_ellipse_sit_at_the_ends_of_the_major_axis():
     c = ellipse(160, 70)
     pts, p = guided.dots(c, k=2, n=400)
+    assert p["height"] == pytest.approx([1.0, 1.0], abs=1e-3)  # both ends are the maxima
     # curvature is largest (furthest from the mean turn) at (256 +- 160, 256)
     ends = np.array([[96.0, 256.0], [416.0, 256.0]])
     got = pts[np.argsort(pts[:, 0])]
@@ -319,13 +320,14 @@ def test_deterministic_base_warns_once_and_is_not_redrawn(tmp_path):
         runs = [recipes.make("guided", seed, base=base, kinds=["base", "peaks", "troughs"]) for seed in (1, 2, 3)]
     msgs = [str(w.message) for w in caught if "identical" in str(w.message)]
     assert len(msgs) == 1 and "from_csv" in msgs[0]
+    assert all(r[1].params["base_random"] is False for r in runs)
     for a in runs[1:]:  # different seeds, identical stimuli: what the warning is about
         assert a[1].params == runs[0][1].params
     # a random base gives no such warning
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        recipes.make("guided", 1, kinds=["peaks", "troughs"])
-    assert not [w for w in caught if "identical" in str(w.message)]
+        items = recipes.make("guided", 1, kinds=["peaks", "troughs"])
+    assert not [w for w in caught if "identical" in str(w.message)] and items[0].params["base_random"] is True
     # a fixed base that fails fails at once (drawing it again could not help)
     with pytest.raises(InputError, match="from_csv base: n_fragments"):
         recipes.make("guided", 1, base=base, kinds=["peaks"], n_fragments=40, fraction=0.5, min_gap=0)

@@ -274,9 +274,9 @@ def guided_recipe(params, rng, canvas):
     ``min_contrast``, another is drawn from the same stream, up to
     ``max_tries``; ``base_tries`` and ``base_rejected`` (the reasons) are
     recorded. A base that draws no random numbers (``from_csv``,
-    ``from_image``) is the same on every call: it is not drawn again, and a
-    ``UserWarning`` says once that repeats of these parameters give
-    identical files.
+    ``from_image``) is the same on every call (``base_random`` false): it is
+    not drawn again, and a ``UserWarning`` says once per process that
+    repeats of these parameters give identical files.
     """
     import warnings
 
@@ -307,13 +307,14 @@ def guided_recipe(params, rng, canvas):
     else:
         raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {rejected[-1]}")
     if fixed:
-        msg = (f"guided: the {p.base.generator} base {p.base.params} draws no random numbers, so every repeat of "
-               f"these parameters gives identical files; use repeats: 1")
+        where = p.base.params.get("path", "")
+        msg = (f"guided: base {p.base.generator} {where} draws no random numbers: every repeat of these "
+               f"parameters gives identical files (use repeats: 1)")
         if msg not in _WARNED:  # once per distinct base in a process, whatever the warnings filters
             _WARNED.add(msg)
             warnings.warn(msg, UserWarning, stacklevel=2)
     parent = "base" if "base" in kinds else None
-    common = dict(bparams, base_tries=tries, base_rejected=rejected)
+    common = dict(bparams, base_tries=tries, base_rejected=rejected, base_random=not fixed)
     items = []
     for kind in kinds:
         if kind == "base":

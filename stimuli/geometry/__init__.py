@@ -15,4 +15,6 @@ __getattr__, __dir__, __all__ = _attach(__name__, {
     "find_peaks": ".information",
     "SurprisalResult": ".information",
     "MODELS": ".information",
+    "LENGTH_UNITS": ".information",
+    "length_scale": ".information",
 })

@@ -141,7 +141,7 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
         through them, a simple polygon, is the stimulus.
     params : dict
         ``k, n, model, A, b, ds, min_separation, indices, t, surprisal,
-        n_extrema``, ``passed_over`` (sample indices left out because the
+        height`` (``(u - min u) / range``), ``n_extrema``, ``passed_over`` (sample indices left out because the
         polygon would cross itself), ``simple`` (always true) and the
         surprisal parameters.
 
@@ -164,18 +164,19 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
     rank = np.empty(len(order), int)
     rank[order] = np.arange(len(order))
     kept, dropped = _untangle(chosen, rank, at)
-    # refill: extrema only when k was not given (every extremum that fits), any point to reach k
-    pool = order if k_asked is not None else order[:n_ext]
+    # refill the places freed: with every extremum that fits when k was not given (then other
+    # points up to 3), with any point, best first, up to k when it was
     L = contour.perimeter
-    chosen = select_separated(pool, res.s, L, k, sep, accept=simple, chosen=kept)
-    if len(chosen) < 3 or (k_asked is not None and len(chosen) < k):
-        chosen = select_separated(order, res.s, L, max(3, k if k_asked is not None else 3), sep, accept=simple,
-                                  chosen=chosen)
-    if k_asked is not None and len(chosen) < k:
+    if k_asked is None:
+        chosen = select_separated(order[:n_ext], res.s, L, k, sep, accept=simple, chosen=kept)
+        if len(chosen) < 3:
+            chosen = select_separated(order, res.s, L, 3, sep, accept=simple, chosen=chosen)
+    else:
+        chosen = select_separated(order, res.s, L, k, sep, accept=simple, chosen=kept)
+    need = 3 if k_asked is None else k
+    if len(chosen) < need:
         raise InputError(f"k: only {len(chosen)} points {sep:g} px apart keep the polygon simple on this contour, "
-                         f"asked for {k}")
-    if len(chosen) < 3:
-        raise InputError("k: fewer than 3 points keep the polygon simple on this contour")
+                         f"asked for {need}")
     idx = np.sort(np.asarray(chosen))
     pts, t = _points_at_samples(contour, res, idx)
     if not simple(list(idx)):  # the choice above makes this impossible
@@ -187,6 +188,7 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
         rank=[int(chosen.index(int(i))) for i in idx],
         t=[float(x) for x in t],
         surprisal=[float(res.surprisal[i]) for i in idx],
+        height=_heights(res.surprisal, idx),
         n_extrema=n_ext,
         passed_over=sorted(int(i) for i in set(dropped) - set(chosen)),
         simple=True,
@@ -220,7 +222,7 @@ def _untangle(chosen, rank, at):
     return kept, dropped
 
 
-def _cat_prominence(res, prominence):
+def _extremum_prominence(res, prominence):
     # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
     # sharpest corners; Attneave's points are every curvature extremum, ranked
     return 1e-3 * float(np.ptp(res.surprisal)) if prominence is None else prominence
@@ -235,7 +237,7 @@ def _choose(contour, k, which, k_min, min_separation, prominence, res):
         raise InputError(f"k: must be >= {k_min}, got {k}")
     L = contour.perimeter
     sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
-    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=_cat_prominence(res, prominence))
+    order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=_extremum_prominence(res, prominence))
     if k is None:
         # every extremum that keeps its distance from the better ones, and no fewer than k_min
         k = max(k_min, len(select_separated(order[:n_ext], res.s, L, n_ext, sep)))
@@ -244,6 +246,12 @@ def _choose(contour, k, which, k_min, min_separation, prominence, res):
     if len(chosen) < k:
         raise InputError(f"k: only {len(chosen)} points are {sep:g} px apart on this contour, asked for {k}")
     return k, sep, chosen, n_ext, order
+
+
+def _heights(u, idx):
+    """``(u - min u) / range`` at `idx`: where between the least and most informative point (0 on a circle)."""
+    lo, span = float(np.min(u)), float(np.ptp(u))
+    return [float((u[i] - lo) / span) if span > 0 else 0.0 for i in idx]
 
 
 def _surprisal_params(res):
@@ -361,7 +369,7 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
         out[which] = [arc_polyline(contour, c - ell / 2, c + ell / 2) for c in centres]
         params[f"{which}_t"] = [float(x) for x in res.t[idx]]
         params[f"{which}_surprisal"] = [float(u[i]) for i in idx]
-        params[f"{which}_height"] = [float((u[i] - lo) / span) for i in idx]
+        params[f"{which}_height"] = _heights(u, idx)
         params[f"{which}_indices"] = [int(i) for i in idx]
         params[f"{which}_extrema"] = int(sum(int(i) in ext_set for i in idx))
         if which == "peaks":
@@ -390,8 +398,8 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
     points : (k, 2) array
         In contour order (image pixels, y down).
     params : dict
-        ``k, which, indices, t, surprisal, n_extrema`` and the surprisal
-        parameters.
+        ``k, which, indices, t, surprisal, height`` (``(u - min u) /
+        range`` at each dot), ``n_extrema`` and the surprisal parameters.
     """
     res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
     k, sep, chosen, n_ext, _ = _choose(contour, k, which, 1, min_separation, prominence, res)
@@ -404,6 +412,7 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
         indices=[int(i) for i in idx],
         t=[float(x) for x in t],
         surprisal=[float(res.surprisal[i]) for i in idx],
+        height=_heights(res.surprisal, idx),
         n_extrema=n_ext,
         **_surprisal_params(res),
     )
