@@ -307,7 +307,7 @@ def guided_recipe(params, rng, canvas):
     else:
         raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {rejected[-1]}")
     if fixed:
-        where = p.base.params.get("path", "")
+        where = getattr(p.base.params, "path", "")
         msg = (f"guided: base {p.base.generator} {where} draws no random numbers: every repeat of these "
                f"parameters gives identical files (use repeats: 1)")
         if msg not in _WARNED:  # once per distinct base in a process, whatever the warnings filters
