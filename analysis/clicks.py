@@ -218,7 +218,7 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     for c in ("participant", "stimulus_id"):
         df[c] = df[c].str.strip()
     if decimal is None:
-        decimal = sniff_decimal(df["x"].tolist() + df["y"].tolist())
+        decimal = sniff_decimal(df["x"].head(500).tolist() + df["y"].head(500).tolist())
     if decimal == ",":
         for c in ("x", "y"):
             df[c] = to_decimal_point(df[c].tolist())
@@ -246,7 +246,8 @@ def _unpack_lists(df):
     import pandas as pd
 
     x, y = df["x"].to_numpy(dtype=object), df["y"].to_numpy(dtype=object)
-    is_list = df["x"].str.lstrip().str.startswith("[").to_numpy() | df["y"].str.lstrip().str.startswith("[").to_numpy()
+    is_list = (df["x"].str.contains("[", regex=False).to_numpy(dtype=bool)
+               | df["y"].str.contains("[", regex=False).to_numpy(dtype=bool))
     if not is_list.any():
         return df
     counts = np.ones(len(df), np.int64)

@@ -68,6 +68,7 @@ def run(args):
     from analysis.clicks import WINDOW_UNITS, parse_window_size, read_clicks, window_units_to_pixels
     from analysis.exclusions import exclusion_report, resolve_stimulus_ids
     from analysis.report import analyze, check_output_dir, write_analysis
+    from stimuli.errors import InputError
     from stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written
@@ -75,6 +76,8 @@ def run(args):
     window, coords = parse_window_size(args.window_size), args.coords
     if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
         clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
+    elif window is not None:
+        raise InputError(f"--window-size is for --coords {' or '.join(WINDOW_UNITS)}, not --coords {coords}")
     check_output_dir(args.output, args.force)
     stimset = read_stimulus_set(args.stimuli)
     clicks = resolve_stimulus_ids(clicks, stimset)

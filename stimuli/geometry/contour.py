@@ -159,8 +159,8 @@ class Contour:
     >>> import numpy as np
     >>> th = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     >>> c = Contour(np.c_[100 + 50 * np.cos(th), 100 + 50 * np.sin(th)])
-    >>> round(c.perimeter, 2), round(c.area, 0)
-    (314.16, 7851.0)
+    >>> round(c.perimeter, 2), round(float(c.area), 0)
+    (314.16, 7854.0)
     >>> bool(np.allclose(c.curvature(), 1 / 50, rtol=1e-3))
     True
     """
