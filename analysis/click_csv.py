@@ -75,7 +75,10 @@ def sniff_separator(header):
     """
     best, count = ",", 1
     for sep in SEPARATORS:
-        fields = next(csv.reader([header], delimiter=sep), [])
+        try:
+            fields = next(csv.reader([header], delimiter=sep), [])
+        except csv.Error:  # a field beyond csv's size limit with this separator: not it
+            continue
         while fields and not fields[-1].strip():
             fields.pop()
         if len(fields) > count:
