@@ -340,3 +340,11 @@ def test_tolerant_reader_agrees_with_the_csv_module(tmp_path_factory, body, newl
     assert sep == "," and lines.tolist() == [e[0] for e in expected]
     assert df.values.tolist() == [e[1] for e in expected]
     assert [bool(e) for e in errors] == [e[2] for e in expected]
+
+
+def test_missing_columns_of_a_psychopy_file_suggest_the_mapping():
+    from pathlib import Path
+
+    f = Path(__file__).parent / "data" / "psychopy_height.csv"
+    with pytest.raises(InputError, match=r"missing column\(s\) stimulus_id, x, y; .*e\.g\. x=mouse\.x,y=mouse\.y\)"):
+        read_clicks(f)
