@@ -37,7 +37,7 @@ def add_parser(sub):
                         "stimulus column may hold ids, image file names or image paths")
     p.add_argument("--sep", default=None, metavar="SEP",
                    help="field separator of CLICKS.csv: ',', ';', 'tab' or '|' (default: found from the header)")
-    p.add_argument("--decimal", choices=(".", ","), default=None,
+    p.add_argument("--decimal", choices=(".", ","), default=None, metavar="{.|,}",
                    help="decimal mark of x and y (default: ',' when values look like 12,5)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PX",
                    help="exclude clicks farther than PX from the contour (default 5%% of the image diagonal)")
