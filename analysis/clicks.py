@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number, describe_columns
+from stimuli.io import as_number, describe_columns, plausible_header
 
 __all__ = [
     "CANONICAL",
@@ -212,13 +212,13 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     missing = [c for c in CANONICAL if c not in df.columns]
     if missing:
         raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(df.columns)} "
-                         "(map other names with --columns NAME=COLUMN,...)")
+                         f"(map other names with --columns NAME=COLUMN,...{_suggest(missing, df.columns)})")
     if len(df) == 0:
         raise InputError(f"{path}: no click rows (only a header)")
     for c in ("participant", "stimulus_id"):
         df[c] = df[c].str.strip()
     if decimal is None:
-        decimal = sniff_decimal(df["x"].tolist() + df["y"].tolist())
+        decimal = sniff_decimal(df["x"].head(500).tolist() + df["y"].head(500).tolist())
     if decimal == ",":
         for c in ("x", "y"):
             df[c] = to_decimal_point(df[c].tolist())
@@ -226,6 +226,19 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     if any(row_error):
         df["row_error"] = row_error
     return _unpack_lists(df)
+
+
+def _suggest(missing, columns):
+    """'; e.g. x=mouse.x,y=mouse.y' for PsychoPy-like names of a plausible header ('' if none)."""
+    if not plausible_header(columns):
+        return ""
+    pairs = []
+    for k in missing:
+        if k in ("x", "y"):
+            found = [c for c in columns if c.lower().endswith((f".{k}", f"_{k}"))]
+            if len(found) == 1:
+                pairs.append(f"{k}={found[0][:30]}")
+    return f"; e.g. {','.join(pairs)}" if pairs else ""
 
 
 # columns read_clicks adds; a file's own columns of these names are kept as input_<name>
@@ -246,7 +259,8 @@ def _unpack_lists(df):
     import pandas as pd
 
     x, y = df["x"].to_numpy(dtype=object), df["y"].to_numpy(dtype=object)
-    is_list = df["x"].str.lstrip().str.startswith("[").to_numpy() | df["y"].str.lstrip().str.startswith("[").to_numpy()
+    is_list = (df["x"].str.contains("[", regex=False).to_numpy(dtype=bool)
+               | df["y"].str.contains("[", regex=False).to_numpy(dtype=bool))
     if not is_list.any():
         return df
     counts = np.ones(len(df), np.int64)

@@ -12,7 +12,6 @@ p-value from the few left would mislead).
 
 from __future__ import annotations
 
-import numpy as np
 
 from stimuli.io import shorten
 

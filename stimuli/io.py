@@ -29,6 +29,7 @@ __all__ = [
     "write_table",
     "check_regular_file",
     "describe_columns",
+    "plausible_header",
     "shorten",
     "read_text_csv",
     "read_table",
@@ -223,6 +224,23 @@ _HEADER_NAME = re.compile(r"^[\w .()\[\]/%#+*'-]{1,64}$")
 _OTHER_SEPARATORS = {";": "';'", "\t": "tab", "|": "'|'"}
 
 
+def plausible_header(columns):
+    """True when `columns` look like the column names of a CSV header.
+
+    Names as people write them (words, digits, spaces and ``. ( ) [ ] / % #
+    + * ' -``, at most 64 characters each); pandas' ``Unnamed: i`` for empty
+    fields is ignored. The first line of a password file, a binary file or
+    prose is not a header, and its text is not quoted in messages.
+
+    Examples
+    --------
+    >>> plausible_header(["participant", "mouse.x", "rt (ms)"]), plausible_header(["root:x:0:0"])
+    (True, False)
+    """
+    names = [str(c).strip() for c in columns if not re.fullmatch(r"Unnamed: \d+", str(c))]
+    return bool(names) and all(_HEADER_NAME.match(c) for c in names if c)
+
+
 def describe_columns(columns, limit=5):
     """Name the columns found in a file, for a message about missing columns.
 
@@ -263,7 +281,7 @@ def describe_columns(columns, limit=5):
             if sep in names[0] and all(_HEADER_NAME.match(p.strip() or "_") for p in names[0].split(sep)):
                 return (f"found 1 column whose name holds {name}: the file seems to use {name} as separator; "
                         "expected commas")
-    if not all(_HEADER_NAME.match(c.strip()) for c in names if c.strip()):
+    if not plausible_header(names):
         return "the first line is not a CSV header with comma-separated column names"
     shown = ", ".join(shorten(c) for c in names[:limit]) + (", ..." if len(names) > limit else "")
     return f"found {shown} ({len(names)} column{'s' if len(names) != 1 else ''})"

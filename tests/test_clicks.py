@@ -314,3 +314,37 @@ def test_exclusion_report_threshold():
     assert exclusion_report(table(2, 10)) is None  # 20% is not more than 20%
     assert exclusion_report(table(3, 10)).startswith("30% of the clicks (3 of 10) were excluded: far_from_contour 3")
     assert exclusion_report(table(0, 0)) is None
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.sampled_from(["P1,a,1,2", "P2, b ,3.5,-4", "", "   ", "P3,c,5", "P4,d,6,7,8", "P5,e,9,10,,",
+                                 ",,,", "Jos\u00e9,f,1e3,NA"]), min_size=1, max_size=30),
+       st.sampled_from(["\n", "\r\n"]), st.booleans())
+def test_tolerant_reader_agrees_with_the_csv_module(tmp_path_factory, body, newline, final_newline):
+    # the reader's fast path (numpy field counts + pandas) against Python's csv module, line by line
+    import csv
+
+    from analysis.click_csv import read_tolerant_csv
+
+    text = newline.join(["participant,stimulus_id,x,y", *body]) + (newline if final_newline else "")
+    f = tmp_path_factory.mktemp("t") / "c.csv"
+    f.write_bytes(text.encode("utf-8"))
+    df, lines, errors, sep = read_tolerant_csv(f)
+    expected = []
+    for k, line in enumerate(text.splitlines()[1:], start=2):
+        if line.strip():
+            fields = next(csv.reader([line], skipinitialspace=True))
+            while len(fields) > 4 and not fields[-1].strip():
+                fields.pop()
+            expected.append((k, (fields + [""] * 4)[:4], len(fields) != 4))
+    assert sep == "," and lines.tolist() == [e[0] for e in expected]
+    assert df.values.tolist() == [e[1] for e in expected]
+    assert [bool(e) for e in errors] == [e[2] for e in expected]
+
+
+def test_missing_columns_of_a_psychopy_file_suggest_the_mapping():
+    from pathlib import Path
+
+    f = Path(__file__).parent / "data" / "psychopy_height.csv"
+    with pytest.raises(InputError, match=r"missing column\(s\) stimulus_id, x, y; .*e\.g\. x=mouse\.x,y=mouse\.y\)"):
+        read_clicks(f)

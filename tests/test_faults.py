@@ -141,6 +141,15 @@ def test_item11_overflowing_or_degenerate_contours_are_errors(tmp_path, capsys, 
     assert not (tmp_path / "o.csv").exists()
 
 
+def test_item11_an_overflowing_surprisal_is_an_error_not_inf(tmp_path, capsys):
+    # b * ds^2 beyond the largest double (ds in pixels, as the paper writes it): the old code wrote
+    # -inf for every point, exit 0
+    src = _square_csv(tmp_path / "sq.csv", side=1e12)
+    code, err = _cli(["surprisal", src, "-o", tmp_path / "o.csv", "--b", "1e300", "--length-unit", "px"], capsys)
+    _one_line_error(code, err)
+    assert "overflows" in err and not (tmp_path / "o.csv").exists()
+
+
 def test_item11_no_runtime_warning_reaches_the_user(tmp_path, stimset):
     # a real process: -W error::RuntimeWarning turns any numpy warning into a traceback
     src = _square_csv(tmp_path / "huge.csv", side=1e308, offset=-1e308)

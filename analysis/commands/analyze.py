@@ -37,7 +37,7 @@ def add_parser(sub):
                         "stimulus column may hold ids, image file names or image paths")
     p.add_argument("--sep", default=None, metavar="SEP",
                    help="field separator of CLICKS.csv: ',', ';', 'tab' or '|' (default: found from the header)")
-    p.add_argument("--decimal", choices=(".", ","), default=None,
+    p.add_argument("--decimal", choices=(".", ","), default=None, metavar="{.|,}",
                    help="decimal mark of x and y (default: ',' when values look like 12,5)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PX",
                    help="exclude clicks farther than PX from the contour (default 5%% of the image diagonal)")
@@ -76,6 +76,7 @@ def run(args):
     from analysis.clicks import WINDOW_UNITS, parse_window_size, read_clicks, window_units_to_pixels
     from analysis.exclusions import exclusion_report, resolve_stimulus_ids
     from analysis.report import check_output_dir, write_analysis
+    from stimuli.errors import InputError
     from stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written
@@ -83,6 +84,8 @@ def run(args):
     window, coords = parse_window_size(args.window_size), args.coords
     if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
         clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
+    elif window is not None:
+        raise InputError(f"--window-size is for --coords {' or '.join(WINDOW_UNITS)}, not --coords {coords}")
     check_output_dir(args.output, args.force)
     stimset = read_stimulus_set(args.stimuli)
     clicks = resolve_stimulus_ids(clicks, stimset)

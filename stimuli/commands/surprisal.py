@@ -51,6 +51,7 @@ def run(args):
         c, n=args.n, spacing=args.spacing, model=args.model, A=args.A, b=args.b, bits=args.bits,
         prominence=args.prominence, **({} if args.length_unit is None else {"length_unit": args.length_unit}),
     )
+    _check_finite(r)
     write_table(r.table(), args.output, float_format="%.17g")
     return 0
 
@@ -68,3 +69,17 @@ def _check_size(args, contour):
         if n > MAX_POINTS:
             raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
                              f"n = {n:.3g} points; n <= {MAX_POINTS:,} (use a larger spacing)")
+
+
+def _check_finite(result):
+    """Refuse a result whose surprisal overflowed (a huge --b on a large contour), rather than write inf."""
+    import numpy as np
+
+    from stimuli.errors import InputError
+
+    u = np.asarray(result.surprisal, dtype=float)
+    inner = u if result.params["closed"] else u[1:-1]  # an open curve's ends have no turning angle (NaN)
+    if not np.isfinite(inner).all():
+        p = result.params
+        raise InputError(f"--b {p['b']:g} with ds = {p['ds']:.6g} px: the surprisal overflows (b*ds^2 = "
+                         f"{p['b'] * p['ds'] ** 2:.3g}); use a smaller --b or rescale the contour")
