@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
 import tempfile
 from pathlib import Path
 
@@ -16,6 +17,26 @@ import numpy as np
 from stimuli.errors import InputError
 
 __all__ = ["atomic_write", "write_table", "read_text_csv", "read_table", "read_points", "as_points", "as_number"]
+
+
+# Temporary files are named .attneave-tmp-<pid>-<random>-<final name>: no user file is named
+# so, and cleanup (which deletes only names of this form) never touches a user's file.
+TEMP_PREFIX = ".attneave-tmp-"
+_TEMP_RE = re.compile(r"^\.attneave-tmp-[0-9]+-[A-Za-z0-9_]+-")
+
+
+def is_temporary(name):
+    """True for the name of a temporary file made by :func:`atomic_write`.
+
+    Examples
+    --------
+    >>> is_temporary(".attneave-tmp-4242-k3j_x9a1-a.png"), is_temporary(".a.png.tmp")
+    (True, False)
+    """
+    return bool(_TEMP_RE.match(name))
+
+
+__all__ += ["TEMP_PREFIX", "is_temporary"]
 
 
 @contextlib.contextmanager
@@ -53,7 +74,8 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
     if path.is_dir():
         raise InputError(f"{path}: is a directory; expected a file name to write")
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{path.name[:80]}",
+                                   dir=path.parent)
     except OSError as exc:
         # a missing or read-only directory is the user's input, not a crash
         raise InputError(f"{path}: cannot write there ({exc.strerror or exc})") from None

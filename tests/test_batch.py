@@ -164,7 +164,7 @@ def test_kill_9_mid_way_then_rerun_gives_the_uninterrupted_files(tiny, tmp_path,
     made = _journaled(dest)
     assert 3 <= made < 9
     # what a kill during a write leaves: a temporary file beside its final name
-    (dest / "images" / ".rf_000_000.png.k9x2.tmp").write_bytes(b"partial")
+    (dest / "images" / ".attneave-tmp-999999-k9x2ab_c-rf_000_000.png").write_bytes(b"partial")
 
     capsys.readouterr()
     assert cli(["generate", str(cfg), "-o", str(dest), "--resume", "--no-progress"]) == 0

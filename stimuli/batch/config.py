@@ -76,7 +76,7 @@ __all__ = [
 ]
 
 NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]*$"
-MAX_JOBS = 1_000_000  # a guard against a grid that would take days to even list
+MAX_JOBS = 100_000  # recipe calls per batch: planning and validating them takes seconds, not minutes
 
 _STRICT = ConfigDict(extra="forbid", strict=True)
 
@@ -317,11 +317,14 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
             if _has_path(cond.params, key.split(".")):
                 fail(loc0 + ("grid", key), f"{key!r} is also in params; give it in one place only")
 
+        # count before expanding: a grid of a million cells must be refused at once
         keys = list(cond.grid)
         n_cells = math.prod(len(cond.grid[key]) for key in keys)
         n_jobs += n_cells * cond.repeats
         if n_jobs > MAX_JOBS:
-            fail(loc0 + ("grid",), f"the batch would have more than {MAX_JOBS} recipe calls")
+            fail(loc0 + ("grid",), f"condition {cond.name!r} makes {n_cells} grid cell(s) x {cond.repeats} "
+                                   f"repeat(s), which brings the batch to {n_jobs} recipe calls; the limit is "
+                                   f"{MAX_JOBS} per batch (split it into several configs)")
 
         cells, recorded, models, path_map = [], [], [], {}
         for combo in itertools.product(*(range(len(cond.grid[k])) for k in keys)):
