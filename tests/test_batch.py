@@ -232,7 +232,7 @@ def test_bad_input_met_inside_a_recipe_leaves_no_directory(tmp_path, capsys):
                    "conditions:\n  - name: c\n    recipe: from_csv\n    params: {path: two.csv}\n")
     assert cli(["generate", str(cfg), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "two.csv" in err
+    assert err.count("\n") == 1 and "two.csv" in err and "condition 'c', call c_000_000" in err
     assert not (tmp_path / "out").exists()
 
 

@@ -1,4 +1,4 @@
-"""The YAML file of a batch config: read it safely and bounded, find a key's line.
+"""The YAML file of a batch config: read it safely and bounded, find a key's line, write the resolved one.
 
 A config file is refused before it is parsed when it is not a regular file
 (a FIFO would block forever) or is larger than ``MAX_CONFIG_BYTES``; while
@@ -13,8 +13,9 @@ import os
 import stat
 
 from stimuli.errors import InputError
+from stimuli.stimulus_set import to_jsonable
 
-__all__ = ["MAX_CONFIG_BYTES", "MAX_DEPTH", "MAX_NODES", "read_text", "parse_yaml", "yaml_line", "dumper"]
+__all__ = ["MAX_CONFIG_BYTES", "MAX_DEPTH", "MAX_NODES", "read_text", "parse_yaml", "yaml_line", "dumper", "resolved_text"]
 
 MAX_CONFIG_BYTES = 1_000_000  # a config is typed by hand; anything larger is a mistake
 MAX_DEPTH = 50  # YAML nesting; deeper would only exhaust the parser's recursion
@@ -126,6 +127,7 @@ def yaml_line(root, loc):
 
 
 def dumper():
+    """A safe YAML dumper that writes lists of scalars on one line: ``[3, 5]``."""
     import yaml
 
     class Dumper(yaml.SafeDumper):
@@ -137,3 +139,37 @@ def dumper():
 
     Dumper.add_representer(list, represent_list)
     return Dumper
+
+
+def resolved_text(seed, output, canvas, style, conditions):
+    """The text of the resolved ``config.yaml``: defaults filled in, the package version."""
+    import yaml
+
+    from stimuli import __version__
+
+    doc = {
+        "attneave_version": __version__,
+        "seed": seed,
+        "canvas": canvas,
+        "output": output,
+        "style": style,
+        "conditions": [
+            {
+                "name": c.name,
+                "recipe": c.recipe,
+                "params": c.params,
+                "grid": c.axes,
+                "repeats": c.repeats,
+                "style": c.style,
+                "canvas": c.canvas,
+            }
+            for c in conditions
+        ],
+    }
+    header = (
+        "# Resolved batch config written by `attneave generate` (defaults filled in).\n"
+        "# Rerunning it gives the same files: attneave generate config.yaml -o DIR\n"
+    )
+    body = yaml.dump(to_jsonable(doc), Dumper=dumper(), sort_keys=False, default_flow_style=False,
+                     allow_unicode=True, width=4096)
+    return header + body
