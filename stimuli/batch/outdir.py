@@ -65,7 +65,10 @@ def locked(out):
 
     path = Path(out) / LOCK
     while True:
-        fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as exc:  # a read-only or foreign directory is the user's input
+            raise InputError(f"{out}: cannot write there ({exc.strerror or exc})") from None
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -73,6 +76,9 @@ def locked(out):
             os.close(fd)
             raise InputError(f"{out}: another attneave generate (pid {holder}) is writing there; "
                              f"wait for it to finish or choose another directory") from None
+        except OSError as exc:
+            os.close(fd)
+            raise InputError(f"{out}: cannot lock {LOCK} there ({exc.strerror or exc})") from None
         # the holder before us may have removed the file after we opened it: lock the file
         # that is there now, or two runs would each hold a lock on a different file
         try:
