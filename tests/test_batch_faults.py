@@ -79,8 +79,6 @@ def test_1_force_removes_only_the_earlier_batchs_files(small, tmp_path, capsys):
 
 
 def test_2_user_files_named_like_temporaries_survive(small, tmp_path):
-    from stimuli.io import atomic_write, is_temporary
-
     cfg, ref = small
     dest = tmp_path / "set"
     dest.mkdir()
@@ -98,6 +96,8 @@ def test_2_user_files_named_like_temporaries_survive(small, tmp_path):
     assert all((dest / rel).read_text() == "mine" for rel in mine)
     assert hashes(dest, skip=mine) == ref
     # the temporaries of atomic_write carry the package name and this pid
+    from stimuli.io import atomic_write, is_temporary
+
     with atomic_write(tmp_path / "f.txt") as fh:
         fh.write("x")
         [tmp] = [p.name for p in tmp_path.iterdir() if p.name != "set"]
