@@ -43,6 +43,26 @@ __all__ = [
 MAX_TEXT_BYTES = 200 * 1000**2
 
 
+# Temporary files are named .attneave-tmp-<pid>-<random>-<final name>: no user file is named
+# so, and cleanup (which deletes only names of this form) never touches a user's file.
+TEMP_PREFIX = ".attneave-tmp-"
+_TEMP_RE = re.compile(r"^\.attneave-tmp-[0-9]+-[A-Za-z0-9_]+-")
+
+
+def is_temporary(name):
+    """True for the name of a temporary file made by :func:`atomic_write`.
+
+    Examples
+    --------
+    >>> is_temporary(".attneave-tmp-4242-k3j_x9a1-a.png"), is_temporary(".a.png.tmp")
+    (True, False)
+    """
+    return bool(_TEMP_RE.match(name))
+
+
+__all__ += ["TEMP_PREFIX", "is_temporary"]
+
+
 @contextlib.contextmanager
 def atomic_write(path, mode="w", fsync=False, **kwargs):
     """Open a temporary file beside `path` and move it into place on success.
@@ -78,7 +98,8 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
     if path.is_dir():
         raise InputError(f"{path}: is a directory; expected a file name to write")
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{path.name[:80]}",
+                                   dir=path.parent)
     except OSError as exc:
         # a missing or read-only directory is the user's input, not a crash
         raise InputError(f"{path}: cannot write there ({exc.strerror or exc})") from None

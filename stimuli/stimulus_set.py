@@ -33,6 +33,7 @@ import csv
 import io
 import json
 import math
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -139,6 +140,27 @@ def read_manifest_rows(path):
         return []
 
 
+def inside(directory, rel, where, column):
+    """`directory / rel`, refused when it leads outside `directory`.
+
+    Absolute paths, ``..`` steps that climb out and symbolic links that
+    resolve outside are refused: a hand-built manifest must not make
+    analysis read (or echo) files elsewhere.
+
+    Raises
+    ------
+    InputError
+        Naming `where` (file and line) and the `column`.
+    """
+    if os.path.isabs(rel) or re.match(r"^[A-Za-z]:", rel):
+        raise InputError(f"{where}: column {column!r} must be a path relative to the set's directory, got {rel!r}")
+    root = Path(os.path.realpath(directory))
+    full = Path(os.path.realpath(root / rel))
+    if full != root and root not in full.parents:
+        raise InputError(f"{where}: column {column!r} leads outside the set's directory: {rel!r}")
+    return Path(directory) / rel
+
+
 @dataclass
 class StimulusSet:
     """Stimuli of one set: contours, image sizes and the manifest.
@@ -238,14 +260,14 @@ def read_stimulus_set(directory):
         rel = str(row.contour).strip()
         if not rel:
             raise InputError(f"{where}: column 'contour' is empty (expected a path like contours/{sid}.csv)")
-        cpath = directory / rel
+        cpath = inside(directory, rel, where, "contour")
         if not cpath.is_file():
             raise InputError(f"{where}: contour file {rel!r} not found in {directory}")
         contours[sid] = Contour.from_csv(cpath, closed=True)
         sizes[sid] = (w, h)
         image = None
         if "image" in manifest.columns and str(getattr(row, "image")).strip():
-            ipath = directory / str(getattr(row, "image")).strip()
+            ipath = inside(directory, str(getattr(row, "image")).strip(), where, "image")
             image = ipath if ipath.is_file() else None
         images[sid] = image
         ids.append(sid)

@@ -165,7 +165,7 @@ def test_kill_9_mid_way_then_rerun_gives_the_uninterrupted_files(tiny, tmp_path,
     made = _journaled(dest)
     assert 3 <= made < 9
     # what a kill during a write leaves: a temporary file beside its final name
-    (dest / "images" / ".rf_000_000.png.k9x2.tmp").write_bytes(b"partial")
+    (dest / "images" / ".attneave-tmp-999999-k9x2ab_c-rf_000_000.png").write_bytes(b"partial")
 
     capsys.readouterr()
     assert cli(["generate", str(cfg), "-o", str(dest), "--resume", "--no-progress"]) == 0
@@ -233,7 +233,7 @@ def test_bad_input_met_inside_a_recipe_leaves_no_directory(tmp_path, capsys):
                    "conditions:\n  - name: c\n    recipe: from_csv\n    params: {path: two.csv}\n")
     assert cli(["generate", str(cfg), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "two.csv" in err
+    assert err.count("\n") == 1 and "two.csv" in err and "condition 'c', call c_000_000" in err
     assert not (tmp_path / "out").exists()
 
 

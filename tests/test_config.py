@@ -185,3 +185,14 @@ def test_stimulus_seed_is_the_documented_seedsequence():
         assert stimulus_seed(42, c, k, r) == want
     seeds = {stimulus_seed(42, c, k, r) for c in range(3) for k in range(4) for r in range(5)}
     assert len(seeds) == 60
+
+
+def test_config_and_make_say_the_same_for_the_same_mistake(tmp_path):
+    from stimuli.batch.recipes import make
+
+    for params, key in [({"sigmma": 0.1}, "sigmma"), ({"sigma": -0.5}, "sigma"), ({"n": "many"}, "n")]:
+        text = f"seed: 1\nconditions:\n  - name: a\n    recipe: blob\n    params: {params}\n"
+        from_config = _error(tmp_path, text).split(f"conditions[0].params.{key}: ", 1)[1]
+        with pytest.raises(InputError) as exc:
+            make("blob", 1, **params)
+        assert str(exc.value) == f"blob: {key}: {from_config}"

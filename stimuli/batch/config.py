@@ -29,6 +29,12 @@ names the file, the YAML line and the key path, e.g.::
 
     cfg.yaml:14: conditions[2].grid.amplitude[1]: must be > 0, got -0.1
 
+A batch makes at most ``MAX_JOBS`` (100,000) recipe calls; the grid is
+counted (the product of its list lengths times the repeats) before it is
+expanded, so a grid of a million cells is refused at once, naming the
+condition. The file itself is bounded too (:mod:`stimuli.batch.config_file`:
+size, nesting, aliases).
+
 Parameters named ``path`` or ending in ``_path`` are file names; relative ones
 are taken relative to the config file's directory, and they are recorded as
 written so that output files do not depend on where the config lives.
@@ -56,7 +62,7 @@ from typing import Any, Literal, Optional
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from stimuli.batch.config_file import dumper, parse_yaml, read_text, yaml_line
+from stimuli.batch.config_file import parse_yaml, read_text, resolved_text, yaml_line
 from stimuli.batch.errors import describe, loc_str, suggest
 from stimuli.batch.params import Style
 from stimuli.batch.placement import Canvas
@@ -76,7 +82,7 @@ __all__ = [
 ]
 
 NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]*$"
-MAX_JOBS = 1_000_000  # a guard against a grid that would take days to even list
+MAX_JOBS = 100_000  # recipe calls per batch: planning and validating them takes seconds, not minutes
 
 _STRICT = ConfigDict(extra="forbid", strict=True)
 
@@ -317,11 +323,14 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
             if _has_path(cond.params, key.split(".")):
                 fail(loc0 + ("grid", key), f"{key!r} is also in params; give it in one place only")
 
+        # count before expanding: a grid of a million cells must be refused at once
         keys = list(cond.grid)
         n_cells = math.prod(len(cond.grid[key]) for key in keys)
         n_jobs += n_cells * cond.repeats
         if n_jobs > MAX_JOBS:
-            fail(loc0 + ("grid",), f"the batch would have more than {MAX_JOBS} recipe calls")
+            fail(loc0 + ("grid",), f"condition {cond.name!r} makes {n_cells} grid cell(s) x {cond.repeats} "
+                                   f"repeat(s), which brings the batch to {n_jobs} recipe calls; the limit is "
+                                   f"{MAX_JOBS} per batch (split it into several configs)")
 
         cells, recorded, models, path_map = [], [], [], {}
         for combo in itertools.product(*(range(len(cond.grid[k])) for k in keys)):
@@ -355,7 +364,7 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
         )
 
     output = cfg.output.model_dump(mode="json")
-    text = _resolved_text(cfg.seed, output, top_canvas, top_style, conditions)
+    text = resolved_text(cfg.seed, output, top_canvas, top_style, conditions)
     return ResolvedBatch(source=src, seed=cfg.seed, output=output, conditions=conditions, text=text)
 
 
@@ -367,12 +376,6 @@ def _recipes():
     from stimuli.batch.recipes import RECIPES
 
     return RECIPES
-
-
-def _version():
-    from stimuli import __version__
-
-    return __version__
 
 
 def _check_override(model, base, override, loc_override, loc_base, fail, strict=None):
@@ -468,34 +471,3 @@ def _del_path(d, keys):
         d = d[k]
     if isinstance(d, dict):
         d.pop(keys[-1], None)
-
-
-def _resolved_text(seed, output, canvas, style, conditions):
-    import yaml
-
-    doc = {
-        "attneave_version": _version(),
-        "seed": seed,
-        "canvas": canvas,
-        "output": output,
-        "style": style,
-        "conditions": [
-            {
-                "name": c.name,
-                "recipe": c.recipe,
-                "params": c.params,
-                "grid": c.axes,
-                "repeats": c.repeats,
-                "style": c.style,
-                "canvas": c.canvas,
-            }
-            for c in conditions
-        ],
-    }
-    header = (
-        "# Resolved batch config written by `attneave generate` (defaults filled in).\n"
-        "# Rerunning it gives the same files: attneave generate config.yaml -o DIR\n"
-    )
-    body = yaml.dump(to_jsonable(doc), Dumper=dumper(), sort_keys=False, default_flow_style=False,
-                     allow_unicode=True, width=4096)
-    return header + body

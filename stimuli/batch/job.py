@@ -25,6 +25,7 @@ import threading
 from pathlib import Path
 
 from stimuli.batch.config import record_paths, stimulus_seed
+from stimuli.errors import InputError
 from stimuli.io import atomic_write
 from stimuli.stimulus_set import encode_json, to_jsonable
 
@@ -100,7 +101,11 @@ def run_job(job, out_dir):
     out = Path(out_dir)
     fn = RECIPES[job["recipe"]][1]
     canvas, style = job["canvas"], job["style"]
-    items = fn(job["params"], np.random.default_rng(job["seed"]), canvas)
+    try:
+        items = fn(job["params"], np.random.default_rng(job["seed"]), canvas)
+    except InputError as exc:
+        # the recipe names the parameter or file; say which condition and call met it
+        raise InputError(f"condition {job['condition']!r}, call {job['key']} (seed {job['seed']}): {exc}") from None
 
     key = job["key"]
     suffixes = [it.suffix for it in items]

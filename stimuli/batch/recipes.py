@@ -373,16 +373,16 @@ def make(recipe, rng, canvas=None, **params):
     """
     from pydantic import ValidationError
 
+    from stimuli.batch.errors import describe, loc_str
+
     if recipe not in RECIPES:
         raise InputError(f"recipe: unknown {recipe!r}; expected one of {', '.join(sorted(RECIPES))}")
     model, fn = RECIPES[recipe]
     try:
         p = model.model_validate(params)
     except ValidationError as exc:
-        e = exc.errors(include_url=False)[0]
-        loc = ".".join(str(x) for x in e["loc"])
-        msg = e["msg"].removeprefix("Value error, ")
-        raise InputError(f"{recipe}: {loc or 'params'}: {msg}") from None
+        loc, msg = describe(exc, params, model)
+        raise InputError(f"{recipe}: {loc_str(loc) if loc else 'params'}: {msg}") from None
     if not isinstance(rng, np.random.Generator):
         rng = np.random.default_rng(rng)
     return fn(p, rng, canvas if canvas is not None else Canvas())

@@ -8,7 +8,7 @@ ends up holding exactly::
     images/<id>.png         (and images/<id>.svg when output.svg is true)
     contours/<id>.csv       columns x, y in image pixels (y down)
 
-and nothing else of ours, byte for
+and nothing else of ours (files of the user's own are left alone), byte for
 byte the same for the same config whatever the number of workers, the
 scheduler, or interruptions on the way.
 
@@ -17,23 +17,27 @@ How that is kept
 * Jobs (one recipe call each) have ids and seeds that do not depend on the
   order in which they run, and each writes its files atomically and then
   journals its manifest rows (:mod:`stimuli.batch.job`).
+* One ``generate`` at a time writes a directory: it holds a lock there
+  (:func:`stimuli.batch.outdir.locked`); a second is refused.
 * Before any stimulus, a marker ``.attneave-batch`` holding the SHA-256 of the
   resolved config is written. A rerun into the same directory with the same
   config skips complete jobs and makes the rest; a directory made by another
-  config is refused unless ``force=True`` (which deletes the earlier
-  batch's files first). At the end the parent writes
+  config is refused unless ``force=True`` (which deletes the files the
+  earlier batch listed, and only those). At the end the parent writes
   ``manifest.csv`` and ``config.yaml`` (after flushing everything to disk
   once, so that a manifest that survives a power cut lists only files that
-  survived it) and removes ``.rows/``, the marker and any temporary file
-  an interrupted write left behind.
+  survived it) and removes ``.rows/``, the marker, the lock and the
+  temporary files an interrupted write left behind.
 * A config that does not validate writes nothing. An error inside a recipe
   call (e.g. an unreadable image) stops the batch; a directory that this run
-  created is then removed again.
+  created is then removed again. A full disk (an ``OSError``) stops it too
+  but keeps what is complete: the rerun completes it.
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import shutil
 import time
@@ -48,7 +52,10 @@ from stimuli.errors import InputError
 from stimuli.io import atomic_write
 from stimuli.stimulus_set import write_manifest
 
-__all__ = ["BatchResult", "run_batch"]
+__all__ = ["BatchResult", "run_batch", "DISK_ERRORS"]
+
+# errors of the disk rather than of the input: the batch stops, keeps what is complete, exit 1
+DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EIO)
 
 
 @dataclass
@@ -85,8 +92,8 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
     out_dir : str or Path
         The stimulus-set directory. Created if needed.
     workers : int
-        Local worker processes (1 runs in this process). Ignored with
-        `scheduler`.
+        Local worker processes (1 runs in this process); no more processes
+        than jobs are started. Ignored with `scheduler`.
     scheduler : str or dask.distributed.Client, optional
         Run the jobs on a Dask distributed scheduler at this address (the
         workers must see `out_dir` at the same path). Needs the ``dask``
@@ -95,9 +102,9 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
         Insist that `out_dir` holds an earlier run of the same config (an
         error otherwise). Without it, such a directory is completed anyway.
     force : bool
-        Delete an earlier batch's files in `out_dir` (``images/``,
-        ``contours/``, ``manifest.csv``, ``config.yaml``) and start afresh.
-        Other files in `out_dir` are left alone.
+        Delete an earlier batch's files in `out_dir` (those its manifest or
+        journals list, its ``manifest.csv`` and ``config.yaml``) and start
+        afresh. Other files in `out_dir` are left alone.
     progress : bool or None
         Show a tqdm progress bar on stderr; None shows it when stderr is a
         terminal.
@@ -110,8 +117,12 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
     ------
     InputError
         A config that does not validate (nothing is written), a directory
-        that holds another batch (without `force`), nothing to resume (with `resume`), bad worker or scheduler
+        that holds another batch (without `force`) or that another run is
+        writing, nothing to resume (with `resume`), bad worker or scheduler
         settings, or bad input met by a recipe.
+    OSError
+        The disk is full (or failing) or the directory became unwritable;
+        what was complete is kept, and the rerun completes the set.
     """
     t0 = time.perf_counter()
     batch = config if isinstance(config, ResolvedBatch) else load_config(config)
@@ -124,17 +135,24 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
         raise InputError(f"{out}: exists and is not a directory")
     created = not out.exists()
     try:
-        n_stimuli, n_jobs, n_run = _run(batch, out, workers, scheduler, resume, force, progress)
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{out}: cannot write there ({exc.strerror or exc})") from None
+    held = False
+    try:
+        with outdir.locked(out):
+            held = True
+            n_stimuli, n_jobs, n_run = _run_locked(batch, out, workers, scheduler, resume, force, progress)
     except InputError:
-        if created:
+        if created and held:  # only this run wrote there
             shutil.rmtree(out, ignore_errors=True)
         raise
     return BatchResult(directory=out, n_stimuli=n_stimuli, n_jobs=n_jobs, n_run=n_run,
                        seconds=time.perf_counter() - t0)
 
 
-def _run(batch, out, workers, scheduler, resume, force, progress):
-    """The batch: (stimuli, jobs, jobs run)."""
+def _run_locked(batch, out, workers, scheduler, resume, force, progress):
+    """The batch, once this process holds the directory: (stimuli, jobs, jobs run)."""
     state = outdir.inspect(out, batch)
     if state in ("other", "unknown") and not force:
         what = ("was made by another config (or another attneave version)" if state == "other"
@@ -152,6 +170,8 @@ def _run(batch, out, workers, scheduler, resume, force, progress):
             with atomic_write(out / outdir.MARKER, "w", encoding="utf-8") as fh:
                 fh.write(f"attneave batch in progress\nconfig_sha256: {batch.sha256}\n")
     except OSError as exc:
+        if exc.errno in DISK_ERRORS:
+            raise
         raise InputError(f"{out}: cannot write there ({exc.strerror or exc})") from None
 
     results = outdir.completed(out, jobs)

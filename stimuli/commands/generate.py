@@ -33,10 +33,11 @@ def add_parser(sub):
 
 
 def run(args):
+    import os
     import sys
 
     from stimuli.batch.config import load_config
-    from stimuli.batch.runner import run_batch
+    from stimuli.batch.runner import DISK_ERRORS, run_batch
     from stimuli.errors import InputError
 
     if args.workers < 1:
@@ -48,10 +49,24 @@ def run(args):
                   f"= {c.n_jobs} call(s)")
         print(f"{batch.n_jobs} recipe call(s); config sha256 {batch.sha256[:12]}")
         return 0
-    res = run_batch(
-        batch, args.output, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
-        force=args.force, progress=False if args.no_progress else None,
-    )
+    cpus = os.cpu_count() or 1
+    if args.scheduler is None and args.workers > cpus:
+        print(f"attneave generate: warning: --workers {args.workers} is more than the {cpus} CPUs; "
+              f"more processes than cores only compete (at most one per recipe call is started)",
+              file=sys.stderr)
+    try:
+        res = run_batch(
+            batch, args.output, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
+            force=args.force, progress=False if args.no_progress else None,
+        )
+    except OSError as exc:
+        if exc.errno not in DISK_ERRORS:
+            raise
+        # the disk, not the input: exit 1; every file in place is complete, the rerun completes the set
+        where = f" ({exc.filename})" if exc.filename else ""
+        print(f"attneave generate: error: {args.output}: {exc.strerror}{where}; the files written so far are "
+              f"complete: free space and run the same command again to finish the set", file=sys.stderr)
+        return 1
     skipped = res.n_jobs - res.n_run
     note = f" ({skipped} already complete)" if skipped else ""
     print(f"attneave generate: {res.n_stimuli} stimuli from {res.n_jobs} recipe calls in {res.directory}"
