@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number
+from stimuli.validate import as_number
 
 from .blurred import fit_beta_blurred
 from .choice import fit_beta, fit_choice, profile_ci

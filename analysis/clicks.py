@@ -55,7 +55,8 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number, describe_columns, plausible_header
+from stimuli.io import describe_columns, plausible_header
+from stimuli.validate import as_number
 
 __all__ = [
     "CANONICAL",

@@ -178,7 +178,7 @@ def test_5_a_second_run_on_a_locked_directory_is_refused(small, tmp_path, capsys
 
 
 def test_6_disk_full_is_one_line_exit_1_and_the_rerun_completes(small, tmp_path, capsys, monkeypatch):
-    import stimuli.render.core as core
+    import stimuli.render.files as core
 
     cfg, ref = small
     dest = tmp_path / "set"

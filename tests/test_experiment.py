@@ -430,4 +430,6 @@ def test_an_image_path_outside_the_set_is_refused(stimset, tmp_path, capsys):
     m.loc[m.stimulus_id == "filler", "image"] = "../outside.png"
     m.to_csv(bad / "manifest.csv", index=False)
     assert _build(bad, tmp_path / "exp") == 2
-    assert "filler" in capsys.readouterr().err and not (tmp_path / "exp").exists()
+    # refused where the set is read, naming the manifest's line and column
+    err = capsys.readouterr().err
+    assert "line 8: column 'image' leads outside" in err and not (tmp_path / "exp").exists()

@@ -59,7 +59,7 @@ def run(args):
 def _check_size(args, contour):
     """Bound the number of output points before anything is allocated."""
     from stimuli.errors import InputError
-    from stimuli.io import as_number
+    from stimuli.validate import as_number
 
     if args.n is not None and not 3 <= args.n <= MAX_POINTS:
         raise InputError(f"-n: must be 3 <= n <= {MAX_POINTS:,} points, got {args.n}")

@@ -51,7 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number
+from stimuli.validate import as_number
 
 __all__ = [
     "Curve",

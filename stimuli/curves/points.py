@@ -11,7 +11,7 @@ import numpy as np
 
 from stimuli.curves.euler import wrap_angle
 from stimuli.errors import InputError
-from stimuli.io import as_points
+from stimuli.validate import as_points
 
 __all__ = ["spline_points", "geometric_sign", "chord_end_angles", "circle_tangents", "bisector_tangents"]
 

@@ -19,7 +19,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.geometry.polyline import edges, gaussian_curvature, shoelace, turning_angles
-from stimuli.io import as_points
+from stimuli.validate import as_points
 
 __all__ = ["Contour", "MAX_COORDINATE", "MIN_EXTENT"]
 

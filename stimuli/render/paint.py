@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number, as_points
+from stimuli.validate import as_number, as_points
 from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation
 from stimuli.render.rings import as_rings, resolve_shape
 

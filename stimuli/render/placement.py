@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number, as_points
+from stimuli.validate import as_number, as_points
 from stimuli.render.rings import resolve_shape
 
 def fit_to_image(points, size, margin=None, scale=None):

@@ -49,7 +49,7 @@ import threading
 
 import numpy as np
 
-from stimuli.io import as_number, as_points
+from stimuli.validate import as_number, as_points
 from stimuli.render.rings import as_rings, orient_rings, resolve_shape
 
 # Coverage within this of 0 or 1 is round-off and is snapped (px^2).

@@ -12,7 +12,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.geometry.polyline import shoelace
-from stimuli.io import as_points
+from stimuli.validate import as_points
 
 def resolve_shape(size=None, shape=None):
     """Return (height, width) from `size` (int or (width, height)) or `shape`."""

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import as_number, as_points
+from stimuli.validate import as_number, as_points
 from stimuli.render.paint import colours, paint_image, resolve_dtype, result_record
 from stimuli.render.raster import ring_accumulation
 from stimuli.render.rings import is_single_ring, resolve_shape, rings_from_geometry

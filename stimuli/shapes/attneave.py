@@ -18,7 +18,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.geometry.contour import Contour
-from stimuli.io import as_int, as_number, as_rng
+from stimuli.validate import as_int, as_number, as_rng
 
 __all__ = ["attneave_polygon", "attneave_curved", "smooth_closed", "SMOOTH_METHODS"]
 

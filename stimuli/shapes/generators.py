@@ -30,7 +30,7 @@ import numpy as np
 
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
-from stimuli.io import as_int, as_number, as_rng
+from stimuli.validate import as_int, as_number, as_rng
 from stimuli.shapes.attneave import SMOOTH_METHODS, attneave_curved, attneave_polygon, smooth_closed
 
 __all__ = [
