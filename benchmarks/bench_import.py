@@ -10,7 +10,7 @@ less sensitive to machine load than wall time.
 
 Target (issue 13): ``attneave --help`` and a ``surprisal`` call in well under
 0.3 s of import time.
-Usage: python benchmarks/bench_import.py [--repeats 7]
+Usage: python benchmarks/bench_import.py [--repeats 7] [--root OTHER_CHECKOUT]
 """
 
 import argparse
@@ -38,11 +38,11 @@ def import_us(stderr):
     return total
 
 
-def run(argv, repeats):
+def run(argv, repeats, env=None):
     walls, imports = [], []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        p = subprocess.run([sys.executable, "-X", "importtime", *argv], capture_output=True, text=True)
+        p = subprocess.run([sys.executable, "-X", "importtime", *argv], capture_output=True, text=True, env=env)
         walls.append(time.perf_counter() - t0)
         if p.returncode != 0:
             raise SystemExit(f"{argv}: exit {p.returncode}: {p.stderr[-500:]}")
@@ -53,7 +53,11 @@ def run(argv, repeats):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=7)
+    ap.add_argument("--root", help="measure another checkout of attneave (e.g. an older commit) instead")
     args = ap.parse_args()
+    env = None
+    if args.root:
+        env = dict(os.environ, PYTHONPATH=os.path.abspath(args.root))
     header("start-up: attneave commands against python -c pass", packages=("numpy", "scipy"))
     with tempfile.TemporaryDirectory() as d:
         th = 2 * np.pi * np.arange(200) / 200
@@ -68,11 +72,13 @@ def main():
             ("attneave --help", [*cli, "--help"]),
             ("attneave surprisal (200 points)", [*cli, "surprisal", src, "-o", os.path.join(d, "u.csv")]),
         ]
-        base_wall, base_imp = run(cases[0][1], args.repeats)
-        print(f"median of {args.repeats} runs; import = -X importtime total beyond the anchor's")
+        base_wall, base_imp = run(cases[0][1], args.repeats, env)
+        print(f"checkout: {args.root or 'installed'}; median of {args.repeats} runs; "
+              "import = -X importtime total beyond the anchor's")
         print(f"  {'case':34s} {'wall s':>8s} {'x anchor':>9s} {'import s':>9s}")
-        for name, argv in cases:
-            wall, imp = run(argv, args.repeats)
+        print(f"  {cases[0][0]:34s} {base_wall:8.3f} {1:8.2f}x {0:9.3f}")
+        for name, argv in cases[1:]:
+            wall, imp = run(argv, args.repeats, env)
             print(f"  {name:34s} {wall:8.3f} {wall / base_wall:8.2f}x {imp - base_imp:9.3f}")
     print("target: --help and a surprisal call well under 0.3 s of import time")
 
