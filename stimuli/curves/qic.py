@@ -33,7 +33,7 @@ nothing changes (at most N + 1 rounds):
    cut there into open pieces with natural ends; corners carry
    information, the seed's eq. 6).
 4. Where Newton does not converge, the G2 node with the sharpest polygon
-   turn becomes a G1 node.
+   turn becomes a G1 node (two nodes at the next failure, then four, ...).
 
 On MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally spaced by arc
 length this relaxes about 9 / 7 / 4 / 0.6 % of the nodes
@@ -84,6 +84,8 @@ MAX_TANGENT_DEVIATION = 0.25 * np.pi
 _MIN_X0 = 1e-6
 # samples per segment for the crossing test of the robust rule
 _CROSS_SAMPLES = 12
+# line-search halvings per Newton iteration in the robust rule's fits
+_ROBUST_HALVINGS = 10
 
 
 class ConvergenceError(InputError):
@@ -249,11 +251,12 @@ def _pieces(N, closed, g0, ts, te):
 class _Fit:
     """Segments of one fit, in order from the first point, before packing."""
 
-    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter):
+    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30):
         N = len(P)
         segs, self.iterations, self.g2, self.closure = [], 0, 0.0, 0.0
         self.failed_piece = None
         size = float(np.max(np.ptp(P, axis=0))) or 1.0
+        held_keys = np.fromiter(held, dtype=int, count=len(held))
         for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
             Q = P[idx]
             Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
@@ -264,7 +267,7 @@ class _Fit:
             phi = np.arctan2(D[:, 1], D[:, 0])
             p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
             nodes = idx if pclosed else idx  # node k of the piece is input row idx[k]
-            hold = np.array([int(i) in held for i in nodes[: p0i.size + (0 if pclosed else 1)]])
+            hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys)
             if not pclosed:
                 # a piece's end nodes are free ends (or the open curve's given tangents)
                 hold[0] = hold[-1] = False
@@ -276,7 +279,7 @@ class _Fit:
                 if km is not None:
                     p1i[km] = wrap_angle(th - phi[km])
             res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold if hold.any() else None,
-                              tol, max_iter)
+                              tol, max_iter, max_halvings)
             if res is None or not res.ok or res.st["X0"].min() < _MIN_X0:
                 self.failed_piece = (idx, res)
                 return
@@ -546,17 +549,21 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
     D = (np.roll(P, -1, axis=0) - P)
     phi = np.arctan2(D[:, 1], D[:, 0])
     ref_dev = np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
-    iterations = 0
+    iterations = failures = 0
     sp = fit = None
     for _ in range(N + 1):
-        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, max_iter)
+        # a fit that stalls is abandoned early: relaxing a node is cheaper
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
         iterations += fit.iterations
         if fit.failed_piece is not None:
             free = [i for i in range(N) if i not in held and i not in g0 and (closed or 0 < i < N - 1)]
             if not free:
                 break
-            e = max(free, key=lambda i: turns[i])
-            held[e] = tangents[e]
+            # Newton failed: hold the sharpest G2 node(s), twice as many each
+            # time it fails again, so that hopeless input ends quickly
+            failures += 1
+            for e in sorted(free, key=lambda i: -turns[i])[: 2 ** (failures - 1)]:
+                held[e] = tangents[e]
             continue
         sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
         bad = _bad_segments(sp, fit, check_crossings, ref_dev)
