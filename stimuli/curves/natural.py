@@ -148,14 +148,6 @@ def arc_grid(s_start, s_end, num, s=None):
     return np.linspace(s_start, s_end, int(num))
 
 
-def _rotate_from(z, theta0):
-    """Rotate complex positions by -theta0 so that the start tangent is +x."""
-    return z * np.exp(-1j * theta0)
-
-
-# --------------------------------------------------------------------------- generic integrator
-
-
 _MAX_NFEV = 1_000_000  # about 50,000 rad of turning, ~10 s
 
 
@@ -341,10 +333,11 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
 
     Notes
     -----
-    With ``v = s + k0/c`` and ``t = v * sqrt(|c|/pi)``, the tangent angle from
-    the start is ``(c/2)(v**2 - v0**2)`` and the position is
-    ``exp(-i sgn(c) pi t0**2/2) sqrt(pi/|c|) [F(t) - F(t0)]`` with
-    ``F = C + i sgn(c) S`` the Fresnel integrals (:func:`scipy.special.fresnel`).
+    Evaluated by :func:`stimuli.curves.euler.clothoid_points` (the one
+    clothoid evaluator of the package): the generalised Fresnel integral
+    ``int_0^d exp(i (k(s0) u + c u**2 / 2)) du`` through the Fresnel
+    integrals :func:`scipy.special.fresnel` after completing the square, or
+    power series where those lose precision.
 
     Examples
     --------
@@ -354,7 +347,7 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     >>> bool(np.allclose(cl.points[-1], (C, S)))
     True
     """
-    from scipy.special import fresnel
+    from stimuli.curves.euler import clothoid_points
 
     k0 = as_number(k0, "k0")
     c = as_number(c, "c")
@@ -382,11 +375,10 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
         )
         return relabel(curve, "clothoid", k0=k0, c=c)
 
-    sgn = np.sign(c)
-    S, C = fresnel(t)
-    z = np.sqrt(np.pi / abs(c)) * ((C - C[0]) + 1j * sgn * (S - S[0]))
-    z = _rotate_from(z, sgn * np.pi * t[0] ** 2 / 2)
-    return Curve("clothoid", grid, z.real, z.imag, theta, kappa, {**base, "method": "fresnel"})
+    # one clothoid evaluator for the whole package: the segments' own
+    # (Fresnel integrals, or their series where those lose precision)
+    x, y, _, _ = clothoid_points(0.0, 0.0, 0.0, k0 + c * s0, c, grid - s0)
+    return Curve("clothoid", grid, x, y, theta, kappa, {**base, "method": "fresnel"})
 
 
 # --------------------------------------------------------------------------- pseudospirals (eq. 8)

@@ -9,35 +9,9 @@ appears between the points. The pure form (``robust=False``, the command
 line's ``--method qic-g2``) joins every segment with curvature continuity
 (G2) and is solved by :func:`stimuli.curves.qic_newton.solve_nodes`.
 
-On jagged points the pure G2 spline can loop or swing far from the polygon
-(a segment turning by more than pi, a self-crossing the polygon does not
-have). The robust form (the default) then relaxes continuity at a few nodes.
-The *bisector tangent* of a node is the direction of the sum of the unit
-vectors along the two polygon sides that meet there
-(:func:`stimuli.curves.points.bisector_tangents`). The rule, repeated until
-nothing changes (at most N + 1 rounds):
-
-1. Fit the spline (G2 at every node not yet relaxed).
-2. *Straying nodes*: a G2 node whose tangent differs from its bisector
-   tangent by more than :data:`MAX_TANGENT_DEVIATION` (pi/4), and by at least
-   as much as at both neighbours, becomes a **G1 node**: its tangent is held
-   at the bisector tangent and its curvature may jump.
-3. *Bad segments*: a segment whose tangent turns by more than pi, whose
-   tangent leaves its chord's direction by more than
-   ``max(pi/2, a + pi/10)`` (``a`` the larger angle between the chord and the
-   bisector tangents at its ends: what a smooth curve cannot avoid), or that
-   crosses another segment although the polygon of the points is simple. In
-   every run of consecutive bad segments, the G2 node with the sharpest
-   polygon turn among the run's nodes becomes a G1 node; where all of them
-   already are G1 nodes, the sharpest becomes a **G0 corner** (the curve is
-   cut there into open pieces with natural ends; corners carry
-   information, the seed's eq. 6).
-4. Where Newton does not converge, the G2 node with the sharpest polygon
-   turn becomes a G1 node (two nodes at the next failure, then four, ...).
-
-On MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally spaced by arc
-length this relaxes about 9 / 7 / 4 / 0.6 % of the nodes
-(``benchmarks/validate_spline.py``).
+On jagged points the pure G2 spline can loop or swing far from the polygon.
+The robust form (the default) then relaxes continuity at a few nodes by the
+rule of :mod:`stimuli.curves.qic_rule`.
 
 Every relaxed node is reported in ``corners`` (0-based input rows) with its
 kind ('G1' or 'G0') in ``corner_kinds``; everywhere else the curve is G2 to
@@ -64,21 +38,20 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from stimuli.curves.euler import clothoid_points, wrap_angle
-from stimuli.curves.metrics import SampledCurve, curve_metrics, self_crossing_segments
+from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import bisector_tangents, chord_end_angles, geometric_sign, spline_points
 from stimuli.curves.qic_newton import solve_nodes
+from stimuli.curves.qic_rule import (
+    MAX_TANGENT_DEVIATION,
+    bad_segments,
+    hold_straying_nodes,
+    polygon_is_simple,
+    polygon_turns,
+    relax_bad_runs,
+)
 from stimuli.errors import InputError
 
-__all__ = ["ConvergenceError", "QICSpline", "qic_spline", "MAX_CHORD_ANGLE", "CHORD_MARGIN", "MAX_TANGENT_DEVIATION"]
-
-#: A segment whose tangent leaves its chord's direction by more than this
-#: (radians), and by more than the bisector tangents at its ends do plus
-#: CHORD_MARGIN, swings out of the polygon: the robust rule relaxes a node.
-MAX_CHORD_ANGLE = 0.5 * np.pi
-CHORD_MARGIN = 0.1 * np.pi
-#: A G2 node whose tangent differs from the bisector tangent by more than
-#: this (radians) strays: the robust rule holds it at the bisector (G1).
-MAX_TANGENT_DEVIATION = 0.25 * np.pi
+__all__ = ["ConvergenceError", "QICSpline", "qic_spline"]
 
 # chord / segment length below which a segment counts as degenerate (length -> inf)
 _MIN_X0 = 1e-6
@@ -311,21 +284,6 @@ class _Fit:
         self.seg = {key: np.concatenate([s[key] for s in segs])[order] for key in segs[0]}
 
 
-def _turns(P, closed):
-    """Polygon turning angle at every node (0 at the ends of an open curve)."""
-    D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
-    phi = np.arctan2(D[:, 1], D[:, 0])
-    if closed:
-        return np.abs(wrap_angle(phi - np.roll(phi, 1)))
-    return np.r_[0.0, np.abs(wrap_angle(np.diff(phi))), 0.0]
-
-
-def _polygon_simple(P, closed):
-    import shapely
-
-    return bool(shapely.is_simple(shapely.LinearRing(P) if closed else shapely.LineString(P)))
-
-
 def _pack(P, closed, fit, g0, held, sign, t_start, method):
     seg = fit.seg
     corners = sorted(set(g0) | set(held))
@@ -360,79 +318,6 @@ def _raise_failure(fit):
     )
 
 
-def _bad_segments(sp, fit, check_crossings, ref_dev):
-    """Indices (into the segment arrays) of segments the robust rule repairs."""
-    seg = fit.seg
-    limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[seg["start"]] + CHORD_MARGIN)
-    bad = (seg["turn"] > np.pi) | (seg["chord_dev"] > limit)
-    if check_crossings:
-        c = sp.sample(_CROSS_SAMPLES)
-        for s in self_crossing_segments(c.x, c.y, c.segment, sp.closed):
-            bad[np.flatnonzero(seg["start"] == s)] = True
-    return np.flatnonzero(bad)
-
-
-def _hold_strays(seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev):
-    """Hold the tangent of nodes where the G2 tangent strays from the
-    bisector of the polygon's sides by more than MAX_TANGENT_DEVIATION and by more
-    than at both neighbours. Returns whether any node changed."""
-    theta = np.full(N, np.nan)
-    theta[seg["start"]] = seg["theta0"]
-    dev = np.abs(wrap_angle(theta - tangents))
-    dev[list(g0) + list(held)] = 0.0
-    if not closed:
-        dev[0] = dev[-1] = 0.0
-    dev = np.nan_to_num(dev)
-    peak = (dev > max_dev) & (dev >= np.roll(dev, 1)) & (dev >= np.roll(dev, -1))
-    for e in np.flatnonzero(peak):
-        _relax_node(int(e), g0, held, tangents, turns, corner_turn)
-    return bool(peak.any())
-
-
-def _relax_node(e, g0, held, tangents, turns, corner_turn):
-    """A G2 node becomes a G1 node, its tangent held at the bisector, or a
-    G0 corner where the polygon turns by more than `corner_turn`."""
-    if turns[e] > corner_turn:
-        g0.add(e)
-    else:
-        held[e] = tangents[e]
-
-
-def _runs(bad, m, closed):
-    """Runs of consecutive segment indices (cyclic when closed)."""
-    runs, cur = [], [int(bad[0])]
-    for j in bad[1:]:
-        if j == cur[-1] + 1:
-            cur.append(int(j))
-        else:
-            runs.append(cur)
-            cur = [int(j)]
-    runs.append(cur)
-    if closed and len(runs) > 1 and runs[0][0] == 0 and runs[-1][-1] == m - 1:
-        runs[0] = runs.pop() + runs[0]
-    return runs
-
-
-def _relax(bad, seg, N, closed, turns, g0, held, tangents, corner_turn):
-    """Apply one round of the robust rule: one node per run of bad segments.
-    Returns False when nothing is left to relax."""
-    changed = False
-    for run in _runs(bad, len(seg["start"]), closed):
-        nodes = {int(seg["start"][j]) for j in run} | {(int(seg["start"][j]) + 1) % N for j in run}
-        nodes = [e for e in nodes if (closed or 0 < e < N - 1) and e not in g0]
-        if not nodes:
-            continue
-        g2 = [e for e in nodes if e not in held]
-        if g2:
-            _relax_node(max(g2, key=lambda i: turns[i]), g0, held, tangents, turns, corner_turn)
-        else:
-            e = max(nodes, key=lambda i: turns[i])
-            del held[e]
-            g0.add(e)
-        changed = True
-    return changed
-
-
 def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tangent_deviation=None,
                end_tangents=(None, None), corners=(), tol=1e-12, max_iter=50, y_down=True):
     """Fit the QIC spline: clothoid segments through points, G2 except at the
@@ -456,7 +341,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
     max_tangent_deviation : float, optional
         Robust rule: the largest difference between a G2 node's tangent and
         its bisector tangent (radians; default
-        :data:`MAX_TANGENT_DEVIATION`, pi/4). Smaller values hug the polygon
+        :data:`stimuli.curves.qic_rule.MAX_TANGENT_DEVIATION`, pi/4). Smaller values hug the polygon
         at the price of more G1 nodes.
     end_tangents : (vector or None, vector or None)
         Open curves only: tangent direction ``(dx, dy)`` at the first and at
@@ -542,8 +427,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
 
     max_dev = MAX_TANGENT_DEVIATION if max_tangent_deviation is None else float(max_tangent_deviation)
     tangents = bisector_tangents(P, closed)
-    turns = _turns(P, closed)
-    check_crossings = _polygon_simple(P, closed)
+    turns = polygon_turns(P, closed)
+    check_crossings = polygon_is_simple(P, closed)
     # the tangent's largest angle to the chord were the points' circle
     # tangents held at both ends: what no smooth curve can avoid
     D = (np.roll(P, -1, axis=0) - P)
@@ -566,10 +451,10 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
                 held[e] = tangents[e]
             continue
         sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-        bad = _bad_segments(sp, fit, check_crossings, ref_dev)
-        changed = _hold_strays(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
+        bad = bad_segments(fit.seg, sp.sample(_CROSS_SAMPLES) if check_crossings else None, ref_dev)
+        changed = hold_straying_nodes(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
         if bad.size:
-            changed |= _relax(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
+            changed |= relax_bad_runs(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
         if not changed:
             break
     if sp is None:
