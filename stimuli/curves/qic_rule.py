@@ -27,8 +27,11 @@ nothing changes (at most N + 1 rounds):
    turn becomes a G1 node (two nodes at the next failure, then four, ...).
 
 On MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally spaced by arc
-length this relaxes about 9 / 7 / 4 / 0.6 % of the nodes
-(``benchmarks/validate_spline.py``).
+length this relaxes 8.0 / 7.4 / 4.9 / 0.7 % of the nodes, leaves 0.6 / 0 / 0 / 0
+% of the curves crossing themselves and no segment turning by more than pi,
+and the 90th percentile of the largest distance to the outline is 1.18 /
+1.13 / 1.15 / 1.09 times that of scipy's periodic cubic spline (the pure G2
+spline: 1.49 / 1.43 / 1.31 / 1.20; ``benchmarks/validate_spline.py``).
 
 References
 ----------
