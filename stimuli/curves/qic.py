@@ -55,8 +55,10 @@ __all__ = ["ConvergenceError", "QICSpline", "qic_spline"]
 
 # chord / segment length below which a segment counts as degenerate (length -> inf)
 _MIN_X0 = 1e-6
-# samples per segment for the crossing test of the robust rule
+# the crossing test of the robust rule: samples per segment (at most) and
+# the largest change of tangent between samples (radians)
 _CROSS_SAMPLES = 12
+_CROSS_STEP = 0.15
 # line-search halvings per Newton iteration in the robust rule's fits
 _ROBUST_HALVINGS = 10
 
@@ -185,6 +187,34 @@ class QICSpline:
         return SampledCurve(
             s=s, x=x.ravel(), y=y.ravel(), curvature=self.sign * k.ravel(), segment=seg,
             theta=th.ravel(), closed=self.closed, breaks=tuple(self.corners),
+        )
+
+    def sample_by_turn(self, max_step=0.1, max_samples=32):
+        """Sample every segment at points equally spaced in arc length, as
+        few as keep the tangent's change between neighbours below `max_step`
+        radians (at least 3, at most `max_samples`, both ends included): a
+        polyline within about ``L * max_step / 8`` of each segment of length
+        L, cheap where the curve is smooth (used by the crossing test of the
+        robust rule).
+
+        Returns
+        -------
+        SampledCurve
+        """
+        turn = self.segment_turn if self.segment_turn is not None else np.full(len(self.length), np.pi)
+        counts = np.clip(np.ceil(turn / max_step).astype(int) + 1, 3, max(int(max_samples), 3))
+        seg = np.repeat(np.arange(counts.size), counts)
+        first = np.r_[0, np.cumsum(counts)[:-1]]
+        u = (np.arange(seg.size) - first[seg]) / (counts[seg] - 1)
+        s_loc = self.length[seg] * u
+        x, y, th, k = clothoid_points(self.x0[seg], self.y0[seg], self.theta0[seg], self.k0[seg], self.dk[seg], s_loc)
+        last = first + counts - 1
+        nxt = (self.start + 1) % len(self.points)
+        x[last], y[last] = self.points[nxt, 0], self.points[nxt, 1]
+        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
+        return SampledCurve(
+            s=offs[seg] + s_loc, x=x, y=y, curvature=self.sign * k, segment=self.start[seg], theta=th,
+            closed=self.closed, breaks=tuple(self.corners),
         )
 
     def metrics(self, samples=32):
@@ -451,7 +481,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
                 held[e] = tangents[e]
             continue
         sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-        bad = bad_segments(fit.seg, sp.sample(_CROSS_SAMPLES) if check_crossings else None, ref_dev)
+        bad = bad_segments(fit.seg, sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES) if check_crossings else None,
+                           ref_dev)
         changed = hold_straying_nodes(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
         if bad.size:
             changed |= relax_bad_runs(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
