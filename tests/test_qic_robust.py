@@ -126,3 +126,18 @@ def test_attneave_curved_qic_accepts_what_cubic_accepts():
         cubic += ok["cubic"]
         both += ok["cubic"] and ok["qic"]
     assert both >= 11
+
+
+def test_sample_by_turn_bounds_the_tangent_step():
+    t = np.linspace(0, 2 * np.pi, 9, endpoint=False)
+    P = np.c_[100 + 40 * np.cos(t) * (1 + 0.3 * np.cos(2 * t)), 100 - 40 * np.sin(t)]
+    sp = qic_spline(P)
+    c = sp.sample_by_turn(0.05, 64)
+    for sl in segment_slices(c.segment):
+        th = c.theta[sl]
+        assert 3 <= th.size <= 64
+        assert np.abs(np.diff(th)).max() <= 0.05 + 1e-12
+    # the samples lie on the curve: the same arc lengths through sample()'s evaluator
+    dense = sp.sample(2001)
+    x = np.interp(c.s, dense.s, dense.x)
+    assert np.abs(x - c.x).max() < 1e-3

@@ -191,18 +191,20 @@ class QICSpline:
 
     def sample_by_turn(self, max_step=0.1, max_samples=32):
         """Sample every segment at points equally spaced in arc length, as
-        few as keep the tangent's change between neighbours below `max_step`
-        radians (at least 3, at most `max_samples`, both ends included): a
-        polyline within about ``L * max_step / 8`` of each segment of length
-        L, cheap where the curve is smooth (used by the crossing test of the
-        robust rule).
+        few as keep the tangent's change between neighbours at most
+        `max_step` radians (at least 3, at most `max_samples`, both ends
+        included; the cap wins): cheap where the curve is smooth (used by
+        the crossing test of the robust rule).
 
         Returns
         -------
         SampledCurve
         """
-        turn = self.segment_turn if self.segment_turn is not None else np.full(len(self.length), np.pi)
-        counts = np.clip(np.ceil(turn / max_step).astype(int) + 1, 3, max(int(max_samples), 3))
+        # curvature is linear on a segment: its largest |k| is at an end, and
+        # |k| * (L / steps) bounds the tangent's change between neighbours
+        kmax = np.maximum(np.abs(self.k0), np.abs(self.k0 + self.dk * self.length))
+        steps = np.ceil(np.minimum(self.length * kmax / max_step, max_samples))
+        counts = np.clip(steps.astype(int) + 1, 3, max(int(max_samples), 3))
         seg = np.repeat(np.arange(counts.size), counts)
         first = np.r_[0, np.cumsum(counts)[:-1]]
         u = (np.arange(seg.size) - first[seg]) / (counts[seg] - 1)
