@@ -30,6 +30,8 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.figure_files import pyplot, save_png  # noqa: F401  (save_png: part of this module's face)
+
 __all__ = ["make_figures", "save_png", "fig2_curve", "FIGURE_MAKERS", "PAPER", "NOTE_NAME"]
 
 #: Parameters of the paper's Figs. 1-4 (eq. 5).
@@ -43,27 +45,9 @@ NOTE_NAME = "figures.md"
 
 _B_COLORS = ("black", "tab:blue", "tab:red")  # the paper's colours for b = 1/2, 1, 2
 _C_COLORS = ("tab:red", "tab:green", "gold", "tab:blue")  # the paper's colours in Figs. 5-6
-_DPI = 120
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def save_png(fig, path):
-    """Save a matplotlib figure as PNG atomically and close it; return the path."""
-    from stimuli.io import atomic_write
-
-    path = Path(path)
-    with atomic_write(path, "wb") as fh:
-        fig.savefig(fh, format="png", dpi=_DPI, metadata={"Software": None})
-    _plt().close(fig)
-    return path
+_plt = pyplot  # the module's own short name for it
 
 
 def _ds():
@@ -238,7 +222,7 @@ def fig4(outdir, delta=0.01):
 
 
 def _eq7_s(C, n=EQ7_N, s_end=EQ7_S_END, num=2001):
-    from stimuli.curves.natural import constant_info_domain
+    from stimuli.curves.constant_info import constant_info_domain
 
     s_min = constant_info_domain(C, n)
     if s_min == 0:
@@ -250,7 +234,7 @@ def _eq7_s(C, n=EQ7_N, s_end=EQ7_S_END, num=2001):
 
 
 def _eq7_figure(outdir, Cs, number, name):
-    from stimuli.curves.natural import constant_info_curvature, constant_info_domain
+    from stimuli.curves.constant_info import constant_info_curvature, constant_info_domain
 
     plt = _plt()
     fig, ax = plt.subplots(figsize=(7, 4.2))
@@ -298,7 +282,7 @@ def fig6(outdir):
 
 def fig_eq7_u(outdir):
     """Eq. 5 along eq. 7's curvature with ds = s/n: constant u = -ln A' - b C."""
-    from stimuli.curves.natural import constant_info_curvature
+    from stimuli.curves.constant_info import constant_info_curvature
     from stimuli.geometry.information import surprisal_paper
 
     plt = _plt()
@@ -327,7 +311,7 @@ def fig_eq7_u(outdir):
 
 def fig_curves(outdir):
     """Gallery of the paper's curve families (y-up coordinates)."""
-    from stimuli.curves import natural as curves
+    from stimuli import curves
 
     plt = _plt()
     fig, axes = plt.subplots(2, 3, figsize=(11, 8))
@@ -401,7 +385,7 @@ def fig_curves(outdir):
 #: here (e.g. the QIC-spline Fig. 10 analogue from ``stimuli.curves.splines``).
 FIGURE_MAKERS = [fig1, fig2, fig3, fig4, fig5, fig6, fig_eq7_u, fig_curves]
 
-from analysis.spline_plots import fig10_maker  # noqa: E402  (QIC-spline Fig. 10 analogue)
+from analysis.spline_plots import fig10_maker  # noqa: E402  (QIC-spline Fig. 10 analogue; no circle)
 
 FIGURE_MAKERS.append(fig10_maker)
 

@@ -1,21 +1,24 @@
-"""Benchmark: QIC spline fit against scipy's periodic cubic spline (and libspiro).
+"""Benchmark: QIC spline fit against scipy's periodic cubic spline and libspiro.
 
 For N = 30 and N = 1000 points on random smooth closed curves (radial Fourier
 shapes, seeded), each of these is timed on the same points, interleaved
 repeat by repeat so that machine load hits all alike:
 
-- project: ``stimuli.splines.qic_spline(points)`` (closed G2 clothoid spline,
-  tolerance as shipped: every curvature jump below 1e-12 of max |k|);
+- pure: ``qic_spline(points, robust=False)`` (the G2 clothoid spline,
+  ``--method qic-g2``; every curvature jump below 1e-12 of max |k|);
+- robust: ``qic_spline(points)`` (the default: the pure fit plus the robust
+  rule's checks, which on these smooth shapes relax nothing);
 - anchor: ``scipy.interpolate.CubicSpline(u, points, bc_type='periodic')``
-  with the chord-length parameter ``u`` computed from the points inside the
-  timed call (the same work the QIC fit does on its input);
-- libspiro, when the C library is installed (Debian package ``libspiro1``):
-  ``run_spiro`` + ``free_spiro`` through ctypes on the same points, all of
-  type 'c' (G2 curve points), i.e. Raph Levien's G2 spiro spline solve.
+  with the chord-length parameter ``u`` computed inside the timed call;
+- libspiro, when the C library is installed (Debian package ``libspiro1``;
+  a benchmark-only tool, loaded with ctypes): ``run_spiro`` + ``free_spiro``
+  on the same points, all of type 'c' (G2 curve points), i.e. Raph Levien's
+  G2 spiro spline solve.
 
-Median times (ms), the ratios QIC / CubicSpline and QIC / libspiro, and the
-QIC's iterations and G2 error are printed. Targets from issue 4: at most 3x
-CubicSpline at N = 30 and at most 10x at N = 1000.
+Medians of all repeats (ms), never a best run, and the ratios pure /
+libspiro (targets, issue 9: <= 2 at N = 30, <= 1 at N = 1000), robust / pure
+(target <= 3) and pure / CubicSpline. The machine and its load average are
+printed first (``benchmarks/_machine.py``).
 
 Usage::
 
@@ -27,12 +30,17 @@ from __future__ import annotations
 import argparse
 import ctypes
 import ctypes.util
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import CubicSpline
 
-from stimuli.curves.splines import qic_spline
+from stimuli.curves.qic import qic_spline
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _machine import header  # noqa: E402
 
 
 def smooth_closed(rng, n, size=400.0):
@@ -85,39 +93,45 @@ def main():
     ap.add_argument("--shapes", type=int, default=5, help="random shapes per N")
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
+    header("bench_spline: QIC spline (pure G2 and robust) vs scipy CubicSpline and libspiro")
     rng = np.random.default_rng(args.seed)
     spiro = load_spiro()
     print(f"libspiro: {'found' if spiro else 'not installed (apt-get install libspiro1)'}")
-    print(f"{'N':>6} {'QIC ms':>9} {'Cubic ms':>9} {'ratio':>7} {'spiro ms':>9} {'QIC/spiro':>9} {'iters':>6} {'G2 err':>9}")
+    print(f"{'N':>6} {'pure ms':>9} {'robust ms':>10} {'cubic ms':>9} {'spiro ms':>9} {'pure/spiro':>10} "
+          f"{'robust/pure':>11} {'pure/cubic':>10} {'iters':>6} {'G2 err':>9} {'relaxed':>8}")
     for n in (30, 1000):
         reps = args.repeat if n <= 100 else max(20, args.repeat // 5)
-        times = {"qic": [], "cubic": [], "spiro": []}
-        iters, g2 = [], []
+        times = {"pure": [], "robust": [], "cubic": [], "spiro": []}
+        iters, g2, relaxed = [], [], 0
         for _ in range(args.shapes):
             P = smooth_closed(rng, n)
-            sp = qic_spline(P)
+            sp = qic_spline(P, robust=False)
             iters.append(sp.iterations)
             g2.append(sp.g2_error)
+            relaxed += len(qic_spline(P).corners)
             cubic_periodic(P)
             if spiro:
                 spiro(P)
             for _ in range(reps):
                 t0 = time.perf_counter()
-                qic_spline(P)
+                qic_spline(P, robust=False)
                 t1 = time.perf_counter()
-                cubic_periodic(P)
+                qic_spline(P)
                 t2 = time.perf_counter()
-                times["qic"].append(t1 - t0)
-                times["cubic"].append(t2 - t1)
+                cubic_periodic(P)
+                t3 = time.perf_counter()
+                times["pure"].append(t1 - t0)
+                times["robust"].append(t2 - t1)
+                times["cubic"].append(t3 - t2)
                 if spiro:
-                    t3 = time.perf_counter()
+                    t4 = time.perf_counter()
                     spiro(P)
-                    times["spiro"].append(time.perf_counter() - t3)
-        q = 1e3 * np.median(times["qic"])
-        c = 1e3 * np.median(times["cubic"])
-        s = 1e3 * np.median(times["spiro"]) if spiro else float("nan")
-        print(f"{n:>6} {q:>9.3f} {c:>9.3f} {q / c:>7.2f} {s:>9.3f} {q / s:>9.2f} {max(iters):>6} {max(g2):>9.1e}")
-    print("ratio = QIC / CubicSpline (targets: <= 3 at N = 30, <= 10 at N = 1000)")
+                    times["spiro"].append(time.perf_counter() - t4)
+        med = {k: (1e3 * np.median(v) if v else float("nan")) for k, v in times.items()}
+        print(f"{n:>6} {med['pure']:>9.3f} {med['robust']:>10.3f} {med['cubic']:>9.3f} {med['spiro']:>9.3f} "
+              f"{med['pure'] / med['spiro']:>10.2f} {med['robust'] / med['pure']:>11.2f} "
+              f"{med['pure'] / med['cubic']:>10.2f} {max(iters):>6} {max(g2):>9.1e} {relaxed:>8}")
+    print("targets (issue 9): pure/spiro <= 2 at N = 30 and <= 1 at N = 1000; robust/pure <= 3")
 
 
 if __name__ == "__main__":

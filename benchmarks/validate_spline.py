@@ -20,10 +20,17 @@ spline method. Per N and method the script prints:
 Targets (issue 9): cross <= 1 %, turn>pi = 0, extrema = 0, g2 <= 1e-10,
 corners <= 10 % at N = 12, 20 and <= 5 % at N = 40, p90 ratio <= 1.1.
 
+With ``--curved K`` it measures instead the ``attneave_curved`` acceptance
+test on K seeded Attneave polygons (6-19 points): the share of the polygons
+whose ``smooth_method: cubic`` curve is accepted (simple and inside the
+polygon's box grown by 10%) whose ``qic`` curve is accepted too (target:
+>= 95%), and how many ``qic`` curves cross themselves.
+
 Usage::
 
     python benchmarks/validate_spline.py [--data DIR] [--n 12 20 40 80] [--limit K]
         [--methods qic qic-g2 cubic]
+    python benchmarks/validate_spline.py --curved 600 [--seed 11]
 """
 
 from __future__ import annotations
@@ -90,6 +97,32 @@ def measure(P, outline_tree, perimeter, method):
                 seconds=sp.seconds)
 
 
+def curved_acceptance(k, seed):
+    """attneave_curved's acceptance of 'qic' against 'cubic' on k polygons."""
+    from stimuli.shapes.generators import attneave_polygon, smooth_closed
+
+    rng = np.random.default_rng(seed)
+    cubic = both = crossing = 0
+    t0 = time.perf_counter()
+    for _ in range(k):
+        poly, _ = attneave_polygon(rng, int(rng.integers(6, 20)))
+        p = poly.points
+        lo, hi = p.min(axis=0), p.max(axis=0)
+        ok = {}
+        for method in ("cubic", "qic"):
+            c, _ = smooth_closed(p, method=method)
+            q = c.points
+            near = np.all(q.min(axis=0) >= lo - 0.1 * (hi - lo)) and np.all(q.max(axis=0) <= hi + 0.1 * (hi - lo))
+            simple = c.is_simple()
+            crossing += method == "qic" and not simple
+            ok[method] = simple and near
+        cubic += ok["cubic"]
+        both += ok["cubic"] and ok["qic"]
+    print(f"{k} polygons (seed {seed}): cubic accepts {cubic}, qic accepts {both} of those "
+          f"({100.0 * both / max(cubic, 1):.1f}%); qic curves crossing themselves: {crossing} "
+          f"({time.perf_counter() - t0:.0f} s)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default=str(Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "mpeg7"))
@@ -97,7 +130,14 @@ def main(argv=None):
     ap.add_argument("--limit", type=int, default=None, help="first K files only")
     ap.add_argument("--every", type=int, default=1, help="every K-th file only")
     ap.add_argument("--methods", nargs="+", default=["qic", "qic-g2", "cubic"])
+    ap.add_argument("--curved", type=int, default=None, metavar="K",
+                    help="measure attneave_curved's qic acceptance on K polygons instead")
+    ap.add_argument("--seed", type=int, default=11)
     args = ap.parse_args(argv)
+    if args.curved:
+        header("validate_spline: attneave_curved acceptance, smooth_method qic vs cubic")
+        curved_acceptance(args.curved, args.seed)
+        return
     header("validate_spline: splines through real outlines reduced to N points")
     t0 = time.perf_counter()
     shapes = []

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.special import fresnel, hyp2f1, sici, spence
 
-from stimuli.curves.natural import (
+from stimuli.curves import (
     clothoid,
     constant_info,
     constant_info_curvature,

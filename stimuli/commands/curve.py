@@ -137,7 +137,7 @@ def add_parser(sub):
 
 def make_curve(args):
     """Build the :class:`stimuli.curves.Curve` that `args` describe."""
-    from stimuli.curves import natural as curves
+    from stimuli import curves
 
     fam = args.family
     if fam == "clothoid":

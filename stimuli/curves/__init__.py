@@ -1,25 +1,26 @@
 """Curves of the seed paper: natural-equation families (clothoid,
-pseudospirals, log-aesthetic curves, superspirals, constant-information
-curves), Euler-spiral segments, log-aesthetic segments, splines through
-points (QIC and polynomial) and the metrics that compare them.
+pseudospirals, log-aesthetic curves and their generalisation, superspirals,
+constant-information curves), Euler-spiral segments, log-aesthetic segments,
+splines through points (QIC, log-aesthetic and polynomial), two-point G1
+Hermite curves, and the metrics that compare them.
 
 The curve families are available directly (``stimuli.curves.clothoid(...)``);
-the rest lives in the sub-modules ``natural``, ``euler``, ``lac``,
-``splines`` and ``metrics``.
+the rest lives in the sub-modules: ``natural`` (the integrator, clothoid,
+pseudospiral), ``aesthetic`` (LAC, GLAC), ``lac_gamma`` (the LAC's closed
+form), ``superspiral``, ``constant_info``, ``euler`` (clothoid segments),
+``lac`` (LAC segments, G1 LAC spline), ``points``, ``qic_newton``, ``qic``,
+``polynomial``, ``splines`` (:func:`fit_spline`), ``biangular`` and
+``metrics``.
 """
 
-from stimuli.curves.natural import (  # noqa: F401  (the families are the package's face)
-    FAMILIES,
-    Curve,
-    clothoid,
+from stimuli.curves.aesthetic import glac, log_aesthetic  # noqa: F401  (the families are the package's face)
+from stimuli.curves.constant_info import (  # noqa: F401
     constant_info,
     constant_info_curvature,
     constant_info_domain,
-    integrate_natural,
-    log_aesthetic,
-    pseudospiral,
-    superspiral,
 )
+from stimuli.curves.natural import FAMILIES, Curve, clothoid, integrate_natural, pseudospiral  # noqa: F401
+from stimuli.curves.superspiral import superspiral  # noqa: F401
 
 __all__ = [
     "FAMILIES",
@@ -28,6 +29,7 @@ __all__ = [
     "constant_info",
     "constant_info_curvature",
     "constant_info_domain",
+    "glac",
     "integrate_natural",
     "log_aesthetic",
     "pseudospiral",

@@ -34,16 +34,15 @@ References
 from __future__ import annotations
 
 import time
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.integrate import IntegrationWarning, quad
 from scipy.optimize import brentq
 
-from stimuli.curves.euler import clothoid_points, g1_hermite, wrap_angle
+from stimuli.curves.euler import clothoid_points, g1_hermite
+from stimuli.curves.lac_gamma import lac_position, lac_theta
 from stimuli.curves.metrics import SampledCurve, curve_metrics
-from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
+from stimuli.curves.points import circle_tangents, end_angles, geometric_sign, spline_points
 from stimuli.errors import InputError
 
 __all__ = [
@@ -57,9 +56,6 @@ __all__ = [
     "LACSpline",
     "lac_g1_spline",
 ]
-
-_GL_T, _GL_W = np.polynomial.legendre.leggauss(8)
-
 
 class LACNotDrawable(ValueError):
     """No log-aesthetic segment of this alpha fits the control triangle."""
@@ -85,16 +81,13 @@ def lac_rho(psi, alpha, lam):
 
 
 def lac_psi(s, alpha, lam):
-    """Tangent angle of the standard-form LAC at arc length s (closed form)."""
-    s = np.asarray(s, dtype=float)
-    if lam == 0:
-        return s.copy()
-    k = _kind(alpha)
-    if k == 0:
-        return -np.expm1(-lam * s) / lam
-    if k == 1:
-        return np.log1p(lam * s) / lam
-    return np.expm1((alpha - 1.0) / alpha * np.log1p(lam * alpha * s)) / (lam * (alpha - 1.0))
+    """Tangent angle of the standard-form LAC at arc length s (closed form;
+    the same curve as eq. 9's, :func:`stimuli.curves.lac_gamma.lac_theta`)."""
+    if _kind(alpha) == 0:
+        alpha = 0.0
+    elif _kind(alpha) == 1:
+        alpha = 1.0
+    return lac_theta(s, alpha, lam)
 
 
 def _s_of_psi(psi, alpha, lam):
@@ -126,23 +119,19 @@ def _rho_s(s, alpha, lam):
 
 def lac_standard_end(theta_e, alpha, lam):
     """End point ``int_0^theta_e rho(psi) exp(i psi) d psi`` of the standard
-    form, as a complex number.
+    form, as a complex number: the incomplete-gamma closed form
+    (:func:`stimuli.curves.lac_gamma.lac_position`) at the arc length where
+    the tangent has turned by `theta_e`."""
+    return complex(_position(np.array([lac_length(theta_e, alpha, lam)]), alpha, lam)[0])
 
-    Integrated by parts, ``E = S exp(i theta_e) - i int_0^theta_e s(psi)
-    exp(i psi) d psi`` with the closed-form arc length ``s(psi)`` and
-    ``S = s(theta_e)``; the remaining integrand ``s/S`` stays in [0, 1] even
-    where rho grows without bound near the drawable limit (adaptive
-    Gauss-Kronrod quadrature).
-    """
-    S = lac_length(theta_e, alpha, lam)
-    g = lambda p, fn: float(_s_of_psi(p, alpha, lam)) / S * fn(p)  # noqa: E731
-    with warnings.catch_warnings():
-        # steep near the drawable limit; quad's best effort is all the
-        # bracketing search needs there
-        warnings.simplefilter("ignore", IntegrationWarning)
-        c = quad(g, 0.0, theta_e, args=(np.cos,), limit=200, epsabs=1e-15, epsrel=1e-13)[0]
-        si = quad(g, 0.0, theta_e, args=(np.sin,), limit=200, epsabs=1e-15, epsrel=1e-13)[0]
-    return S * (np.exp(1j * theta_e) - 1j * complex(c, si))
+
+def _position(s, alpha, lam):
+    """Closed-form position of the standard form at arc lengths `s`."""
+    if _kind(alpha) == 0:
+        alpha = 0.0
+    elif _kind(alpha) == 1:
+        alpha = 1.0
+    return lac_position(s, alpha, lam)
 
 
 def _solve_lam(theta_e, beta, alpha):
@@ -200,13 +189,9 @@ def lac_segment(p0, theta0, p1, theta1, alpha=0.0):
     """
     p0 = np.asarray(p0, dtype=float)
     p1 = np.asarray(p1, dtype=float)
-    d = p1 - p0
-    r = float(np.hypot(*d))
+    r, phi, f0, f1 = end_angles(p0, theta0, p1, theta1)
     if r == 0:
         raise LACNotDrawable("end points coincide")
-    phi = float(np.arctan2(d[1], d[0]))
-    f0 = float(wrap_angle(theta0 - phi))
-    f1 = float(wrap_angle(theta1 - phi))
     if not (f0 * f1 < 0):
         raise LACNotDrawable("the end tangents need an inflection (no control triangle)")
     turn = 1.0 if f1 > 0 else -1.0
@@ -240,11 +225,7 @@ def lac_segment_points(seg, n=32):
     alpha, lam, theta_e = seg["alpha"], seg["lam"], seg["theta_e"]
     S = lac_length(theta_e, alpha, lam)
     s = np.linspace(0.0, S, n)
-    # composite Gauss-Legendre of exp(i psi(s)) between successive samples
-    a, b = s[:-1], s[1:]
-    q = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * _GL_T
-    inc = (np.exp(1j * lac_psi(q, alpha, lam)) @ _GL_W) * 0.5 * (b - a)
-    Z = np.r_[0.0, np.cumsum(inc)]
+    Z = _position(s, alpha, lam)
     rho = _rho_s(s, alpha, lam)
     turn, beta, phi, sc = seg["turn"], seg["beta"], seg["chord_angle"], seg["scale"]
     if seg["forward"]:

@@ -23,7 +23,10 @@ Accuracy
 --------
 Clothoids use Fresnel integrals in closed form. Superspirals use adaptive
 Gauss-Kronrod quadrature (:func:`scipy.integrate.quad_vec`, 21-point rule).
-The other families use :func:`integrate_natural`, an explicit Runge-Kutta
+Log-aesthetic curves (:mod:`stimuli.curves.aesthetic`) are in closed form
+through the incomplete gamma function. Superspirals and the
+constant-information curves live in :mod:`stimuli.curves.superspiral` and
+:mod:`stimuli.curves.constant_info`. The other families use :func:`integrate_natural`, an explicit Runge-Kutta
 method of order 8 (DOP853, :func:`scipy.integrate.solve_ivp`) on
 ``(theta, x, y)`` with ``rtol = 1e-13`` and ``atol = 1e-13 * length``. With
 these defaults the positions agree with closed forms (Fresnel integrals,
@@ -56,20 +59,19 @@ from stimuli.validate import as_number
 __all__ = [
     "Curve",
     "FAMILIES",
+    "RTOL",
+    "arc_grid",
+    "relabel",
     "integrate_natural",
     "clothoid",
     "pseudospiral",
-    "log_aesthetic",
-    "superspiral",
-    "constant_info",
-    "constant_info_curvature",
-    "constant_info_domain",
+    "EPS",
 ]
 
 FAMILIES = ("clothoid", "pseudospiral", "lac", "superspiral", "constant-info")
 
-_RTOL = 1e-13
-_EPS = np.finfo(float).eps
+RTOL = 1e-13
+EPS = np.finfo(float).eps
 
 
 @dataclass(frozen=True)
@@ -128,7 +130,7 @@ class Curve:
 
 
 
-def _grid(s_start, s_end, num, s=None):
+def arc_grid(s_start, s_end, num, s=None):
     """The output arc lengths: `num` equally spaced in [s_start, s_end], or `s`."""
     if s is not None:
         s = np.asarray(s, dtype=float)
@@ -146,14 +148,6 @@ def _grid(s_start, s_end, num, s=None):
     return np.linspace(s_start, s_end, int(num))
 
 
-def _rotate_from(z, theta0):
-    """Rotate complex positions by -theta0 so that the start tangent is +x."""
-    return z * np.exp(-1j * theta0)
-
-
-# --------------------------------------------------------------------------- generic integrator
-
-
 _MAX_NFEV = 1_000_000  # about 50,000 rad of turning, ~10 s
 
 
@@ -169,7 +163,7 @@ def integrate_natural(
     *,
     s=None,
     theta_fn=None,
-    rtol=_RTOL,
+    rtol=RTOL,
     atol=None,
     max_step=None,
 ):
@@ -237,7 +231,7 @@ def integrate_natural(
     """
     from scipy.integrate import solve_ivp
 
-    grid = _grid(s_start, s_end, num, s)
+    grid = arc_grid(s_start, s_end, num, s)
     s0, s1 = float(grid[0]), float(grid[-1])
     length = s1 - s0
     rtol = float(rtol)
@@ -307,7 +301,7 @@ def integrate_natural(
     return Curve("natural", grid, x, y, theta, kappa, params)
 
 
-def _family(curve, family, **params):
+def relabel(curve, family, **params):
     """Re-label an integrated curve and prepend the family's parameters."""
     return Curve(family, curve.s, curve.x, curve.y, curve.theta, curve.curvature, {**params, **curve.params})
 
@@ -339,10 +333,11 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
 
     Notes
     -----
-    With ``v = s + k0/c`` and ``t = v * sqrt(|c|/pi)``, the tangent angle from
-    the start is ``(c/2)(v**2 - v0**2)`` and the position is
-    ``exp(-i sgn(c) pi t0**2/2) sqrt(pi/|c|) [F(t) - F(t0)]`` with
-    ``F = C + i sgn(c) S`` the Fresnel integrals (:func:`scipy.special.fresnel`).
+    Evaluated by :func:`stimuli.curves.euler.clothoid_points` (the one
+    clothoid evaluator of the package): the generalised Fresnel integral
+    ``int_0^d exp(i (k(s0) u + c u**2 / 2)) du`` through the Fresnel
+    integrals :func:`scipy.special.fresnel` after completing the square, or
+    power series where those lose precision.
 
     Examples
     --------
@@ -352,11 +347,11 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     >>> bool(np.allclose(cl.points[-1], (C, S)))
     True
     """
-    from scipy.special import fresnel
+    from stimuli.curves.euler import clothoid_points
 
     k0 = as_number(k0, "k0")
     c = as_number(c, "c")
-    grid = _grid(s_start, s_end, num, s)
+    grid = arc_grid(s_start, s_end, num, s)
     s0 = grid[0]
     theta = k0 * (grid - s0) + 0.5 * c * (grid - s0) * (grid + s0)
     kappa = k0 + c * grid
@@ -373,24 +368,23 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     t = v * scale
     # Rounding of t (relative eps) is amplified by sqrt(pi/|c|) and by the
     # phase pi*t0**2/2; this estimate is ~100x pessimistic (measured).
-    err = _EPS * np.max(t * t) * np.sqrt(np.pi / abs(c))
+    err = EPS * np.max(t * t) * np.sqrt(np.pi / abs(c))
     if err > 1e-10 * max(1.0, grid[-1] - s0):
         curve = integrate_natural(
             lambda u: k0 + c * u, s=grid, theta_fn=lambda u: k0 * (u - s0) + 0.5 * c * (u - s0) * (u + s0)
         )
-        return _family(curve, "clothoid", k0=k0, c=c)
+        return relabel(curve, "clothoid", k0=k0, c=c)
 
-    sgn = np.sign(c)
-    S, C = fresnel(t)
-    z = np.sqrt(np.pi / abs(c)) * ((C - C[0]) + 1j * sgn * (S - S[0]))
-    z = _rotate_from(z, sgn * np.pi * t[0] ** 2 / 2)
-    return Curve("clothoid", grid, z.real, z.imag, theta, kappa, {**base, "method": "fresnel"})
+    # one clothoid evaluator for the whole package: the segments' own
+    # (Fresnel integrals, or their series where those lose precision)
+    x, y, _, _ = clothoid_points(0.0, 0.0, 0.0, k0 + c * s0, c, grid - s0)
+    return Curve("clothoid", grid, x, y, theta, kappa, {**base, "method": "fresnel"})
 
 
 # --------------------------------------------------------------------------- pseudospirals (eq. 8)
 
 
-def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=_RTOL):
+def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=RTOL):
     """Pseudospiral with radius of curvature ``rho = a * s**m`` (paper eq. 8).
 
     ``m = 1`` is a logarithmic spiral (``rho`` proportional to the arc
@@ -434,7 +428,7 @@ def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=
     m = as_number(m, "m")
     if a == 0:
         raise InputError("pseudospiral: a must be nonzero (rho = a*s^m)")
-    grid = _grid(s_start, s_end, num, s)
+    grid = arc_grid(s_start, s_end, num, s)
     s0 = float(grid[0])
     if s0 < 0 or (m > 0 and s0 <= 0):
         need = "s > 0" if m > 0 else "s >= 0"
@@ -455,316 +449,4 @@ def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=
             return (np.power(u, p) - s0**p) / (a * p)
 
     curve = integrate_natural(kappa, s=grid, theta_fn=theta, rtol=rtol)
-    return _family(curve, "pseudospiral", a=a, m=m)
-
-
-# --------------------------------------------------------------------------- log-aesthetic curves (eq. 9)
-
-
-def _lac_base_log(u, lam, alpha):
-    """``ln(lam*alpha*u + 1)`` accurately for small arguments (-inf where the base is 0)."""
-    with np.errstate(divide="ignore"):
-        return np.log1p(lam * alpha * np.asarray(u, dtype=float))
-
-
-def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None, rtol=_RTOL):
-    """Log-aesthetic curve (LAC) of the paper's eq. 9.
-
-    ``rho(s) = exp(lam*s)`` for ``alpha = 0`` and
-    ``rho(s) = (lam*alpha*s + 1)**(1/alpha)`` otherwise, so ``rho(0) = 1``.
-
-    Special cases (checked in the tests against their own closed forms):
-    ``alpha = -1`` a clothoid (``kappa = 1 - lam*s``), ``alpha = 0``
-    Nielsen's spiral (``kappa = exp(-lam*s)``), ``alpha = 1`` a logarithmic
-    spiral (``rho = lam*s + 1``), ``alpha = 2`` an involute of a circle
-    (``rho**2 = 2*lam*s + 1``, circle of radius ``lam``); ``lam = 0`` is
-    the unit circle.
-
-    Parameters
-    ----------
-    alpha : float
-        Shape parameter, any real.
-    lam : float
-        Rate (the paper's lambda).
-    s_start, s_end, num, s
-        Output arc lengths (may be negative). Need ``lam*alpha*s + 1 > 0``
-        on the whole interval (``>= 0`` at an end when ``alpha < 0``, where
-        the curvature tends to 0).
-    rtol : float
-        Tolerance of :func:`integrate_natural`.
-
-    Returns
-    -------
-    Curve
-        y-UP coordinates from the origin with ``theta = 0`` at ``s_start``;
-        ``params`` include ``alpha, lam``. The tangent angle is in closed
-        form.
-
-    Raises
-    ------
-    InputError
-        If the interval leaves the domain.
-    """
-    alpha = as_number(alpha, "alpha")
-    lam = as_number(lam, "lam")
-    grid = _grid(s_start, s_end, num, s)
-    s0, s1 = float(grid[0]), float(grid[-1])
-
-    if alpha == 0 or lam == 0:
-        def kappa(u):
-            return np.exp(-lam * np.asarray(u, dtype=float))
-
-        def theta(u):
-            u = np.asarray(u, dtype=float)
-            if lam == 0:
-                return u - s0
-            return np.exp(-lam * s0) * -np.expm1(-lam * (u - s0)) / lam
-
-    else:
-        ends = 1 + lam * alpha * np.array([s0, s1])
-        ok = np.all(ends > 0) or (alpha < 0 and np.all(ends >= 0))
-        if not ok:
-            bound = -1 / (lam * alpha)
-            side = "s > " if lam * alpha > 0 else "s < "
-            raise InputError(
-                f"lac: [s_start, s_end] = [{s0:g}, {s1:g}] leaves the domain of eq. 9; "
-                f"need lam*alpha*s + 1 > 0, i.e. {side}{bound:g} for alpha={alpha:g}, lam={lam:g}"
-            )
-        q = -1.0 / alpha  # kappa = base**q
-
-        def kappa(u):
-            with np.errstate(divide="ignore"):
-                return np.exp(q * _lac_base_log(u, lam, alpha))
-
-        L0 = float(_lac_base_log(s0, lam, alpha))
-        if alpha == 1:
-
-            def theta(u):
-                return (_lac_base_log(u, lam, alpha) - L0) / lam
-
-        else:
-            p = 1.0 + q  # (alpha - 1) / alpha
-
-            def theta(u):
-                L = _lac_base_log(u, lam, alpha)
-                if not np.isfinite(L0):  # base 0 at the start (alpha < 0): kappa = 0 there
-                    return np.exp(p * L) / (lam * alpha * p)
-                # base**p - base0**p without cancellation when lam is small
-                return np.exp(p * L0) * np.expm1(p * (L - L0)) / (lam * alpha * p)
-
-    curve = integrate_natural(kappa, s=grid, theta_fn=theta, rtol=rtol)
-    return _family(curve, "lac", alpha=alpha, lam=lam)
-
-
-# --------------------------------------------------------------------------- superspirals (eq. 10)
-
-
-def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, epsrel=1e-13):
-    """Superspiral of the paper's eq. 10 (Ziatdinov 2012).
-
-    Radius of curvature ``rho(psi) = 2F1(a, b; c; -psi)`` as a function of
-    the tangent angle ``psi``, with ``c > b > 0`` and ``a > 0`` (then rho is
-    completely monotone in psi, so curvature increases monotonically);
-    ``x(theta) = int_0^theta rho cos(psi) dpsi``,
-    ``y(theta) = int_0^theta rho sin(psi) dpsi`` and the arc length
-    ``s(theta) = int_0^theta rho dpsi``.
-
-    Parameters
-    ----------
-    a, b, c : float
-        Parameters of the Gauss hypergeometric function
-        (:func:`scipy.special.hyp2f1`); ``c > b > 0``, ``a > 0``.
-    theta_end : float
-        Final tangent angle in radians (> 0). The curve starts at
-        ``psi = 0`` (origin, ``theta = 0``, ``rho = 1``).
-    num : int
-        Number of points, **equally spaced in tangent angle** (not in arc
-        length) over ``[0, theta_end]``.
-    epsabs, epsrel : float
-        Tolerances of :func:`scipy.integrate.quad_vec` (adaptive 21-point
-        Gauss-Kronrod).
-
-    Returns
-    -------
-    Curve
-        y-UP coordinates; ``s`` is the arc length from the start (computed),
-        ``curvature = 1/rho(theta)``; ``params`` include ``a, b, c,
-        theta_end, num, method, quad_error``.
-
-    Raises
-    ------
-    InputError
-        Parameters outside ``c > b > 0, a > 0`` or ``theta_end <= 0``.
-
-    Notes
-    -----
-    Each interval between consecutive output angles is integrated on its
-    own (all intervals in one vectorised adaptive Gauss-Kronrod call) and
-    the pieces are summed, so the cost does not grow with the winding.
-    """
-    from scipy.integrate import quad_vec
-    from scipy.special import hyp2f1
-
-    a = as_number(a, "a")
-    b = as_number(b, "b")
-    c = as_number(c, "c")
-    theta_end = as_number(theta_end, "theta_end")
-    if not (c > b > 0 and a > 0):
-        raise InputError(f"superspiral: need c > b > 0 and a > 0, got a={a:g}, b={b:g}, c={c:g}")
-    if not theta_end > 0:
-        raise InputError(f"superspiral: theta_end must be > 0, got {theta_end:g}")
-    if isinstance(num, bool) or not float(num).is_integer() or num < 2:
-        raise InputError(f"num (points) must be an integer >= 2, got {num!r}")
-    num = int(num)
-    psi = np.linspace(0.0, theta_end, num)
-    left = psi[:-1]
-    h = np.diff(psi)
-
-    def integrand(t):
-        p = left + t * h
-        r = hyp2f1(a, b, c, -p) * h
-        return np.concatenate([r, r * np.cos(p), r * np.sin(p)])
-
-    parts, err = quad_vec(integrand, 0.0, 1.0, epsabs=epsabs, epsrel=epsrel, norm="max")
-    m = num - 1
-    cum = np.concatenate([np.zeros((3, 1)), np.cumsum(parts.reshape(3, m), axis=1)], axis=1)
-    s_arc, x, y = cum
-    rho = hyp2f1(a, b, c, -psi)
-    params = dict(
-        a=a,
-        b=b,
-        c=c,
-        theta_end=theta_end,
-        num=num,
-        s_start=0.0,
-        s_end=float(s_arc[-1]),
-        method="quad_vec (Gauss-Kronrod 21)",
-        epsabs=epsabs,
-        epsrel=epsrel,
-        quad_error=float(err),
-        sampling="equal tangent angle",
-    )
-    return Curve("superspiral", s_arc, x, y, psi, 1.0 / rho, params)
-
-
-# --------------------------------------------------------------------------- constant information (eq. 7)
-
-
-def _check_C_n(C, n):
-    C = as_number(C, "C")
-    n = as_number(n, "n")
-    if not n > 0:
-        raise InputError(f"constant-info: n must be > 0, got {n:g}")
-    return C, n
-
-
-def constant_info_domain(C, n):
-    """Smallest arc length where eq. 7 is defined: ``sqrt(|C|) * n``.
-
-    Eq. 7 needs ``|C n^2 / s^2| <= 1`` (the argument of arccos), i.e.
-    ``|C| n^2 <= s^2``, and ``s > 0``. For ``C = 0`` the bound is 0 itself
-    excluded (the curvature is ``(pi/s)(n/2 + 2)``).
-
-    Returns
-    -------
-    float
-        ``s_min``; eq. 7 is defined for ``s >= s_min`` (``s > 0`` when C = 0).
-    """
-    C, n = _check_C_n(C, n)
-    return float(np.sqrt(abs(C)) * n)
-
-
-def constant_info_curvature(s, C, n):
-    """Curvature of the paper's eq. 7, for which surprisal (eq. 5) is constant.
-
-    ``kappa(s) = (1/s) * (n * arccos(C n^2 / s^2) + 2 pi)``.
-
-    With ``ds = s/n`` (the spacing of n points on the arc up to s),
-    ``kappa ds - 2 pi/n = arccos(C n^2/s^2)``, so eq. 5 gives
-    ``u = -ln A' - b (s/n)^2 (C n^2/s^2) = -ln A' - b C`` for every s.
-
-    Parameters
-    ----------
-    s : array_like
-        Arc lengths, all in the domain ``s > 0``, ``|C| n^2 <= s^2``.
-    C : float
-        The constant (the paper plots 0, +-0.01, +-0.02, +-0.03).
-    n : float
-        Number of points (> 0; the paper uses 10).
-
-    Returns
-    -------
-    ndarray
-        Curvature at `s` (positive: the curve turns left).
-
-    Raises
-    ------
-    InputError
-        If any `s` is outside the domain, naming the first such value and
-        the bound ``sqrt(|C|) n``.
-
-    Examples
-    --------
-    >>> float(constant_info_curvature(1.0, 0.0, 10)) == 7 * np.pi
-    True
-    """
-    C, n = _check_C_n(C, n)
-    s = np.asarray(s, dtype=float)
-    s_min = np.sqrt(abs(C)) * n
-    # a relative slack of a few ulps so that s = sqrt(|C|) n itself is accepted
-    bad = ~np.isfinite(s) | (s <= 0) | (s < s_min * (1 - 4 * _EPS))
-    if np.any(bad):
-        first = s[bad].flat[0]
-        raise InputError(
-            f"constant-info: s={first:g} is outside the domain of eq. 7; need s > 0 and "
-            f"|C|*n^2 <= s^2, i.e. s >= {s_min:g} for C={C:g}, n={n:g}"
-        )
-    w = np.clip(C * n * n / (s * s), -1.0, 1.0)
-    return (n * np.arccos(w) + 2 * np.pi) / s
-
-
-def constant_info(C=0.0, n=10, s_start=None, s_end=5.0, num=201, *, s=None, rtol=_RTOL):
-    """Constant-information curve of the paper's eq. 7, integrated.
-
-    Parameters
-    ----------
-    C : float
-        Constant of eq. 7.
-    n : float
-        Number of points (> 0).
-    s_start : float, optional
-        First arc length; default the start of the domain,
-        ``max(sqrt(|C|) n, 1e-3 * s_end)`` (``s = 0`` itself is excluded:
-        the curvature is infinite there).
-    s_end : float
-        Last arc length.
-    num, s, rtol
-        See :func:`integrate_natural`.
-
-    Returns
-    -------
-    Curve
-        y-UP coordinates from the origin with ``theta = 0`` at ``s_start``;
-        ``params`` include ``C, n``. Along it eq. 5 with ``ds = s/n`` is the
-        constant ``-ln A' - b*C`` for any A', b.
-
-    Raises
-    ------
-    InputError
-        If any arc length is outside ``s > 0, |C| n^2 <= s^2``.
-
-    Notes
-    -----
-    For ``C = 0``, ``kappa = (pi/s)(n/2 + 2)``: ``rho`` is proportional to s,
-    a logarithmic spiral (pseudospiral with m = 1), not a clothoid as the
-    paper's text says. For ``C < 0`` the curvature decreases monotonically;
-    for ``C > 0`` it rises from ``2 pi / s_min`` before falling.
-    """
-    C, n = _check_C_n(C, n)
-    if s is None and s_start is None:
-        s_end_f = as_number(s_end, "s_end")
-        s_start = max(np.sqrt(abs(C)) * n, 1e-3 * s_end_f)
-    grid = _grid(s_start, s_end, num, s)
-    constant_info_curvature(grid, C, n)  # domain check with a clear message
-    curve = integrate_natural(lambda u: constant_info_curvature(u, C, n), s=grid, rtol=rtol)
-    return _family(curve, "constant-info", C=C, n=n)
+    return relabel(curve, "pseudospiral", a=a, m=m)

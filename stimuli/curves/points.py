@@ -13,7 +13,7 @@ from stimuli.curves.euler import wrap_angle
 from stimuli.errors import InputError
 from stimuli.validate import as_points
 
-__all__ = ["spline_points", "geometric_sign", "chord_end_angles", "circle_tangents", "bisector_tangents"]
+__all__ = ["spline_points", "geometric_sign", "chord_end_angles", "circle_tangents", "bisector_tangents", "end_angles"]
 
 
 def spline_points(points, closed, what="points"):
@@ -185,3 +185,25 @@ def bisector_tangents(P, closed):
         src = u if closed else np.vstack([u, u[-1:]])
         b[flat] = np.column_stack([-src[flat, 1], src[flat, 0]])
     return np.arctan2(b[:, 1], b[:, 0])
+
+
+def end_angles(p0, theta0, p1, theta1):
+    """Two-point Hermite data in the frame of their chord.
+
+    Returns
+    -------
+    r, chord, f0, f1 : float
+        Chord length and direction (radians), and the tangent angles at the
+        two ends minus the chord's, wrapped to (-pi, pi].
+
+    Examples
+    --------
+    >>> r, chord, f0, f1 = end_angles((0, 0), 0.5, (0, 2), 2.0)
+    >>> r, round(chord, 4), round(f0, 4), round(f1, 4)
+    (2.0, 1.5708, -1.0708, 0.4292)
+    """
+    p0 = np.asarray(p0, dtype=float).reshape(2)
+    p1 = np.asarray(p1, dtype=float).reshape(2)
+    d = p1 - p0
+    chord = float(np.arctan2(d[1], d[0]))
+    return float(np.hypot(*d)), chord, float(wrap_angle(theta0 - chord)), float(wrap_angle(theta1 - chord))

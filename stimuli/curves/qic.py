@@ -9,35 +9,9 @@ appears between the points. The pure form (``robust=False``, the command
 line's ``--method qic-g2``) joins every segment with curvature continuity
 (G2) and is solved by :func:`stimuli.curves.qic_newton.solve_nodes`.
 
-On jagged points the pure G2 spline can loop or swing far from the polygon
-(a segment turning by more than pi, a self-crossing the polygon does not
-have). The robust form (the default) then relaxes continuity at a few nodes.
-The *bisector tangent* of a node is the direction of the sum of the unit
-vectors along the two polygon sides that meet there
-(:func:`stimuli.curves.points.bisector_tangents`). The rule, repeated until
-nothing changes (at most N + 1 rounds):
-
-1. Fit the spline (G2 at every node not yet relaxed).
-2. *Straying nodes*: a G2 node whose tangent differs from its bisector
-   tangent by more than :data:`MAX_TANGENT_DEVIATION` (pi/4), and by at least
-   as much as at both neighbours, becomes a **G1 node**: its tangent is held
-   at the bisector tangent and its curvature may jump.
-3. *Bad segments*: a segment whose tangent turns by more than pi, whose
-   tangent leaves its chord's direction by more than
-   ``max(pi/2, a + pi/10)`` (``a`` the larger angle between the chord and the
-   bisector tangents at its ends: what a smooth curve cannot avoid), or that
-   crosses another segment although the polygon of the points is simple. In
-   every run of consecutive bad segments, the G2 node with the sharpest
-   polygon turn among the run's nodes becomes a G1 node; where all of them
-   already are G1 nodes, the sharpest becomes a **G0 corner** (the curve is
-   cut there into open pieces with natural ends; corners carry
-   information, the seed's eq. 6).
-4. Where Newton does not converge, the G2 node with the sharpest polygon
-   turn becomes a G1 node.
-
-On MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally spaced by arc
-length this relaxes about 9 / 7 / 4 / 0.6 % of the nodes
-(``benchmarks/validate_spline.py``).
+On jagged points the pure G2 spline can loop or swing far from the polygon.
+The robust form (the default) then relaxes continuity at a few nodes by the
+rule of :mod:`stimuli.curves.qic_rule`.
 
 Every relaxed node is reported in ``corners`` (0-based input rows) with its
 kind ('G1' or 'G0') in ``corner_kinds``; everywhere else the curve is G2 to
@@ -64,26 +38,29 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from stimuli.curves.euler import clothoid_points, wrap_angle
-from stimuli.curves.metrics import SampledCurve, curve_metrics, self_crossing_segments
+from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import bisector_tangents, chord_end_angles, geometric_sign, spline_points
 from stimuli.curves.qic_newton import solve_nodes
+from stimuli.curves.qic_rule import (
+    MAX_TANGENT_DEVIATION,
+    bad_segments,
+    hold_straying_nodes,
+    polygon_is_simple,
+    polygon_turns,
+    relax_bad_runs,
+)
 from stimuli.errors import InputError
 
-__all__ = ["ConvergenceError", "QICSpline", "qic_spline", "MAX_CHORD_ANGLE", "CHORD_MARGIN", "MAX_TANGENT_DEVIATION"]
-
-#: A segment whose tangent leaves its chord's direction by more than this
-#: (radians), and by more than the bisector tangents at its ends do plus
-#: CHORD_MARGIN, swings out of the polygon: the robust rule relaxes a node.
-MAX_CHORD_ANGLE = 0.5 * np.pi
-CHORD_MARGIN = 0.1 * np.pi
-#: A G2 node whose tangent differs from the bisector tangent by more than
-#: this (radians) strays: the robust rule holds it at the bisector (G1).
-MAX_TANGENT_DEVIATION = 0.25 * np.pi
+__all__ = ["ConvergenceError", "QICSpline", "qic_spline"]
 
 # chord / segment length below which a segment counts as degenerate (length -> inf)
 _MIN_X0 = 1e-6
-# samples per segment for the crossing test of the robust rule
+# the crossing test of the robust rule: samples per segment (at most) and
+# the largest change of tangent between samples (radians)
 _CROSS_SAMPLES = 12
+_CROSS_STEP = 0.15
+# line-search halvings per Newton iteration in the robust rule's fits
+_ROBUST_HALVINGS = 10
 
 
 class ConvergenceError(InputError):
@@ -212,6 +189,36 @@ class QICSpline:
             theta=th.ravel(), closed=self.closed, breaks=tuple(self.corners),
         )
 
+    def sample_by_turn(self, max_step=0.1, max_samples=32):
+        """Sample every segment at points equally spaced in arc length, as
+        few as keep the tangent's change between neighbours at most
+        `max_step` radians (at least 3, at most `max_samples`, both ends
+        included; the cap wins): cheap where the curve is smooth (used by
+        the crossing test of the robust rule).
+
+        Returns
+        -------
+        SampledCurve
+        """
+        # curvature is linear on a segment: its largest |k| is at an end, and
+        # |k| * (L / steps) bounds the tangent's change between neighbours
+        kmax = np.maximum(np.abs(self.k0), np.abs(self.k0 + self.dk * self.length))
+        steps = np.ceil(np.minimum(self.length * kmax / max_step, max_samples))
+        counts = np.clip(steps.astype(int) + 1, 3, max(int(max_samples), 3))
+        seg = np.repeat(np.arange(counts.size), counts)
+        first = np.r_[0, np.cumsum(counts)[:-1]]
+        u = (np.arange(seg.size) - first[seg]) / (counts[seg] - 1)
+        s_loc = self.length[seg] * u
+        x, y, th, k = clothoid_points(self.x0[seg], self.y0[seg], self.theta0[seg], self.k0[seg], self.dk[seg], s_loc)
+        last = first + counts - 1
+        nxt = (self.start + 1) % len(self.points)
+        x[last], y[last] = self.points[nxt, 0], self.points[nxt, 1]
+        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
+        return SampledCurve(
+            s=offs[seg] + s_loc, x=x, y=y, curvature=self.sign * k, segment=self.start[seg], theta=th,
+            closed=self.closed, breaks=tuple(self.corners),
+        )
+
     def metrics(self, samples=32):
         """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`,
         with the solver's own figures (``iterations``, ``solver_g2_error``,
@@ -249,11 +256,12 @@ def _pieces(N, closed, g0, ts, te):
 class _Fit:
     """Segments of one fit, in order from the first point, before packing."""
 
-    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter):
+    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30):
         N = len(P)
         segs, self.iterations, self.g2, self.closure = [], 0, 0.0, 0.0
         self.failed_piece = None
         size = float(np.max(np.ptp(P, axis=0))) or 1.0
+        held_keys = np.fromiter(held, dtype=int, count=len(held))
         for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
             Q = P[idx]
             Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
@@ -264,7 +272,7 @@ class _Fit:
             phi = np.arctan2(D[:, 1], D[:, 0])
             p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
             nodes = idx if pclosed else idx  # node k of the piece is input row idx[k]
-            hold = np.array([int(i) in held for i in nodes[: p0i.size + (0 if pclosed else 1)]])
+            hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys)
             if not pclosed:
                 # a piece's end nodes are free ends (or the open curve's given tangents)
                 hold[0] = hold[-1] = False
@@ -276,7 +284,7 @@ class _Fit:
                 if km is not None:
                     p1i[km] = wrap_angle(th - phi[km])
             res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold if hold.any() else None,
-                              tol, max_iter)
+                              tol, max_iter, max_halvings)
             if res is None or not res.ok or res.st["X0"].min() < _MIN_X0:
                 self.failed_piece = (idx, res)
                 return
@@ -306,21 +314,6 @@ class _Fit:
         # the segments back in order from the first point
         order = np.argsort(start, kind="stable")
         self.seg = {key: np.concatenate([s[key] for s in segs])[order] for key in segs[0]}
-
-
-def _turns(P, closed):
-    """Polygon turning angle at every node (0 at the ends of an open curve)."""
-    D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
-    phi = np.arctan2(D[:, 1], D[:, 0])
-    if closed:
-        return np.abs(wrap_angle(phi - np.roll(phi, 1)))
-    return np.r_[0.0, np.abs(wrap_angle(np.diff(phi))), 0.0]
-
-
-def _polygon_simple(P, closed):
-    import shapely
-
-    return bool(shapely.is_simple(shapely.LinearRing(P) if closed else shapely.LineString(P)))
 
 
 def _pack(P, closed, fit, g0, held, sign, t_start, method):
@@ -357,79 +350,6 @@ def _raise_failure(fit):
     )
 
 
-def _bad_segments(sp, fit, check_crossings, ref_dev):
-    """Indices (into the segment arrays) of segments the robust rule repairs."""
-    seg = fit.seg
-    limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[seg["start"]] + CHORD_MARGIN)
-    bad = (seg["turn"] > np.pi) | (seg["chord_dev"] > limit)
-    if check_crossings:
-        c = sp.sample(_CROSS_SAMPLES)
-        for s in self_crossing_segments(c.x, c.y, c.segment, sp.closed):
-            bad[np.flatnonzero(seg["start"] == s)] = True
-    return np.flatnonzero(bad)
-
-
-def _hold_strays(seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev):
-    """Hold the tangent of nodes where the G2 tangent strays from the
-    bisector of the polygon's sides by more than MAX_TANGENT_DEVIATION and by more
-    than at both neighbours. Returns whether any node changed."""
-    theta = np.full(N, np.nan)
-    theta[seg["start"]] = seg["theta0"]
-    dev = np.abs(wrap_angle(theta - tangents))
-    dev[list(g0) + list(held)] = 0.0
-    if not closed:
-        dev[0] = dev[-1] = 0.0
-    dev = np.nan_to_num(dev)
-    peak = (dev > max_dev) & (dev >= np.roll(dev, 1)) & (dev >= np.roll(dev, -1))
-    for e in np.flatnonzero(peak):
-        _relax_node(int(e), g0, held, tangents, turns, corner_turn)
-    return bool(peak.any())
-
-
-def _relax_node(e, g0, held, tangents, turns, corner_turn):
-    """A G2 node becomes a G1 node, its tangent held at the bisector, or a
-    G0 corner where the polygon turns by more than `corner_turn`."""
-    if turns[e] > corner_turn:
-        g0.add(e)
-    else:
-        held[e] = tangents[e]
-
-
-def _runs(bad, m, closed):
-    """Runs of consecutive segment indices (cyclic when closed)."""
-    runs, cur = [], [int(bad[0])]
-    for j in bad[1:]:
-        if j == cur[-1] + 1:
-            cur.append(int(j))
-        else:
-            runs.append(cur)
-            cur = [int(j)]
-    runs.append(cur)
-    if closed and len(runs) > 1 and runs[0][0] == 0 and runs[-1][-1] == m - 1:
-        runs[0] = runs.pop() + runs[0]
-    return runs
-
-
-def _relax(bad, seg, N, closed, turns, g0, held, tangents, corner_turn):
-    """Apply one round of the robust rule: one node per run of bad segments.
-    Returns False when nothing is left to relax."""
-    changed = False
-    for run in _runs(bad, len(seg["start"]), closed):
-        nodes = {int(seg["start"][j]) for j in run} | {(int(seg["start"][j]) + 1) % N for j in run}
-        nodes = [e for e in nodes if (closed or 0 < e < N - 1) and e not in g0]
-        if not nodes:
-            continue
-        g2 = [e for e in nodes if e not in held]
-        if g2:
-            _relax_node(max(g2, key=lambda i: turns[i]), g0, held, tangents, turns, corner_turn)
-        else:
-            e = max(nodes, key=lambda i: turns[i])
-            del held[e]
-            g0.add(e)
-        changed = True
-    return changed
-
-
 def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tangent_deviation=None,
                end_tangents=(None, None), corners=(), tol=1e-12, max_iter=50, y_down=True):
     """Fit the QIC spline: clothoid segments through points, G2 except at the
@@ -453,7 +373,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
     max_tangent_deviation : float, optional
         Robust rule: the largest difference between a G2 node's tangent and
         its bisector tangent (radians; default
-        :data:`MAX_TANGENT_DEVIATION`, pi/4). Smaller values hug the polygon
+        :data:`stimuli.curves.qic_rule.MAX_TANGENT_DEVIATION`, pi/4). Smaller values hug the polygon
         at the price of more G1 nodes.
     end_tangents : (vector or None, vector or None)
         Open curves only: tangent direction ``(dx, dy)`` at the first and at
@@ -539,30 +459,35 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
 
     max_dev = MAX_TANGENT_DEVIATION if max_tangent_deviation is None else float(max_tangent_deviation)
     tangents = bisector_tangents(P, closed)
-    turns = _turns(P, closed)
-    check_crossings = _polygon_simple(P, closed)
+    turns = polygon_turns(P, closed)
+    check_crossings = polygon_is_simple(P, closed)
     # the tangent's largest angle to the chord were the points' circle
     # tangents held at both ends: what no smooth curve can avoid
     D = (np.roll(P, -1, axis=0) - P)
     phi = np.arctan2(D[:, 1], D[:, 0])
     ref_dev = np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
-    iterations = 0
+    iterations = failures = 0
     sp = fit = None
     for _ in range(N + 1):
-        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, max_iter)
+        # a fit that stalls is abandoned early: relaxing a node is cheaper
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
         iterations += fit.iterations
         if fit.failed_piece is not None:
             free = [i for i in range(N) if i not in held and i not in g0 and (closed or 0 < i < N - 1)]
             if not free:
                 break
-            e = max(free, key=lambda i: turns[i])
-            held[e] = tangents[e]
+            # Newton failed: hold the sharpest G2 node(s), twice as many each
+            # time it fails again, so that hopeless input ends quickly
+            failures += 1
+            for e in sorted(free, key=lambda i: -turns[i])[: 2 ** (failures - 1)]:
+                held[e] = tangents[e]
             continue
         sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-        bad = _bad_segments(sp, fit, check_crossings, ref_dev)
-        changed = _hold_strays(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
+        bad = bad_segments(fit.seg, sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES) if check_crossings else None,
+                           ref_dev)
+        changed = hold_straying_nodes(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
         if bad.size:
-            changed |= _relax(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
+            changed |= relax_bad_runs(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
         if not changed:
             break
     if sp is None:

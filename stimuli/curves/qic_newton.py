@@ -132,7 +132,8 @@ class NewtonResult:
     closure: float
 
 
-def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, tol=1e-12, max_iter=50):
+def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, tol=1e-12, max_iter=50,
+                max_halvings=30):
     """Damped Newton on the node-angle increments and segment parameters A.
 
     Parameters
@@ -151,6 +152,8 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         Stop when every curvature jump at a free node is below ``tol`` times
         max |k| and every segment closes to 1e-14 of its chord.
     max_iter : int
+    max_halvings : int
+        Step halvings of the line search per iteration before giving up.
 
     Returns
     -------
@@ -193,7 +196,7 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         # the linearisation means anything
         step = min(1.0, 1.0 / max(float(np.max(np.abs(dd))), 1e-300))
         accepted = False
-        for _ in range(30):
+        for _ in range(max_halvings):
             st_t, F_t, m_t = state(d + step * dd, A + step * dA)
             if st_t is not None and m_t <= (1.0 - 1e-4 * step) * merit:
                 accepted = True

@@ -334,7 +334,7 @@ class _NoCurve(InputError):
 
 
 # Robust QIC settings tried in turn, (corner_turn, max_tangent_deviation): the
-# default rule first; where its curve still leaves the polygon's box, G0
+# default rule first; where its curve still leaves the polygon's box or crosses itself, G0
 # corners at turns over 90 degrees and tangents held closer to the bisector.
 _QIC_STEPS = ((np.pi, None), (0.5 * np.pi, 0.125 * np.pi), (0.5 * np.pi, 0.0))
 
@@ -351,7 +351,7 @@ def _qic(p, m):
         # segment i runs from vertex i to vertex i+1, sampled at m+1 points
         # equally spaced in arc length, both ends included: keep all but the last
         xy = np.column_stack([sc.x, sc.y]).reshape(len(p), m + 1, 2)[:, :m].reshape(-1, 2)
-        if _stays_near(xy, p):
+        if _stays_near(xy, p) and Contour(xy, orient=False).is_simple():
             break
     xy[::m] = p
     return xy
