@@ -12,7 +12,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.io import as_number, as_points
-from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation
+from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation, sum_dtype
 from stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
@@ -208,7 +208,7 @@ def render_silhouette(
     f, g = colours(figure, ground)
     dt = resolve_dtype(dtype)
     rings, oriented = as_rings(contour_or_points, "contour_or_points")
-    acc = ring_accumulation(rings, h, w, oriented=oriented, orient=orient)
+    acc = ring_accumulation(rings, h, w, oriented=oriented, orient=orient, dtype=sum_dtype(dt, h, w))
     area = 0.0 if acc is None else acc[3]
     img = paint_image(acc, h, w, f, g, dt)
     return result_record("silhouette", img, h, w, f, g, dt, rings=rings, orient=bool(orient), area=area)
@@ -246,5 +246,5 @@ def render_dots(points, radius, size=None, *, shape=None, figure=0.0, ground=1.0
     h, w = resolve_shape(size, shape)
     f, g = colours(figure, ground)
     dt = resolve_dtype(dtype)
-    img = paint_image(disc_accumulation(centers, radius, h, w), h, w, f, g, dt)
+    img = paint_image(disc_accumulation(centers, radius, h, w, sum_dtype(dt, h, w)), h, w, f, g, dt)
     return result_record("dots", img, h, w, f, g, dt, centers=centers, radius=radius)
