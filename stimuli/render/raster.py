@@ -85,67 +85,67 @@ def _stream(rings):
     )
 
 
-def _refine(a, b, lo, hi, bridge, tag):
+def _refine(a, b, lo, hi, bridge, out):
     """Insert the points where a stream crosses ``a = integer`` in [lo, hi].
 
     Crossing points carry exactly integral `a`; `b` is interpolated from the
     start of the piece, so original vertices are kept bit for bit. The
-    result lives in scratch buffers named by `tag` (see :func:`scratch`).
+    result lives in the scratch buffer named `out` (see :func:`scratch`).
     """
     m = len(a) - 1
     a0, a1 = a[:-1], a[1:]
-    first = np.minimum(a0, a1, out=scratch(tag + "first", m))
+    first, last, d, step = scratch("refine", (4, m))
+    # first and last integer strictly inside each piece, clipped to [lo, hi]
+    np.minimum(a0, a1, out=first)
     np.floor(first, out=first)
     first += 1.0
     np.maximum(first, lo, out=first)
-    last = np.maximum(a0, a1, out=scratch(tag + "last", m))
+    np.maximum(a0, a1, out=last)
     np.ceil(last, out=last)
     last -= 1.0
     np.minimum(last, hi, out=last)
-    n = np.subtract(last, first, out=scratch(tag + "n", m))
-    n += 1.0
-    np.maximum(n, 0.0, out=n)
+    np.subtract(last, first, out=d)  # crossings - 1
+    np.maximum(d, -1.0, out=d)
     if bridge is not None:
-        n[bridge] = 0.0
-    cnt = scratch(tag + "cnt", m, np.intp)
-    np.copyto(cnt, n, casting="unsafe")
-    cnt += 1
-    pos = np.cumsum(cnt, out=scratch(tag + "pos", m, np.intp))
+        d[bridge] = -1.0
+    cnt, pos = scratch("refine_i", (2, m), np.intp)
+    np.copyto(cnt, d, casting="unsafe")
+    cnt += 2  # new points per piece: its start and its crossings
+    cnt.cumsum(out=pos)
     total = int(pos[-1])
     if total == m:
         return a, b, bridge
     pos -= cnt  # new index of each old point
     # k[j]: the old piece that new point j lies on (np.repeat without a new array)
-    k = scratch(tag + "k", total, np.intp)
+    k = scratch("refine_k", total, np.intp)
     k.fill(0)
     k[pos[1:]] = 1
-    np.cumsum(k, out=k)
-    up = np.greater(a1, a0, out=scratch(tag + "up", m, bool))
-    step = scratch(tag + "step", m)
+    k.cumsum(out=k)
+    # crossing j of piece i (j counted in the new stream) is e[i] + step[i] * j:
+    # first, first + 1, ... where `a` grows, last, last - 1, ... where it falls
+    up = np.greater(a1, a0, out=scratch("refine_up", m, np.bool_))
     np.copyto(step, up)
-    step *= 2.0
+    step += step
     step -= 1.0
-    # new point j of piece i is e0[i] + step[i] * j (j counted in the new stream)
-    e0 = np.add(last, 1.0, out=scratch(tag + "e0", m))
-    np.subtract(first, 1.0, out=e0, where=up)
-    e0 -= np.multiply(step, pos, out=n)
-    b0 = b[:-1]
+    last += 1.0
+    first -= 1.0
+    np.copyto(last, first, where=up)
+    e = np.subtract(last, np.multiply(step, pos, out=d), out=last)
+    slope = np.subtract(b[1:], b[:-1], out=d)
     da = np.subtract(a1, a0, out=first)
-    slope = np.subtract(b[1:], b0, out=last)
+    # where da == 0 the piece has no crossing and its slope is never used
     np.divide(slope, da, out=slope, where=da != 0.0)
-    slope[da == 0.0] = 0.0
-    na = scratch(tag + "a", total + 1)
-    nb = scratch(tag + "b", total + 1)
-    tmp = scratch(tag + "tmp", total)
-    v = np.take(step, k, out=na[:-1])
+    na, nb = scratch(out, (2, total + 1))
+    tmp = scratch("refine_t", total)
+    v = step.take(k, out=na[:-1])
     v *= ramp(total)
-    v += np.take(e0, k, out=tmp)
-    u = np.subtract(v, np.take(a0, k, out=tmp), out=nb[:-1])
-    u *= np.take(slope, k, out=tmp)
-    u += np.take(b0, k, out=tmp)
+    v += e.take(k, out=tmp)
+    u = np.subtract(v, a0.take(k, out=tmp), out=nb[:-1])
+    u *= slope.take(k, out=tmp)
+    u += b[:-1].take(k, out=tmp)
     na[pos] = a0
     na[-1] = a[-1]
-    nb[pos] = b0
+    nb[pos] = b[:-1]
     nb[-1] = b[-1]
     if bridge is not None:
         flags = np.zeros(total, bool)
@@ -183,32 +183,36 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     import cv2
 
     # Columns: pieces left or right of the image affect no image column.
-    x, y, bridge = _refine(x, y, 0.0, float(w), bridge, "c")
+    x, y, bridge = _refine(x, y, 0.0, float(w), bridge, "cols")
     # Rows: pieces above the image are flattened onto its top edge (their
     # cover reaches every row below), pieces below it onto its bottom edge
     # (they add nothing inside, but they keep the box reaching the bottom
     # row when the shape runs off the bottom of the image).
-    y, x, bridge = _refine(y, x, 0.0, float(h), bridge, "r")
-    np.clip(y, 0.0, float(h), out=y)
+    y, x, bridge = _refine(y, x, 0.0, float(h), bridge, "rows")
+    np.minimum(y, float(h), out=y)
+    np.maximum(y, 0.0, out=y)
     m = len(x) - 1
-    dx = np.subtract(x[1:], x[:-1], out=scratch("dx", m))
-    xm = np.add(x[1:], x[:-1], out=scratch("xm", m))
+    pieces = scratch("pieces", (3, m))
+    dx, xm, ym = pieces
+    np.subtract(x[1:], x[:-1], out=dx)
+    np.add(x[1:], x[:-1], out=xm)
     xm *= 0.5
-    ym = np.add(y[1:], y[:-1], out=scratch("ym", m))
+    np.add(y[1:], y[:-1], out=ym)
     ym *= 0.5
     # Pieces left or right of the image and bridges between rings add
     # nothing: their width is set to 0 and they are parked in the image,
     # which is cheaper than compacting every array.
-    keep = np.greater_equal(xm, 0.0, out=scratch("keep", m, bool))
-    keep &= np.less(xm, w, out=scratch("lt", m, bool))
+    keep, inside = scratch("keep", (2, m), np.bool_)
+    np.greater_equal(xm, 0.0, out=keep)
+    keep &= np.less(xm, w, out=inside)
     if bridge is not None:
         keep &= ~bridge
     dx *= keep
-    np.clip(xm, 0.0, w - 1.0, out=xm)
-    col = scratch("col", m, np.intp)
-    np.copyto(col, xm, casting="unsafe")  # xm >= 0: truncation is floor
-    row = scratch("row", m, np.intp)
-    np.copyto(row, ym, casting="unsafe")
+    np.minimum(xm, w - 1.0, out=xm)
+    np.maximum(xm, 0.0, out=xm)
+    cells = scratch("cells", (2, m), np.intp)
+    np.copyto(cells, pieces[:0:-1], casting="unsafe")  # (ym, xm) >= 0: truncation is floor
+    row, col = cells
     # A piece adds the signed area between itself and its pixel's bottom
     # side to its pixel, and the rest of its cover (dx * fy) to the pixel
     # below; summing down each column gives the winding integral.
@@ -220,14 +224,15 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
         row, col = np.concatenate([row, er]), np.concatenate([col, ec])
         top, bottom = np.concatenate([top, ea]), np.concatenate([bottom, -ea])
         keep = np.concatenate([keep, np.ones(len(er), bool)])
-    if len(row) == 0 or not keep.any():
+    if len(row) == 0 or not np.count_nonzero(keep):
         return None
-    r0, c0 = int(row.min()), int(col.min())
+    r0 = int(np.minimum.reduce(row))
     if r0 >= h:  # everything lies below the image
         return None
+    c0 = int(np.minimum.reduce(col))
     row -= r0
     col -= c0
-    bh, bw = int(row.max()) + 1, int(col.max()) + 1
+    bh, bw = int(np.maximum.reduce(row)) + 1, int(np.maximum.reduce(col)) + 1
     # cv2.integral is a vectorised 2-D prefix sum, several times faster than
     # np.cumsum. Each contribution v is entered as +v in its column and -v in
     # the next, so the prefix sum along rows gives v in that column alone and
@@ -236,39 +241,42 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     stride = bw + 1
     idx = np.multiply(row, stride, out=scratch("idx", len(row), np.intp))
     idx += col
-    dtype = np.dtype(dtype)
+    dtype = np.dtype(dtype).type
     t, b = top, bottom
-    if dtype != np.float64:  # ufunc.at is 50x slower when it has to cast
-        t, b = scratch("t", len(t), dtype), scratch("b", len(b), dtype)
-        t[...], b[...] = top, bottom
+    if dtype is not np.float64:  # ufunc.at is 50x slower when it has to cast
+        t, b = tb = scratch("deposits", (2, len(top)), dtype)
+        np.copyto(t, top)
+        np.copyto(b, bottom)
     acc = scratch("acc", (bh + 1) * stride, dtype, zeroed=True)
     try:
         np.add.at(acc, idx, t)
         np.subtract.at(acc[1:], idx, t)
         np.add.at(acc[stride:], idx, b)
         np.subtract.at(acc[stride + 1 :], idx, b)
-        table = scratch("sum", (bh + 2) * (stride + 1), dtype).reshape(bh + 2, stride + 1)
-        depth = cv2.CV_32F if dtype == np.float32 else cv2.CV_64F
+        table = scratch("sum", (bh + 2, stride + 1), dtype)
+        depth = cv2.CV_32F if dtype is np.float32 else cv2.CV_64F
         cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=depth)
     finally:
-        # leave the scratch buffer all zero for the next call
-        if 8 * len(idx) < acc.size:
+        # leave the scratch buffer all zero for the next call, by the
+        # cheaper of four scatters and one fill
+        if 16 * len(idx) < acc.size:
             for shift in (0, 1, stride, stride + 1):
                 acc[shift:][idx] = 0.0
         else:
             acc.fill(0.0)
     # Pieces on the bottom edge sit in row h, outside the image.
     bh = min(bh, h - r0)
-    # Pixel i of a column holds its own top part and every part above it.
-    # (No np.dot here: OpenBLAS threads stall for milliseconds on a busy
-    # machine, and float-by-int dots are slow anyway.)
-    below = np.subtract(bh, row, out=scratch("below", len(row)))
+    # Pixel i of a column holds its own top part and every part above it, so
+    # a piece's top counts in the (bh - row) pixels from its row down and its
+    # bottom in one fewer. (No np.dot: OpenBLAS threads stall for
+    # milliseconds on a busy machine, and float-by-int dots are slow anyway.)
+    below, prod = scratch("area", (2, len(row)))
+    np.subtract(bh, row, out=below)
     np.maximum(below, 0.0, out=below)
-    prod = np.multiply(top, below, out=scratch("prod", len(row)))
-    area = float(prod.sum())
+    area = float(np.add.reduce(np.multiply(top, below, out=prod)))
     below -= 1.0
     np.maximum(below, 0.0, out=below)
-    area += float(np.multiply(bottom, below, out=prod).sum())
+    area += float(np.add.reduce(np.multiply(bottom, below, out=prod)))
     return table[1 : bh + 1, 1 : bw + 1], r0, c0, area
 
 
