@@ -182,6 +182,18 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     """
     import cv2
 
+    # The box of pixels the pieces can reach, from the stream's extent: no
+    # pass over the pieces needed. Rows are floor(y) with y clipped to
+    # [0, h] (row h, the bottom edge, lies outside the image); columns are
+    # floor(x) for x in [0, w).
+    xlo, xhi = float(np.minimum.reduce(x)), float(np.maximum.reduce(x))
+    ylo, yhi = float(np.minimum.reduce(y)), float(np.maximum.reduce(y))
+    if ylo >= h or xhi <= 0.0 or xlo >= w:
+        return None
+    r0, r1 = int(max(ylo, 0.0)), int(min(yhi, float(h)))
+    c0, c1 = int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
+    clip_y = ylo < 0.0 or yhi > h
+    clip_x = xlo < 0.0 or xhi >= w
     # Columns: pieces left or right of the image affect no image column.
     x, y, bridge = _refine(x, y, 0.0, float(w), bridge, "cols")
     # Rows: pieces above the image are flattened onto its top edge (their
@@ -189,8 +201,9 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     # (they add nothing inside, but they keep the box reaching the bottom
     # row when the shape runs off the bottom of the image).
     y, x, bridge = _refine(y, x, 0.0, float(h), bridge, "rows")
-    np.minimum(y, float(h), out=y)
-    np.maximum(y, 0.0, out=y)
+    if clip_y:
+        np.minimum(y, float(h), out=y)
+        np.maximum(y, 0.0, out=y)
     m = len(x) - 1
     pieces = scratch("pieces", (3, m))
     dx, xm, ym = pieces
@@ -199,40 +212,34 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     xm *= 0.5
     np.add(y[1:], y[:-1], out=ym)
     ym *= 0.5
-    # Pieces left or right of the image and bridges between rings add
-    # nothing: their width is set to 0 and they are parked in the image,
-    # which is cheaper than compacting every array.
-    keep, inside = scratch("keep", (2, m), np.bool_)
-    np.greater_equal(xm, 0.0, out=keep)
-    keep &= np.less(xm, w, out=inside)
-    if bridge is not None:
-        keep &= ~bridge
-    dx *= keep
-    np.minimum(xm, w - 1.0, out=xm)
-    np.maximum(xm, 0.0, out=xm)
+    if clip_x or bridge is not None:
+        # Pieces left or right of the image and bridges between rings add
+        # nothing: their width is set to 0 and they are parked in the image,
+        # which is cheaper than compacting every array.
+        keep, inside = scratch("keep", (2, m), np.bool_)
+        np.greater_equal(xm, 0.0, out=keep)
+        keep &= np.less(xm, w, out=inside)
+        if bridge is not None:
+            keep &= ~bridge
+        dx *= keep
+        np.minimum(xm, w - 1.0, out=xm)
+        np.maximum(xm, 0.0, out=xm)
     cells = scratch("cells", (2, m), np.intp)
     np.copyto(cells, pieces[:0:-1], casting="unsafe")  # (ym, xm) >= 0: truncation is floor
     row, col = cells
     # A piece adds the signed area between itself and its pixel's bottom
-    # side to its pixel, and the rest of its cover (dx * fy) to the pixel
-    # below; summing down each column gives the winding integral.
+    # side to its pixel (top), and the rest of its cover (dx * fy) to the
+    # pixel below (bottom); summing down each column gives the winding
+    # integral.
     bottom = np.subtract(ym, row, out=ym)
     bottom *= dx
-    top = np.subtract(dx, bottom, out=dx)
     if extra is not None and len(extra[0]):
-        er, ec, ea = extra
+        er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
         row, col = np.concatenate([row, er]), np.concatenate([col, ec])
-        top, bottom = np.concatenate([top, ea]), np.concatenate([bottom, -ea])
-        keep = np.concatenate([keep, np.ones(len(er), bool)])
-    if len(row) == 0 or not np.count_nonzero(keep):
-        return None
-    r0 = int(np.minimum.reduce(row))
-    if r0 >= h:  # everything lies below the image
-        return None
-    c0 = int(np.minimum.reduce(col))
+        dx, bottom = np.concatenate([dx, np.zeros(len(ea))]), np.concatenate([bottom, -ea])
     row -= r0
     col -= c0
-    bh, bw = int(np.maximum.reduce(row)) + 1, int(np.maximum.reduce(col)) + 1
+    bh, bw = r1 - r0 + 1, c1 - c0 + 1
     # cv2.integral is a vectorised 2-D prefix sum, several times faster than
     # np.cumsum. Each contribution v is entered as +v in its column and -v in
     # the next, so the prefix sum along rows gives v in that column alone and
@@ -242,11 +249,10 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     idx = np.multiply(row, stride, out=scratch("idx", len(row), np.intp))
     idx += col
     dtype = np.dtype(dtype).type
-    t, b = top, bottom
-    if dtype is not np.float64:  # ufunc.at is 50x slower when it has to cast
-        t, b = tb = scratch("deposits", (2, len(top)), dtype)
-        np.copyto(t, top)
-        np.copyto(b, bottom)
+    # ufunc.at is 50x slower when it has to cast: deposits in `dtype`
+    t, b = scratch("deposits", (2, len(row)), dtype)
+    np.subtract(dx, bottom, out=t)
+    np.copyto(b, bottom)
     acc = scratch("acc", (bh + 1) * stride, dtype, zeroed=True)
     try:
         np.add.at(acc, idx, t)
@@ -268,15 +274,13 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     bh = min(bh, h - r0)
     # Pixel i of a column holds its own top part and every part above it, so
     # a piece's top counts in the (bh - row) pixels from its row down and its
-    # bottom in one fewer. (No np.dot: OpenBLAS threads stall for
-    # milliseconds on a busy machine, and float-by-int dots are slow anyway.)
-    below, prod = scratch("area", (2, len(row)))
-    np.subtract(bh, row, out=below)
-    np.maximum(below, 0.0, out=below)
-    area = float(np.add.reduce(np.multiply(top, below, out=prod)))
-    below -= 1.0
-    np.maximum(below, 0.0, out=below)
-    area += float(np.add.reduce(np.multiply(bottom, below, out=prod)))
+    # bottom in one fewer: area = sum(dx * (bh - row)) - sum(bottom), in
+    # float64 whatever `dtype` (row <= bh always, and a piece in row bh lies
+    # on the bottom edge and has no bottom part). No np.dot: OpenBLAS threads
+    # stall for milliseconds on a busy machine.
+    prod = np.multiply(dx, row, out=scratch("area", len(row)))
+    add = np.add.reduce
+    area = bh * float(add(dx)) - float(add(prod)) - float(add(bottom))
     return table[1 : bh + 1, 1 : bw + 1], r0, c0, area
 
 
