@@ -19,15 +19,20 @@ interleaved image by image so that machine load hits all alike:
 Why the ratio differs between machines and stacks
 -------------------------------------------------
 With R the renderer, F fillPoly and W the PNG encoder (``cv2.imwrite``),
-the target ratio is ``(R + W) / (F + W)``. F is tiny (0.03 ms for a blob),
-so the ratio runs from about 1 where the encoder dominates to R / F (about
-10 for a blob) where it is free. W is zlib's deflate inside OpenCV's libpng
-and depends on the build (zlib or zlib-ng, compression defaults, CPU):
-on this project's 2-core AMD EPYC (OpenCV 5.0 wheels) it is 0.6 ms per
-blob and 1.1 ms per spiky image (CPU time); a stack whose encoder is three
-times faster shows a ratio nearer R / F. So the split is printed, with the
-ratio the measured R and F would give at half and a quarter of the
-measured W, and the target is met by making R cheap, not by a slow W.
+the target ratio is ``(R + W) / (F + W)``. F is small (under 0.1 ms for a
+blob, 0.25 ms for a spiky star), so the ratio runs from about 1 where the
+encoder dominates to R / F (about 7 for a blob) where it is free. W is
+zlib's deflate inside OpenCV's libpng, the same for both images to within
+a few per cent, and it depends on the build (zlib or zlib-ng, compression
+defaults, CPU): on this project's 2-core AMD EPYC with the OpenCV 5.0 wheels
+it is 0.6 ms per blob and 1.1 ms per spiky image (thread CPU time, about 8
+and 11 million instructions). A stack whose encoder is three times faster
+shows a ratio nearer R / F; and the renderer, many small numpy calls,
+slows more than the encoder when other work (or other processes) has
+evicted the caches, which callgrind's load-independent counts do not see
+(blob: 12.2 M instructions against 10.0 M, ratio 1.22, while CPU time gives
+about 1.8). So the split is printed, with the ratio the measured R and F
+would give at half and a quarter of the measured W.
 
 Each method is timed both by wall clock and by the CPU time of the calling
 thread (``time.thread_time``): on a loaded machine the wall clock of a

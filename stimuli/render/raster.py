@@ -32,8 +32,18 @@ crosses grid lines, the polygon through those points is accumulated as
 above, and each cut arc adds its circular segment ``R^2/2 (d - sin d)`` to
 the one pixel that contains it.
 
-Speed: a 512 x 512 image of a 500-vertex polygon takes about 0.3 ms as
-uint8 and 0.5 ms as float64 (see ``benchmarks/bench_render.py``).
+8-bit images of at least 65536 pixels are integrated in float32 (error
+below 1e-5 of a pixel, three orders under one grey level; see
+:func:`sum_dtype`); everything else in float64. Temporaries live in
+per-thread scratch buffers (:mod:`stimuli.render.workspace`).
+
+Speed: a 512 x 512 8-bit image of a 500-vertex polygon takes about 0.25 ms
+of CPU for a smooth blob and 0.9 ms for a spiky star (27,000 pieces) when
+the caches are warm, and about 0.55 / 1.2 ms when other work has run in
+between, as in ``benchmarks/bench_render.py`` (2-core AMD EPYC under load);
+callgrind counts 4.3 and 15.8 million instructions. The time goes into
+many small numpy calls (each a few microseconds when the caches are cold)
+and four ``np.add.at`` over the pieces, not into arithmetic.
 
 References
 ----------
