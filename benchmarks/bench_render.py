@@ -1,44 +1,87 @@
 """Benchmark: exact-coverage silhouette rendering + PNG against OpenCV and matplotlib.
 
 For each of ``--n`` random 500-vertex polygons (default 1000) a filled
-512 x 512 image is made and written as an 8-bit PNG, three ways, interleaved
-image by image so that machine load hits all three alike:
+512 x 512 image is made and written as an 8-bit PNG, several ways,
+interleaved image by image so that machine load hits all alike:
 
-- project: ``stimuli.render.render_silhouette(..., dtype='uint8')`` and
-  ``stimuli.render.write_png`` (atomic write: temporary file, then rename);
-  also timed with a plain ``cv2.imwrite`` of the same image, so that the
-  renderer is compared with the anchor through the very same writer;
-- anchor: ``cv2.fillPoly(img, pts, 0, cv2.LINE_AA, shift=4)`` then
-  ``cv2.imwrite`` (OpenCV's default PNG settings, same as ours); also timed
-  with ``write_png``, so that the cost of the atomic write can be told
-  apart from the cost of rendering;
+- project+imwrite: ``stimuli.render.render_silhouette(..., dtype='uint8')``
+  then ``cv2.imwrite`` (the target's numerator);
+- opencv: ``cv2.fillPoly(img, pts, 0, cv2.LINE_AA, shift=4)`` then
+  ``cv2.imwrite`` (OpenCV's default PNG settings; the anchor);
+- project: the renderer with ``stimuli.render.write_png`` (atomic write:
+  temporary file, then rename), and opencv+write_png, the anchor through the
+  same writer;
 - matplotlib: a 512 x 512 px figure (made once, no axes) with a filled
-  ``Polygon`` patch, ``fig.savefig`` (the patch is swapped per image).
+  ``Polygon`` patch, ``fig.savefig`` (the patch is swapped per image);
+- the split: the renderer alone, fillPoly alone, and ``cv2.imwrite`` alone
+  of each method's image.
+
+Why the ratio differs between machines and stacks
+-------------------------------------------------
+With R the renderer, F fillPoly and W the PNG encoder (``cv2.imwrite``),
+the target ratio is ``(R + W) / (F + W)``. F is small (under 0.1 ms for a
+blob, 0.25 ms for a spiky star), so the ratio runs from about 1 where the
+encoder dominates to R / F (about 7 for a blob) where it is free. W is
+zlib's deflate inside OpenCV's libpng, the same for both images to within
+a few per cent, and it depends on the build (zlib or zlib-ng, compression
+defaults, CPU): on this project's 2-core AMD EPYC with the OpenCV 5.0 wheels
+it is 0.6 ms per blob and 1.1 ms per spiky image (thread CPU time, about 8
+and 11 million instructions). A stack whose encoder is three times faster
+shows a ratio nearer R / F. The wall clock of ``imwrite`` also holds the
+file system's latency, which on this machine swung between 0.1 and 3.5 ms
+per file with the other users' disk traffic: wall-clock ratios measured
+while the disk was slow (1.1-1.3 here) look far better than the CPU-time
+ratio (1.8), which is why ``cv2.imencode`` (the encoder in memory) is timed
+too and the CPU-time ratio is the one to judge by. And the renderer,
+many small numpy calls, slows more than the encoder when other work (or
+other processes) has evicted the caches, which callgrind's counts do not see
+(blob: 12.2 M instructions against 10.0 M, ratio 1.22, while CPU time gives
+about 1.8). So the split is printed, with the ratio the measured R and F
+would give at half and a quarter of the measured W.
+
+Each method is timed both by wall clock and by the CPU time of the calling
+thread (``time.thread_time``): on a loaded machine the wall clock of a
+sub-millisecond call mostly measures when the scheduler lets it run, the
+CPU time does not (OpenCV's PNG encoder and fillPoly run in the calling
+thread). Medians over all images, never a best run.
+
+``--instructions K`` also counts the instructions per image of each step
+under ``valgrind --tool=callgrind`` (K images against 0 in a fresh process
+each; independent of load, not of the CPU's instruction set).
 
 Two polygon families (``--kind``): ``blob`` (smooth random radial-Fourier
 shapes, the usual stimulus) and ``spiky`` (star polygons with independent
-random radii, a stress case with a much longer boundary). Per-image medians
-(ms) and ratios are printed, with the boundary offset of each method (mean
-coverage minus exact area, per pixel of perimeter) to show what the speed
-buys. Files go to a temporary directory that is removed at the end.
+random radii, a stress case with a boundary twelve times longer). The
+boundary offset of each method (mean coverage minus exact area, per pixel
+of perimeter) shows what the speed buys. Files go to a temporary directory
+that is removed at the end.
 
 Usage::
 
     python benchmarks/bench_render.py [--n 1000] [--kind blob|spiky|both] [--seed 0]
+                                      [--instructions 20]
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
+import subprocess
+import sys
 import tempfile
 import time
 
 import numpy as np
 
+from _machine import header
 
-def blob(rng, n=500, size=512):
+SIZE = 512
+TARGET = 1.3
+
+
+def blob(rng, n=500, size=SIZE):
     """Smooth random radial-Fourier shape with `n` vertices, fitted to the image."""
     t = np.linspace(0, 2 * np.pi, n, endpoint=False)
     r = np.ones(n)
@@ -49,7 +92,7 @@ def blob(rng, n=500, size=512):
     return _fit(pts, size)
 
 
-def spiky(rng, n=500, size=512):
+def spiky(rng, n=500, size=SIZE):
     """Star polygon with independent random radii (long, jagged boundary)."""
     t = np.sort(rng.uniform(0, 2 * np.pi, n))
     r = rng.uniform(0.4, 1.0, n)
@@ -71,96 +114,171 @@ def perimeter(p):
     return float(np.sum(np.hypot(*(np.roll(p, -1, axis=0) - p).T)))
 
 
-def run(kind, n, seed, tmp):
+def polygons(kind, n, seed):
+    rng = np.random.default_rng(seed)
+    make = {"blob": blob, "spiky": spiky}[kind]
+    return [make(rng, 500, SIZE) for _ in range(n)]
+
+
+def steps():
+    """The timed steps: name -> fn(points, path, image) returning an image or None."""
     import cv2
+
+    from stimuli.render import render_silhouette, write_png
+
+    def render(p):
+        return render_silhouette(p, size=SIZE, dtype="uint8")["img"]
+
+    def fill(p):
+        img = np.full((SIZE, SIZE), 255, np.uint8)
+        cv2.fillPoly(img, [np.round(p * 16).astype(np.int32)], 0, cv2.LINE_AA, shift=4)
+        return img
+
+    def imwrite(path, img):
+        if not cv2.imwrite(path, img):
+            raise OSError(f"cv2.imwrite failed: {path}")
+        return img
+
+    def atomic(path, img):
+        write_png(path, img)
+        return img
+
+    return {
+        "project+imwrite": lambda p, path, im: imwrite(path, render(p)),
+        "opencv": lambda p, path, im: imwrite(path, fill(p)),
+        "project": lambda p, path, im: atomic(path, render(p)),
+        "opencv+write_png": lambda p, path, im: atomic(path, fill(p)),
+        "render only": lambda p, path, im: render(p),
+        "fillPoly only": lambda p, path, im: fill(p),
+        "imwrite(project)": lambda p, path, im: imwrite(path, im["render only"]),
+        "imwrite(opencv)": lambda p, path, im: imwrite(path, im["fillPoly only"]),
+        "imencode(project)": lambda p, path, im: cv2.imencode(".png", im["render only"])[1],
+    }
+
+
+def matplotlib_step():
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.patches import Polygon
 
-    from stimuli.render import render_silhouette, write_png
-
-    size = 512
-    make = {"blob": blob, "spiky": spiky}[kind]
-    rng = np.random.default_rng(seed)
-    polys = [make(rng, 500, size) for _ in range(n)]
-
-    fig = plt.figure(figsize=(size / 100, size / 100), dpi=100)
+    fig = plt.figure(figsize=(SIZE / 100, SIZE / 100), dpi=100)
     ax = fig.add_axes([0, 0, 1, 1])
     ax.set_axis_off()
-    ax.set_xlim(-0.5, size - 0.5)
-    ax.set_ylim(size - 0.5, -0.5)
+    ax.set_xlim(-0.5, SIZE - 0.5)
+    ax.set_ylim(SIZE - 0.5, -0.5)
 
-    def ours(p, path):
-        img = render_silhouette(p, size=size, dtype="uint8")["img"]
-        write_png(path, img)
-        return img
-
-    def ours_imwrite(p, path):
-        img = render_silhouette(p, size=size, dtype="uint8")["img"]
-        cv2.imwrite(path, img)
-        return img
-
-    def opencv(p, path):
-        img = np.full((size, size), 255, np.uint8)
-        cv2.fillPoly(img, [np.round(p * 16).astype(np.int32)], 0, cv2.LINE_AA, shift=4)
-        cv2.imwrite(path, img)
-        return img
-
-    def opencv_write_png(p, path):
-        img = np.full((size, size), 255, np.uint8)
-        cv2.fillPoly(img, [np.round(p * 16).astype(np.int32)], 0, cv2.LINE_AA, shift=4)
-        write_png(path, img)
-        return img
-
-    def mpl(p, path):
+    def mpl(p, path, im):
         patch = Polygon(p, closed=True, facecolor="black", edgecolor="none", antialiased=True)
         ax.add_patch(patch)
         fig.savefig(path, dpi=100, facecolor="white")
         patch.remove()
-        return None
 
-    methods = {
-        "project": ours,
-        "project+imwrite": ours_imwrite,
-        "opencv": opencv,
-        "opencv+write_png": opencv_write_png,
-        "matplotlib": mpl,
-    }
-    times = {m: [] for m in methods}
-    offsets = {m: [] for m in methods}
+    return mpl, lambda: plt.close(fig)
+
+
+def run(kind, n, seed, tmp):
+    import cv2
+
+    polys = polygons(kind, n, seed)
+    methods = steps()
+    mpl, close = matplotlib_step()
+    methods["matplotlib"] = mpl
     names = list(methods)
+    # the imwrite-only steps need their image made first, so they are not rotated
+    rotating = [m for m in names if not m.startswith(("imwrite(", "imencode("))]
+    wall = {m: [] for m in names}
+    cpu = {m: [] for m in names}
+    offsets = {m: [] for m in names}
     for i, p in enumerate(polys):
-        order = names[i % len(names):] + names[: i % len(names)]
+        made = {}
+        k = i % len(rotating)
+        order = rotating[k:] + rotating[:k] + ["imwrite(project)", "imwrite(opencv)", "imencode(project)"]
         for m in order:
-            path = os.path.join(tmp, f"{m}_{i % 8}.png")
-            t0 = time.perf_counter()
-            img = methods[m](p, path)
-            times[m].append(time.perf_counter() - t0)
-            if i < 50:
+            path = os.path.join(tmp, f"{m.replace(' ', '_')}_{i % 8}.png")
+            t0, c0 = time.perf_counter(), time.thread_time()
+            img = methods[m](p, path, made)
+            c1, t1 = time.thread_time(), time.perf_counter()
+            wall[m].append(t1 - t0)
+            cpu[m].append(c1 - c0)
+            made[m] = img
+            if i < 50 and m in ("project+imwrite", "opencv", "project", "opencv+write_png", "matplotlib"):
                 if img is None:
                     img = cv2.imread(path, cv2.IMREAD_GRAYSCALE)
                 cov = 1.0 - img.astype(float) / 255.0
                 offsets[m].append((cov.sum() - shoelace(p)) / perimeter(p))
-    plt.close(fig)
+    close()
+    report(kind, polys, names, wall, cpu, offsets)
 
-    med = {m: 1e3 * float(np.median(v)) for m, v in times.items()}
-    print(f"\n{kind}: {n} polygons x 500 vertices, 512x512, 8-bit PNG; "
-          f"mean perimeter {np.mean([perimeter(p) for p in polys]):.0f} px")
-    print(f"{'method':<18}{'median ms':>10}{'offset px':>11}")
+
+def report(kind, polys, names, wall, cpu, offsets):
+    w = {m: 1e3 * float(np.median(v)) for m, v in wall.items()}
+    c = {m: 1e3 * float(np.median(v)) for m, v in cpu.items()}
+    print(f"\n{kind}: {len(polys)} polygons x 500 vertices, {SIZE}x{SIZE}, 8-bit PNG; "
+          f"mean perimeter {np.mean([perimeter(p) for p in polys]):.0f} px; load average "
+          f"{os.getloadavg()[0]:.2f}")
+    print(f"{'step':<18}{'wall ms':>9}{'cpu ms':>9}{'offset px':>11}   (medians over images)")
     for m in names:
-        print(f"{m:<18}{med[m]:>10.3f}{np.mean(offsets[m]):>+11.4f}")
+        off = f"{np.mean(offsets[m]):>+11.4f}" if offsets[m] else f"{'':>11}"
+        print(f"{m:<18}{w[m]:>9.3f}{c[m]:>9.3f}{off}")
     print("(offset: mean over the first 50 images of (coverage sum - area) / perimeter)")
-    print("targets: renderer at most 1.5x OpenCV, at least 5x faster than matplotlib, both")
-    print("through the same PNG writer (cv2.imwrite, default settings):")
-    print(f"  project+imwrite / opencv            = {med['project+imwrite'] / med['opencv']:.2f}  (target <= 1.5)")
-    print(f"  matplotlib / project+imwrite        = {med['matplotlib'] / med['project+imwrite']:.1f}x (target >= 5)")
-    print("with the project's atomic writer (write_png: temporary file, then rename):")
-    print(f"  project / opencv+write_png          = {med['project'] / med['opencv+write_png']:.2f}")
-    print(f"  project / opencv (raw imwrite)      = {med['project'] / med['opencv']:.2f}")
-    print(f"  matplotlib / project                = {med['matplotlib'] / med['project']:.1f}x")
-    return med
+    for label, t in (("wall", w), ("cpu", c)):
+        print(f"{label}: project+imwrite / opencv = {t['project+imwrite'] / t['opencv']:.2f} "
+              f"(target <= {TARGET}); matplotlib / project+imwrite = "
+              f"{t['matplotlib'] / t['project+imwrite']:.1f}x (target >= 5); "
+              f"project / opencv+write_png = {t['project'] / t['opencv+write_png']:.2f}")
+    r, f = c["render only"], c["fillPoly only"]
+    wp, wo = c["imwrite(project)"], c["imwrite(opencv)"]
+    print(f"split (cpu ms): render {r:.3f}, fillPoly {f:.3f}, imwrite {wp:.3f} (project's "
+          f"image) / {wo:.3f} (OpenCV's); (R + W) / (F + W) = {(r + wp) / (f + wo):.2f}")
+    print(f"  the encoder alone (cv2.imencode, in memory): {c['imencode(project)']:.3f} ms cpu, "
+          f"{w['imencode(project)']:.3f} ms wall; imwrite waits {w['imwrite(project)'] - c['imwrite(project)']:.3f}"
+          " ms (wall - cpu) for the file system, which flatters the wall-clock ratio")
+    print("  with a faster PNG encoder: " + ", ".join(
+        f"W x {s:g} -> {(r + s * wp) / (f + s * wo):.2f}" for s in (0.5, 0.25)))
+
+
+def instructions(kind, n, seed):
+    """Instructions per image of each step, by callgrind (n images minus 0)."""
+    if shutil.which("valgrind") is None:
+        print("\n--instructions: valgrind not found (apt-get install valgrind)")
+        return
+    print(f"\n{kind}: instructions per image (valgrind --tool=callgrind, {n} images "
+          "minus none, in fresh processes)")
+    counts = {}
+    for step in ("render only", "fillPoly only", "project+imwrite", "opencv"):
+        ir = []
+        for k in (0, n):
+            with tempfile.TemporaryDirectory() as d:
+                cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={d}/cg.out",
+                       sys.executable, os.path.abspath(__file__), "--kind", kind,
+                       "--seed", str(seed), "--only", step, "--n", str(k)]
+                res = subprocess.run(cmd, capture_output=True, text=True,
+                                     env={**os.environ, "OPENBLAS_NUM_THREADS": "1"})
+                found = re.search(r"Collected : (\d+)", res.stderr)
+                if res.returncode or not found:
+                    print(f"  {step}: callgrind failed: {res.stderr.strip().splitlines()[-1:]}")
+                    return
+                ir.append(int(found.group(1)))
+        counts[step] = (ir[1] - ir[0]) / n
+        print(f"  {step:<18}{counts[step] / 1e6:>9.2f} M instructions")
+    print(f"  ratio project+imwrite / opencv = "
+          f"{counts['project+imwrite'] / counts['opencv']:.2f}; render / fillPoly = "
+          f"{counts['render only'] / counts['fillPoly only']:.1f}")
+
+
+def only(kind, n, seed, step):
+    """Run one step on n images (what --instructions runs under valgrind)."""
+    polys = polygons(kind, max(n, 1), seed)[:n]
+    fn = steps()[step]
+    tmp = tempfile.mkdtemp(prefix="bench_render_")
+    try:
+        fn(polys[0] if polys else polygons(kind, 1, seed)[0], os.path.join(tmp, "w.png"), {})
+        for p in polys:
+            fn(p, os.path.join(tmp, "x.png"), {})
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def main(argv=None):
@@ -168,13 +286,23 @@ def main(argv=None):
     ap.add_argument("--n", type=int, default=1000, help="images per method (default 1000)")
     ap.add_argument("--kind", choices=["blob", "spiky", "both"], default="both")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--instructions", type=int, default=0, metavar="K",
+                    help="also count instructions per image under callgrind over K images")
+    ap.add_argument("--only", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    kinds = ["blob", "spiky"] if args.kind == "both" else [args.kind]
+    if args.only:
+        only(kinds[0], args.n, args.seed, args.only)
+        return
+    header("bench_render: exact-coverage rendering + PNG vs cv2.fillPoly(LINE_AA) + imwrite")
     tmp = tempfile.mkdtemp(prefix="bench_render_")
     try:
-        for kind in (["blob", "spiky"] if args.kind == "both" else [args.kind]):
+        for kind in kinds:
             run(kind, args.n, args.seed, tmp)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+    for kind in kinds if args.instructions else []:
+        instructions(kind, args.instructions, args.seed)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
-from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation
+from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation, sum_dtype
 from stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
@@ -107,20 +107,24 @@ def _paint_uint8(acc, h, w, figure, ground):
 
     n = len(figure)
     img = np.empty((h, w) if n == 1 else (h, w, n), np.uint8)
-    k = np.arange(256.0)
-    luts = [np.rint(255.0 * g + (f - g) * k).astype(np.uint8) for f, g in zip(figure, ground)]
+    if n == 1 and figure == (0.0,) and ground == (1.0,):
+        luts = None  # black on white, the usual case: 255 - v, much faster than a LUT
+    else:
+        k = np.arange(256.0)
+        luts = [np.rint(255.0 * g + (f - g) * k).astype(np.uint8) for f, g in zip(figure, ground)]
     for ch in range(n):
+        fill = 255 if luts is None else luts[ch][0]
         if n == 1:
-            img.fill(luts[0][0])
+            img.fill(fill)
         else:
-            img[..., ch] = luts[ch][0]
+            img[..., ch] = fill
     if acc is None:
         return img
     win, r0, c0, _ = acc
     sub = img[r0 : r0 + win.shape[0], c0 : c0 + win.shape[1]]
     if n == 1:
         cv2.convertScaleAbs(win, sub, 255.0)
-        if np.array_equal(luts[0], 255.0 - k):  # black on white: much faster than a LUT
+        if luts is None:
             cv2.bitwise_not(sub, dst=sub)
         elif not np.array_equal(luts[0], k):
             cv2.LUT(sub, luts[0], dst=sub)
@@ -208,7 +212,7 @@ def render_silhouette(
     f, g = colours(figure, ground)
     dt = resolve_dtype(dtype)
     rings, oriented = as_rings(contour_or_points, "contour_or_points")
-    acc = ring_accumulation(rings, h, w, oriented=oriented, orient=orient)
+    acc = ring_accumulation(rings, h, w, oriented=oriented, orient=orient, dtype=sum_dtype(dt, h, w))
     area = 0.0 if acc is None else acc[3]
     img = paint_image(acc, h, w, f, g, dt)
     return result_record("silhouette", img, h, w, f, g, dt, rings=rings, orient=bool(orient), area=area)
@@ -246,5 +250,5 @@ def render_dots(points, radius, size=None, *, shape=None, figure=0.0, ground=1.0
     h, w = resolve_shape(size, shape)
     f, g = colours(figure, ground)
     dt = resolve_dtype(dtype)
-    img = paint_image(disc_accumulation(centers, radius, h, w), h, w, f, g, dt)
+    img = paint_image(disc_accumulation(centers, radius, h, w, sum_dtype(dt, h, w)), h, w, f, g, dt)
     return result_record("dots", img, h, w, f, g, dt, centers=centers, radius=radius)

@@ -72,7 +72,7 @@ def as_rings(obj, name="rings"):
 
 def _ring(obj, name):
     pts = as_points(obj, name)
-    if len(pts) > 1 and np.array_equal(pts[0], pts[-1]):
+    if len(pts) > 1 and pts[0].tolist() == pts[-1].tolist():
         pts = pts[:-1]  # tolerate a repeated closing point
     if _distinct_at_most_two(pts):
         raise InputError(f"{name}: a ring needs at least 3 distinct points")
@@ -81,6 +81,8 @@ def _ring(obj, name):
 
 def _distinct_at_most_two(pts):
     """True if `pts` holds fewer than 3 distinct points (cheaper than np.unique)."""
+    if len({tuple(q) for q in pts[:3].tolist()}) == 3:  # the usual case, without numpy calls
+        return False
     other = (pts != pts[0]).any(axis=1)
     if not other.any():
         return True

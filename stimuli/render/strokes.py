@@ -14,7 +14,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
 from stimuli.render.paint import colours, paint_image, resolve_dtype, result_record
-from stimuli.render.raster import ring_accumulation
+from stimuli.render.raster import ring_accumulation, sum_dtype
 from stimuli.render.rings import is_single_ring, resolve_shape, rings_from_geometry
 
 # Largest departure of shapely's polygonised round joins/caps from the arc.
@@ -133,7 +133,7 @@ def render_outline(
     geom = shapely.LinearRing(pts) if closed else shapely.LineString(pts)
     stroke = _stroke([geom], width, join, cap, mitre_limit, q)
     rings = rings_from_geometry(stroke)
-    acc = ring_accumulation(rings, h, w, oriented=True) if rings else None
+    acc = ring_accumulation(rings, h, w, oriented=True, dtype=sum_dtype(dt, h, w)) if rings else None
     img = paint_image(acc, h, w, f, g, dt)
     return result_record(
         "outline", img, h, w, f, g, dt, points=pts, closed=bool(closed), width=width,
@@ -209,7 +209,7 @@ def render_fragments(
         area = float(stroke.area)
     else:
         rings, area = [], 0.0
-    acc = ring_accumulation(rings, h, w, oriented=True) if rings else None
+    acc = ring_accumulation(rings, h, w, oriented=True, dtype=sum_dtype(dt, h, w)) if rings else None
     img = paint_image(acc, h, w, f, g, dt)
     return result_record(
         "fragments", img, h, w, f, g, dt, polylines=lines, width=width, cap=cap, join=join,
