@@ -275,6 +275,8 @@ def extract(
         raise InputError(f"mask_sigma must be >= 0, got {mask_sigma}")
     img, default_name = load_image(image_or_path)
     name = default_name if name is None else str(name)
+    if (boxes is not None or scribbles is not None) and method not in ("auto", "photo"):
+        raise InputError(f"{name}: boxes and scribbles need method 'auto' or 'photo', not {method!r}")
     if boxes is not None and len(boxes) > 1 and objects != "all":
         raise InputError(f"{name}: {len(boxes)} boxes for one image need objects='all' (--objects all)")
     opts = (objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level)
