@@ -26,6 +26,7 @@ writes one row per photo and mode (the verdict's measures included, for
 calibrating thresholds on one group and checking them on the other).
 
 Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.csv] [--modes auto,box,grabcut]
+       [--workers N] [--progress]
 """
 
 from __future__ import annotations
@@ -41,17 +42,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import header  # noqa: E402
 
 DEFAULT_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "photos"
-
-
-def box_with_margin(mask, margin=0.05):
-    """The mask's bounding box widened by `margin` of its size per side, kept 1 px inside the image."""
-    ys, xs = np.nonzero(mask)
-    h, w = mask.shape
-    x0, x1, y0, y1 = xs.min(), xs.max() + 1, ys.min(), ys.max() + 1
-    mx, my = margin * (x1 - x0), margin * (y1 - y0)
-    x0, y0 = max(1, int(round(x0 - mx))), max(1, int(round(y0 - my)))
-    x1, y1 = min(w - 1, int(round(x1 + mx))), min(h - 1, int(round(y1 + my)))
-    return (x0, y0, x1 - x0, y1 - y0)
 
 
 def iou(a, b):
@@ -86,21 +76,60 @@ def plain_grabcut(rgb, box, iterations=5):
     return (gc == cv2.GC_FGD) | (gc == cv2.GC_PR_FGD)
 
 
+def _progress(args, got):
+    if args.progress:
+        print(f"{got[0]['image']}: " + ", ".join(f"{r['mode']} {r['iou']:.3f} {r['status']}" for r in got),
+              file=sys.stderr, flush=True)
+
+
+def measure_photo(path, modes):
+    """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask."""
+    import cv2
+
+    from stimuli.errors import InputError
+    from stimuli.extraction import extract, read_image
+    from stimuli.extraction.photo import box_around
+    from stimuli.extraction.verdict import judge
+    from stimuli.render.core import coverage
+
+    p = Path(path)
+    rgb = read_image(p)
+    truth = cv2.imread(str(p.with_name(f"{p.stem}.mask.png")), cv2.IMREAD_GRAYSCALE) > 127
+    box = box_around(truth, 0.05)
+    group = p.stem.split("_")[0]
+    rows = []
+    for mode in modes:
+        t0 = time.perf_counter()
+        row = dict(image=p.name, group=group, mode=mode, status="", reason="")
+        if mode == "grabcut":
+            pred = plain_grabcut(rgb, box)
+        else:
+            try:
+                ex = extract(rgb, method="auto", boxes=[box] if mode == "box" else None, name=p.name)
+            except InputError as exc:
+                row.update(status="failed", reason=str(exc), iou=0.0, seconds=time.perf_counter() - t0)
+                rows.append(row)
+                continue
+            pred = coverage(ex.contour, truth.shape) >= 0.5
+            v = judge(rgb, ex)
+            row.update(status=v.status, reason=v.reason, resolved=ex.params.get("resolved"),
+                       **{k: v.measures[k] for k in ("frame", "fill", "contrast", "competing", "agreement")})
+        row.update(iou=iou(pred, truth), distance=boundary_distance(pred, truth), seconds=time.perf_counter() - t0)
+        rows.append(row)
+    return rows
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("data", nargs="?", default=str(DEFAULT_DIR))
     ap.add_argument("--limit", type=int, default=None)
     ap.add_argument("--csv", default=None, help="write one row per photo and mode here")
     ap.add_argument("--modes", default="auto,box,grabcut")
+    ap.add_argument("--progress", action="store_true", help="one line per photo on stderr")
+    ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
     args = ap.parse_args(argv)
 
-    import cv2
     import pandas as pd
-
-    from stimuli.errors import InputError
-    from stimuli.extraction import extract, read_image
-    from stimuli.extraction.verdict import judge
-    from stimuli.render.core import coverage
 
     header("validate_photos: outlines from photographs against ground-truth masks")
     data = Path(args.data)
@@ -113,30 +142,20 @@ def main(argv=None):
     modes = args.modes.split(",")
     rows = []
     t_start = time.perf_counter()
-    for p in photos:
-        rgb = read_image(p)
-        truth = cv2.imread(str(data / f"{p.stem}.mask.png"), cv2.IMREAD_GRAYSCALE) > 127
-        box = box_with_margin(truth)
-        group = p.stem.split("_")[0]
-        for mode in modes:
-            t0 = time.perf_counter()
-            row = dict(image=p.name, group=group, mode=mode, status="", reason="")
-            if mode == "grabcut":
-                pred = plain_grabcut(rgb, box)
-            else:
-                try:
-                    ex = extract(rgb, method="auto", boxes=[box] if mode == "box" else None, name=p.name)
-                except InputError as exc:
-                    row.update(status="failed", reason=str(exc), iou=0.0, seconds=time.perf_counter() - t0)
-                    rows.append(row)
-                    continue
-                pred = coverage(ex.contour, truth.shape) >= 0.5
-                v = judge(rgb, ex)
-                row.update(status=v.status, reason=v.reason, resolved=ex.params.get("resolved"),
-                           **{k: v.measures[k] for k in ("frame", "fill", "contrast", "competing", "agreement")})
-            row.update(iou=iou(pred, truth), distance=boundary_distance(pred, truth),
-                       seconds=time.perf_counter() - t0)
-            rows.append(row)
+    tasks = [(str(p), modes) for p in photos]
+    if args.workers > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(args.workers) as pool:
+            results = pool.map(measure_photo, *zip(*tasks))
+            for got in results:
+                rows += got
+                _progress(args, got)
+    else:
+        for task in tasks:
+            got = measure_photo(*task)
+            rows += got
+            _progress(args, got)
     df = pd.DataFrame(rows)
     print(f"{len(photos)} photos, {time.perf_counter() - t_start:.0f} s in all")
     print(f"{'group':10s} {'mode':8s} {'n':>3s} {'medIoU':>7s} {'meanIoU':>7s} {'>=0.8':>6s} {'<0.5':>6s} "

@@ -127,9 +127,13 @@ class Extraction:
         levels, or 'mask': a two-valued image), presmooth and local_level
         (per object, whether each refinement was used), objects, min_area,
         min_hole_area, holes, holes_dropped, mask_sigma, object_areas (pixel
-        counts, holes filled), n_objects_found (separate objects in the
-        image; islands inside holes are part of their object), shape,
-        source.
+        counts, holes filled), candidate_areas (the largest object and
+        those of at least half its size: they compete), n_objects_found
+        (separate objects in the image; islands inside holes are part of
+        their object), shape, source; with ``method='auto'`` resolved (the
+        method chosen); with the photo method mode, box (boxes), scale,
+        iterations, agreement and competing (see
+        :func:`stimuli.extraction.photo.segment_photo`).
     """
 
     contours: list

@@ -18,7 +18,7 @@ METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "mo
 #: Otsu's between-class share of the grey variance above which ``auto``
 #: takes an image for one object on a plain background (renders, scans,
 #: product shots); below it, for a photograph.
-PLAIN_ETA = 0.92
+PLAIN_ETA = 0.97
 POLARITIES = ("auto", "dark", "light")
 
 

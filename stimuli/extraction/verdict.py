@@ -17,8 +17,9 @@ the measure and its value:
     over the image (:func:`boundary_contrast`): about 1 for an outline
     along no visible edge.
 ``competing``
-    With ``objects='largest'``: the next object's area over the largest's;
-    two objects of similar size make "the object" ambiguous.
+    With ``objects='largest'``: the next object's area over the largest's
+    (for the automatic photo method, the parts GrabCut found); two objects
+    of similar size make "the object" ambiguous.
 ``agreement``
     Photo methods: the IoU of the two hypotheses the method compared (see
     :mod:`stimuli.extraction.photo`); they disagree when the answer is
@@ -26,13 +27,21 @@ the measure and its value:
 ``decoder``
     The image decoder reported corrupt or truncated data.
 
-A ``failed`` outline is one the extraction could not give at all (no
-object, unreadable file); it is decided by the caller.
+``unverifiable``
+    Outlines found in photographs (methods ``photo``, ``grabcut``,
+    ``model``, and ``auto`` when it chose ``photo``) are always
+    ``suspect``: on the development photos (95 horses and objects with
+    true masks, ``benchmarks/validate_photos.py``) no thresholds on the
+    measures above (a grid over frame, fill, contrast and agreement) passed
+    outlines of IoU >= 0.8 nine times in ten, even on the group they were
+    chosen on (each measure correlates with IoU at |r| < 0.4), so ``ok``
+    could not be made to mean it. The measures are still reported, and
+    they still name what is wrong.
 
-The thresholds were set on the development photos (horses and objects, each
-group checked with thresholds chosen on the other) so that outlines marked
-``ok`` have an IoU of at least 0.8 with the true object nine times in ten;
-see ``benchmarks/validate_photos.py``.
+A ``failed`` outline is one the extraction could not give at all (no
+object, unreadable file); it is decided by the caller. ``ok`` therefore
+means: a silhouette, mask, cut-out or one object on a plain background,
+inside the frame, on a visible edge, without a rival, decoded cleanly.
 """
 
 from __future__ import annotations
@@ -41,8 +50,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["THRESHOLDS", "Verdict", "judge", "frame_contact", "boundary_contrast"]
+__all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "boundary_contrast"]
 
+#: Methods whose outlines are never ``ok`` (see the module notes).
+UNVERIFIABLE = ("photo", "grabcut", "model")
 #: Thresholds of the verdict's measures (see the module notes).
 THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=2.0, competing=0.5, agreement=0.95)
 
@@ -173,6 +184,8 @@ def judge(image, extraction, decoder=(), thresholds=None):
     contrast = min(boundary_contrast(image, k) for k in extraction.contours)
     areas = p.get("candidate_areas") or []
     competing = areas[1] / areas[0] if p.get("objects") == "largest" and len(areas) > 1 and areas[0] else None
+    if p.get("competing") is not None and p.get("objects") == "largest":  # the photo method's own parts
+        competing = p["competing"]
     agreement = p.get("agreement")
     reasons = []
     if frame > th["frame"]:
@@ -189,6 +202,9 @@ def judge(image, extraction, decoder=(), thresholds=None):
         reasons.append(f"the method's hypotheses disagree (IoU {agreement:.2f})")
     if decoder:
         reasons.append("decoder: " + " | ".join(decoder))
+    method = p.get("resolved", p.get("method"))
+    if method in UNVERIFIABLE:
+        reasons.append(f"figure-ground of a photograph ({method}) cannot be verified: check the overlay")
     measures = dict(frame=frame, fill=fill, contrast=contrast, competing=competing, agreement=agreement,
                     decoder=list(decoder))
     return Verdict("suspect" if reasons else "ok", reasons, measures)
