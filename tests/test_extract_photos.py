@@ -263,3 +263,19 @@ def test_model_method_through_a_tiny_onnx_network(tmp_path, capsys):
     assert main(args[:-12] + ["--method", "model", "--model-file", str(tmp_path / "tiny.onnx"),
                               "--model-size", "32"]) == 1  # a fixed-size network given another size
     assert "model-size" in (out / "summary.csv").read_text()
+
+
+def test_auto_keeps_the_exact_paths_of_masks_renders_and_cut_outs():
+    from stimuli.extraction.segment import image_kind
+
+    cov = _disk((120, 140), 70.3, 60.2, 35)
+    assert image_kind(cov >= 0.5) == "otsu"  # a mask
+    assert image_kind(np.round(255 * cov).astype(np.uint8)) == "otsu"  # an antialiased render
+    rgba = np.zeros(cov.shape + (4,), np.uint8)
+    rgba[..., :3] = np.random.default_rng(1).integers(0, 256, cov.shape + (3,))
+    rgba[..., 3] = np.round(255 * cov)
+    assert image_kind(rgba) == "alpha"  # a cut-out
+    assert image_kind(_photo()[0]) == "photo"
+    # and the outline of a render under auto is the one of otsu, point for point
+    render = np.round(255 * cov).astype(np.uint8)
+    assert np.array_equal(extract(render, method="auto").contour.points, extract(render).contour.points)
