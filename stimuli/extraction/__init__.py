@@ -1,6 +1,9 @@
 """Contours from images: reading (:mod:`.imageio`), segmentation
 (:mod:`.segment`: Otsu, threshold, mask, alpha, GrabCut), sub-pixel tracing
-(:mod:`.trace`), the outline of each object (:mod:`.outlines`), the
+(:mod:`.trace`), figure-ground for photographs (:mod:`.photo`,
+:mod:`.grabcut`, :mod:`.model`, with the boxes and scribbles of
+:mod:`.assists`), the outline of each object (:mod:`.outlines`), its
+verdict (:mod:`.verdict`), the
 scale-space description (:mod:`.scalespace`), the overlay drawing
 (:mod:`.overlays`) and the per-image pipeline of ``attneave extract``
 (:mod:`.pipeline`)."""
@@ -24,4 +27,7 @@ __getattr__, __dir__, __all__ = _attach(__name__, {
     "IMAGE_SUFFIXES": ".imageio",
     "overlay": ".overlays",
     "extract_images": ".pipeline",
+    "open_image": ".imageio",
+    "judge": ".verdict",
+    "Verdict": ".verdict",
 })

@@ -127,9 +127,13 @@ class Extraction:
         levels, or 'mask': a two-valued image), presmooth and local_level
         (per object, whether each refinement was used), objects, min_area,
         min_hole_area, holes, holes_dropped, mask_sigma, object_areas (pixel
-        counts, holes filled), n_objects_found (separate objects in the
-        image; islands inside holes are part of their object), shape,
-        source.
+        counts, holes filled), candidate_areas (the largest object and
+        those of at least half its size: they compete), n_objects_found
+        (separate objects in the image; islands inside holes are part of
+        their object), shape, source; with ``method='auto'`` resolved (the
+        method chosen); with the photo method mode, box (boxes), scale,
+        iterations, agreement and competing (see
+        :func:`stimuli.extraction.photo.segment_photo`).
     """
 
     contours: list
@@ -275,6 +279,8 @@ def extract(
         raise InputError(f"mask_sigma must be >= 0, got {mask_sigma}")
     img, default_name = load_image(image_or_path)
     name = default_name if name is None else str(name)
+    if (boxes is not None or scribbles is not None) and method not in ("auto", "photo"):
+        raise InputError(f"{name}: boxes and scribbles need method 'auto' or 'photo', not {method!r}")
     if boxes is not None and len(boxes) > 1 and objects != "all":
         raise InputError(f"{name}: {len(boxes)} boxes for one image need objects='all' (--objects all)")
     opts = (objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level)

@@ -39,7 +39,7 @@ from stimuli.errors import InputError
 from stimuli.extraction.grabcut import BGD, FGD, PR_BGD, PR_FGD, check_box, grabcut, inset_box, largest_filled, to_bgr8
 
 __all__ = ["WORK_PIXELS", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo",
-           "read_scribbles", "mask_iou"]
+           "read_scribbles", "mask_iou", "box_around"]
 
 #: GrabCut runs on at most this many pixels (larger photos are reduced).
 WORK_PIXELS = 250_000
@@ -60,7 +60,8 @@ class PhotoMask:
         IoU of the two hypotheses the method compared (1 = identical).
     params : dict
         mode ('auto', 'box', 'scribbles', 'box+scribbles'), box, scale
-        (of the working copy), iterations, agreement.
+        (of the working copy), iterations, agreement, competing (auto:
+        the second-largest part GrabCut found over the largest).
     """
 
     mask: np.ndarray
@@ -149,13 +150,15 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         first, second = second, first  # the smoothed photo's answer is the one kept
         mode = "box"
     else:
-        first = largest_filled(grabcut(smooth, box=inset_box(smooth.shape), iterations=iterations))
+        raw = grabcut(smooth, box=inset_box(smooth.shape), iterations=iterations)
+        first = largest_filled(raw)
         second = first
         if first.any():
-            around = _box_around(first, 0.05)
+            around = box_around(first, 0.05)
             if around[2] * around[3] < 0.9 * sw * sh:
                 second = largest_filled(grabcut(smooth, box=around, iterations=iterations))
         mode = "auto"
+    competing = _runner_up(raw) if mode == "auto" else None
     agreement = mask_iou(first, second)
     # auto: the first hypothesis is the answer (re-boxing it was less accurate
     # on the development photos); box and scribbles: the smoothed photo's
@@ -163,12 +166,22 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
     if scale != 1.0:
         mask = cv2.resize(mask.astype(np.float32), (w, h), interpolation=cv2.INTER_LINEAR) > 0.5
     params = dict(mode=mode, box=None if box is None else list(box), scale=scale, iterations=int(iterations),
-                  agreement=float(agreement))
+                  agreement=float(agreement), competing=competing)
     return PhotoMask(mask, float(agreement), params)
 
 
-def _box_around(mask, margin):
-    """The box of a mask's pixels, widened by `margin` of its size, kept 1 px inside the image."""
+def _runner_up(mask):
+    """The second-largest 8-connected part's area over the largest's (0 if there is one part)."""
+    import cv2
+
+    n, _, stats, _ = cv2.connectedComponentsWithStats(np.ascontiguousarray(mask, dtype=np.uint8), connectivity=8)
+    areas = np.sort(stats[1:, cv2.CC_STAT_AREA])[::-1]
+    return float(areas[1] / areas[0]) if len(areas) > 1 else 0.0
+
+
+def box_around(mask, margin=0.05):
+    """The box ``(x, y, width, height)`` of a mask's pixels, widened by `margin` of its size on every
+    side (as a person would draw it) and kept 1 px inside the image (GrabCut needs some outside)."""
     ys, xs = np.nonzero(mask)
     h, w = mask.shape
     x0, x1, y0, y1 = xs.min(), xs.max() + 1, ys.min(), ys.max() + 1

@@ -13,12 +13,13 @@ the measure and its value:
     The object's area over the image's: almost none (a speck) or almost all
     of it (the background taken for the object).
 ``contrast``
-    How well the colours just inside and just outside the outline differ,
-    as ``|mean_in - mean_out| / sqrt((var_in + var_out) / 2)`` over 3-px
-    bands in CIE Lab (a d'): an outline along no visible edge.
+    The mean colour-gradient magnitude along the outline over its median
+    over the image (:func:`boundary_contrast`): about 1 for an outline
+    along no visible edge.
 ``competing``
-    With ``objects='largest'``: the next object's area over the largest's;
-    two objects of similar size make "the object" ambiguous.
+    With ``objects='largest'``: the next object's area over the largest's
+    (for the automatic photo method, the parts GrabCut found); two objects
+    of similar size make "the object" ambiguous.
 ``agreement``
     Photo methods: the IoU of the two hypotheses the method compared (see
     :mod:`stimuli.extraction.photo`); they disagree when the answer is
@@ -26,13 +27,21 @@ the measure and its value:
 ``decoder``
     The image decoder reported corrupt or truncated data.
 
-A ``failed`` outline is one the extraction could not give at all (no
-object, unreadable file); it is decided by the caller.
+``unverifiable``
+    Outlines found in photographs (methods ``photo``, ``grabcut``,
+    ``model``, and ``auto`` when it chose ``photo``) are always
+    ``suspect``: on the development photos (95 horses and objects with
+    true masks, ``benchmarks/validate_photos.py``) no thresholds on the
+    measures above (a grid over frame, fill, contrast and agreement) passed
+    outlines of IoU >= 0.8 nine times in ten, even on the group they were
+    chosen on (each measure correlates with IoU at |r| < 0.4), so ``ok``
+    could not be made to mean it. The measures are still reported, and
+    they still name what is wrong.
 
-The thresholds were set on the development photos (horses and objects, each
-group checked with thresholds chosen on the other) so that outlines marked
-``ok`` have an IoU of at least 0.8 with the true object nine times in ten;
-see ``benchmarks/validate_photos.py``.
+A ``failed`` outline is one the extraction could not give at all (no
+object, unreadable file); it is decided by the caller. ``ok`` therefore
+means: a silhouette, mask, cut-out or one object on a plain background,
+inside the frame, on a visible edge, without a rival, decoded cleanly.
 """
 
 from __future__ import annotations
@@ -41,10 +50,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["THRESHOLDS", "Verdict", "judge", "frame_contact", "boundary_contrast"]
+__all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "boundary_contrast"]
 
+#: Methods whose outlines are never ``ok`` (see the module notes).
+UNVERIFIABLE = ("photo", "grabcut", "model")
 #: Thresholds of the verdict's measures (see the module notes).
-THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=0.8, competing=0.5, agreement=0.95)
+THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=2.0, competing=0.5, agreement=0.95)
 
 
 @dataclass
@@ -102,38 +113,49 @@ def frame_contact(contour, shape):
     return float(seg[both].sum() / total) if total > 0 else 0.0
 
 
-def boundary_contrast(image, mask, band=3):
-    """d' of the colours in bands just inside and just outside a mask's boundary.
+def boundary_contrast(image, contour, sigma=1.5):
+    """How much stronger the image's edges are along an outline than elsewhere.
 
     Parameters
     ----------
     image : ndarray
         Grey, RGB or RGBA (RGB order), any depth.
-    mask : (H, W) bool ndarray
-    band : int
-        Band width in px.
+    contour : Contour
+        ``(x, y)`` image pixels (y down).
+    sigma : float
+        Scale (px) of the Gaussian-derivative gradient.
 
     Returns
     -------
     float
-        ``|mean_in - mean_out| / sqrt((var_in + var_out) / 2)`` in CIE Lab
-        (the vector difference of the means over the total variances); 0
-        when either band is empty.
+        Mean gradient magnitude (CIE Lab, Gaussian derivatives at `sigma`)
+        at the outline's points over its median over the image. About 1 for
+        an outline that follows no edge (a threshold through noise); large
+        for a visible boundary.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from stimuli.geometry.contour import Contour
+    >>> img = np.zeros((40, 40), np.uint8); img[10:30, 10:30] = 200
+    >>> sq = Contour(np.array([[9.5, 9.5], [29.5, 9.5], [29.5, 29.5], [9.5, 29.5]])).resample(spacing=1)
+    >>> bool(boundary_contrast(img, sq) > 10)
+    True
     """
     import cv2
 
     from stimuli.extraction.grabcut import to_bgr8
 
     lab = cv2.cvtColor(to_bgr8(image), cv2.COLOR_BGR2Lab).astype(np.float32)
-    m = np.ascontiguousarray(mask, dtype=np.uint8)
-    k = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * band + 1, 2 * band + 1))
-    inner = m.astype(bool) & ~cv2.erode(m, k, borderType=cv2.BORDER_REPLICATE).astype(bool)
-    outer = cv2.dilate(m, k).astype(bool) & ~m.astype(bool)
-    if not inner.any() or not outer.any():
-        return 0.0
-    a, b = lab[inner], lab[outer]
-    spread = np.sqrt(0.5 * (a.var(axis=0).sum() + b.var(axis=0).sum()))
-    return float(np.linalg.norm(a.mean(axis=0) - b.mean(axis=0)) / max(spread, 1e-6))
+    lab = cv2.GaussianBlur(lab, (0, 0), sigma)
+    gx = cv2.Sobel(lab, cv2.CV_32F, 1, 0, ksize=3)
+    gy = cv2.Sobel(lab, cv2.CV_32F, 0, 1, ksize=3)
+    mag = np.sqrt((gx * gx + gy * gy).reshape(lab.shape[0], lab.shape[1], -1).sum(axis=2))
+    h, w = mag.shape
+    p = np.round(contour.points).astype(int)
+    along = mag[np.clip(p[:, 1], 0, h - 1), np.clip(p[:, 0], 0, w - 1)]
+    floor = 1e-3 * max(float(mag.max()), 1e-6)  # a flat image (a render) has a zero median
+    return float(along.mean() / max(float(np.median(mag)), floor))
 
 
 def judge(image, extraction, decoder=(), thresholds=None):
@@ -159,9 +181,11 @@ def judge(image, extraction, decoder=(), thresholds=None):
     p = extraction.params
     frame = max(frame_contact(k, (h, w)) for k in extraction.contours)
     fill = float(c.area / (h * w))
-    contrast = boundary_contrast(image, extraction.mask)
+    contrast = min(boundary_contrast(image, k) for k in extraction.contours)
     areas = p.get("candidate_areas") or []
     competing = areas[1] / areas[0] if p.get("objects") == "largest" and len(areas) > 1 and areas[0] else None
+    if p.get("competing") is not None and p.get("objects") == "largest":  # the photo method's own parts
+        competing = p["competing"]
     agreement = p.get("agreement")
     reasons = []
     if frame > th["frame"]:
@@ -171,13 +195,16 @@ def judge(image, extraction, decoder=(), thresholds=None):
     elif fill > th["fill_max"]:
         reasons.append(f"fills {100 * fill:.0f}% of the image")
     if contrast < th["contrast"]:
-        reasons.append(f"low contrast across the boundary (d'={contrast:.2f})")
+        reasons.append(f"low contrast across the boundary (edge strength {contrast:.2f}x the image's median)")
     if competing is not None and competing >= th["competing"]:
         reasons.append(f"competing region of {100 * competing:.0f}% of the object's size")
     if agreement is not None and agreement < th["agreement"]:
         reasons.append(f"the method's hypotheses disagree (IoU {agreement:.2f})")
     if decoder:
         reasons.append("decoder: " + " | ".join(decoder))
+    method = p.get("resolved", p.get("method"))
+    if method in UNVERIFIABLE:
+        reasons.append(f"figure-ground of a photograph ({method}) cannot be verified: check the overlay")
     measures = dict(frame=frame, fill=fill, contrast=contrast, competing=competing, agreement=agreement,
                     decoder=list(decoder))
     return Verdict("suspect" if reasons else "ok", reasons, measures)

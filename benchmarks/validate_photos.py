@@ -1,0 +1,177 @@
+"""Validate outline extraction on real photographs with ground-truth masks.
+
+Data: a directory of ``NAME.jpg`` photos with ``NAME.mask.png`` masks
+(object = 255), e.g. ``../shared/data/photos`` (Weizmann horses and
+GrabCut/GSC objects; see its README). Groups are the name's prefix before
+the first ``_`` (``weizmann``, ``gsc``).
+
+Per photo and per mode:
+
+* ``auto``: ``extract(photo, method='auto')``, no help;
+* ``box``: one box per image, the mask's bounding box plus a 5 % margin on
+  every side (as a person would draw it), ``extract(photo, boxes=[box])``;
+* ``grabcut``: the anchor, plain ``cv2.grabCut`` with the same box and 5
+  iterations on the raw photo (its mask taken as it is).
+
+IoU: the extracted outline rendered with exact coverage
+(``stimuli.render.coverage``) and thresholded at 0.5, against the mask;
+the mean boundary distance (px) is the symmetric mean distance between the
+two masks' boundary pixels. The verdict (``stimuli.extraction.verdict``)
+of every outline is recorded: the share of outlines marked ``ok`` with IoU
+>= 0.8 and the smallest IoU among them say whether ``ok`` can be trusted.
+
+Prints per group and mode: n, median and mean IoU, share >= 0.8 and
+< 0.5, mean boundary distance, ok share and its precision; with ``--csv``
+writes one row per photo and mode (the verdict's measures included, for
+calibrating thresholds on one group and checking them on the other).
+
+Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.csv] [--modes auto,box,grabcut]
+       [--workers N] [--progress]
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _machine import header  # noqa: E402
+
+DEFAULT_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "photos"
+
+
+def iou(a, b):
+    return float(np.count_nonzero(a & b) / max(np.count_nonzero(a | b), 1))
+
+
+def boundary_distance(a, b):
+    """Symmetric mean distance (px) between the boundary pixels of two masks."""
+    import cv2
+
+    def edge(m):
+        m8 = m.astype(np.uint8)
+        return m8.astype(bool) & ~cv2.erode(m8, np.ones((3, 3), np.uint8)).astype(bool)
+
+    ea, eb = edge(a), edge(b)
+    if not ea.any() or not eb.any():
+        return float("nan")
+    da = cv2.distanceTransform((~eb).astype(np.uint8), cv2.DIST_L2, 5)
+    db = cv2.distanceTransform((~ea).astype(np.uint8), cv2.DIST_L2, 5)
+    return float(0.5 * (da[ea].mean() + db[eb].mean()))
+
+
+def plain_grabcut(rgb, box, iterations=5):
+    import cv2
+
+    gc = np.zeros(rgb.shape[:2], np.uint8)
+    bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
+    try:
+        cv2.grabCut(np.ascontiguousarray(rgb[:, :, ::-1]), gc, box, bgd, fgd, iterations, cv2.GC_INIT_WITH_RECT)
+    except cv2.error:
+        return np.zeros(rgb.shape[:2], bool)
+    return (gc == cv2.GC_FGD) | (gc == cv2.GC_PR_FGD)
+
+
+def _progress(args, got):
+    if args.progress:
+        print(f"{got[0]['image']}: " + ", ".join(f"{r['mode']} {r['iou']:.3f} {r['status']}" for r in got),
+              file=sys.stderr, flush=True)
+
+
+def measure_photo(path, modes):
+    """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask."""
+    import cv2
+
+    from stimuli.errors import InputError
+    from stimuli.extraction import extract, read_image
+    from stimuli.extraction.photo import box_around
+    from stimuli.extraction.verdict import judge
+    from stimuli.render import coverage
+
+    p = Path(path)
+    rgb = read_image(p)
+    truth = cv2.imread(str(p.with_name(f"{p.stem}.mask.png")), cv2.IMREAD_GRAYSCALE) > 127
+    box = box_around(truth, 0.05)
+    group = p.stem.split("_")[0]
+    rows = []
+    for mode in modes:
+        t0 = time.perf_counter()
+        row = dict(image=p.name, group=group, mode=mode, status="", reason="")
+        if mode == "grabcut":
+            pred = plain_grabcut(rgb, box)
+        else:
+            try:
+                ex = extract(rgb, method="auto", boxes=[box] if mode == "box" else None, name=p.name)
+            except InputError as exc:
+                row.update(status="failed", reason=str(exc), iou=0.0, seconds=time.perf_counter() - t0)
+                rows.append(row)
+                continue
+            pred = coverage(ex.contour, truth.shape) >= 0.5
+            v = judge(rgb, ex)
+            row.update(status=v.status, reason=v.reason, resolved=ex.params.get("resolved"),
+                       **{k: v.measures[k] for k in ("frame", "fill", "contrast", "competing", "agreement")})
+        row.update(iou=iou(pred, truth), distance=boundary_distance(pred, truth), seconds=time.perf_counter() - t0)
+        rows.append(row)
+    return rows
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("data", nargs="?", default=str(DEFAULT_DIR))
+    ap.add_argument("--limit", type=int, default=None)
+    ap.add_argument("--csv", default=None, help="write one row per photo and mode here")
+    ap.add_argument("--modes", default="auto,box,grabcut")
+    ap.add_argument("--progress", action="store_true", help="one line per photo on stderr")
+    ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
+    args = ap.parse_args(argv)
+
+    import pandas as pd
+
+    header("validate_photos: outlines from photographs against ground-truth masks")
+    data = Path(args.data)
+    photos = sorted(p for p in data.glob("*.jpg") if (data / f"{p.stem}.mask.png").is_file())
+    if args.limit:
+        photos = photos[: args.limit]
+    if not photos:
+        print(f"validate_photos: no NAME.jpg + NAME.mask.png pairs in {data}", file=sys.stderr)
+        return 2
+    modes = args.modes.split(",")
+    rows = []
+    t_start = time.perf_counter()
+    tasks = [(str(p), modes) for p in photos]
+    if args.workers > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(args.workers) as pool:
+            results = pool.map(measure_photo, *zip(*tasks))
+            for got in results:
+                rows += got
+                _progress(args, got)
+    else:
+        for task in tasks:
+            got = measure_photo(*task)
+            rows += got
+            _progress(args, got)
+    df = pd.DataFrame(rows)
+    print(f"{len(photos)} photos, {time.perf_counter() - t_start:.0f} s in all")
+    print(f"{'group':10s} {'mode':8s} {'n':>3s} {'medIoU':>7s} {'meanIoU':>7s} {'>=0.8':>6s} {'<0.5':>6s} "
+          f"{'dist px':>7s} {'ok':>5s} {'ok>=0.8':>7s} {'ok min':>6s}")
+    for (group, mode), g in df.groupby(["group", "mode"], sort=True):
+        ok = g[g.status == "ok"]
+        prec = f"{(ok.iou >= 0.8).mean():.2f}" if len(ok) else "-"
+        okmin = f"{ok.iou.min():.2f}" if len(ok) else "-"
+        okshare = f"{len(ok) / len(g):.2f}" if mode != "grabcut" else "-"
+        print(f"{group:10s} {mode:8s} {len(g):3d} {g.iou.median():7.3f} {g.iou.mean():7.3f} "
+              f"{(g.iou >= 0.8).mean():6.2f} {(g.iou < 0.5).mean():6.2f} {g.distance.median():7.2f} "
+              f"{okshare:>5s} {prec:>7s} {okmin:>6s}")
+    if args.csv:
+        df.to_csv(args.csv, index=False)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

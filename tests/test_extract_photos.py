@@ -1,0 +1,281 @@
+"""Outlines from photographs: the verdict on constructed cases, boxes,
+scribbles and a learned model (a tiny ONNX network built here).
+
+The constructed cases have known answers: a disk cut by the image frame, an
+object whose contrast is below the noise, two objects of equal size, a
+truncated or corrupted JPEG; the assisted methods must recover a synthetic
+object whose true area is known.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from stimuli.errors import InputError
+from stimuli.extraction import extract
+from stimuli.extraction.verdict import frame_contact, judge
+from stimuli.render import coverage
+
+
+def _disk(shape, cx, cy, r):
+    th = np.linspace(0, 2 * np.pi, 1024, endpoint=False)
+    return coverage(np.c_[cx + r * np.cos(th), cy + r * np.sin(th)], shape)
+
+
+def _photo(shape=(120, 160), seed=0, box=(50, 30, 60, 50)):
+    """A red rectangle on a green-grey textured background: (RGB uint8, true mask)."""
+    rng = np.random.default_rng(seed)
+    h, w = shape
+    img = rng.normal((90, 110, 80), 12, (h, w, 3))
+    x, y, bw, bh = box
+    truth = np.zeros(shape, bool)
+    truth[y : y + bh, x : x + bw] = True
+    img[truth] = rng.normal((200, 50, 40), 12, (truth.sum(), 3))
+    return np.clip(img, 0, 255).astype(np.uint8), truth
+
+
+def _iou(contour, truth):
+    pred = coverage(contour, truth.shape) >= 0.5
+    return (pred & truth).sum() / (pred | truth).sum()
+
+
+# ------------------------------------------------------------------ verdict
+def test_clean_object_is_ok_and_frame_cut_object_is_suspect():
+    clean = np.round(255 * _disk((120, 140), 70.3, 60.2, 35)).astype(np.uint8)
+    ex = extract(clean, method="auto")
+    v = judge(clean, ex)
+    assert v.status == "ok", v.reason
+    cut = np.round(255 * _disk((120, 140), 10.3, 60.2, 45)).astype(np.uint8)
+    ex = extract(cut, method="auto")
+    v = judge(cut, ex)
+    assert v.status == "suspect" and "frame" in v.reason
+    # the disk's left cut is a chord of 2 sqrt(45^2 - 10.8^2) px out of its outline
+    chord = 2 * np.sqrt(45**2 - 10.8**2)
+    assert v.measures["frame"] == pytest.approx(chord / ex.contour.perimeter, abs=0.02)
+
+
+def test_frame_contact_of_a_square_in_a_corner():
+    from stimuli.geometry.contour import Contour
+
+    sq = Contour(np.array([[-0.5, -0.5], [19.5, -0.5], [19.5, 19.5], [-0.5, 19.5]]))
+    assert frame_contact(sq, (50, 50)) == pytest.approx(0.5)
+    assert frame_contact(sq, (20, 20)) == pytest.approx(1.0)
+
+
+def test_low_contrast_object_is_suspect():
+    rng = np.random.default_rng(3)
+    cov = _disk((120, 140), 70.3, 60.2, 35)
+    img = np.clip(100 + 6 * cov + rng.normal(0, 25, cov.shape), 0, 255).astype(np.uint8)
+    ex = extract(img, method="otsu")
+    v = judge(img, ex)
+    assert v.status == "suspect" and "low contrast" in v.reason
+
+
+def test_two_equal_objects_are_competing():
+    two = np.round(255 * (_disk((100, 200), 50.2, 50.1, 30) + _disk((100, 200), 150.3, 49.8, 30))).astype(np.uint8)
+    ex = extract(two, method="auto")
+    v = judge(two, ex)
+    assert v.status == "suspect" and "competing" in v.reason
+    assert v.measures["competing"] == pytest.approx(1.0, abs=0.02)
+
+
+def _jpeg_bytes(img):
+    import cv2
+
+    ok, buf = cv2.imencode(".jpg", img[:, :, ::-1], [cv2.IMWRITE_JPEG_QUALITY, 92])
+    assert ok
+    return buf.tobytes()
+
+
+def test_truncated_and_corrupt_jpeg_are_suspect_and_intact_is_ok(tmp_path, capsys):
+    import pandas as pd
+
+    from analysis.cli import main
+
+    clean = np.round(40 + 180 * _disk((160, 200), 100.3, 80.2, 50)).astype(np.uint8)
+    data = _jpeg_bytes(np.repeat(clean[:, :, None], 3, axis=2))
+    (tmp_path / "intact.jpg").write_bytes(data)
+    (tmp_path / "truncated.jpg").write_bytes(data[: len(data) * 2 // 3])
+    bad = bytearray(data)
+    bad[len(data) // 2 : len(data) // 2 + 40] = b"\x07" * 40
+    (tmp_path / "corrupt.jpg").write_bytes(bytes(bad))
+    out = tmp_path / "out"
+    files = [str(tmp_path / f) for f in ("intact.jpg", "truncated.jpg", "corrupt.jpg")]
+    assert main(["extract", *files, "-o", str(out), "-n", "40"]) == 0  # suspect is not failure
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "1 ok, 2 suspect, 0 failed" in err[0]
+    s = pd.read_csv(out / "summary.csv").fillna({"reason": ""})
+    assert s["status"].tolist() == ["ok", "suspect", "suspect"]
+    assert all("decoder" in r for r in s["reason"][1:])
+    assert (out / "truncated.overlay.png").is_file()
+
+
+@pytest.mark.parametrize("name", ["camera", "coins", "astronaut", "coffee"])
+def test_skimage_photos_are_not_ok_with_a_region_merged_into_the_frame(name):
+    import cv2
+    import skimage.data
+
+    img = getattr(skimage.data, name)()
+    img = cv2.resize(img, (img.shape[1] // 3, img.shape[0] // 3), interpolation=cv2.INTER_AREA)
+    ex = extract(img, method="auto")
+    v = judge(img, ex)
+    assert not (v.status == "ok" and v.measures["frame"] > 0.02), v.measures
+
+
+# ------------------------------------------------------------ boxes, scribbles
+def test_box_and_automatic_recover_a_photographed_object():
+    img, truth = _photo()
+    auto = extract(img, method="auto")
+    assert auto.params["resolved"] == "photo"
+    assert _iou(auto.contour, truth) > 0.9
+    boxed = extract(img, method="auto", boxes=[(44, 24, 72, 62)])
+    assert boxed.params["mode"] == "box"
+    assert _iou(boxed.contour, truth) > 0.9
+    # a photograph's figure-ground is never certified (see stimuli.extraction.verdict)
+    v = judge(img, boxed)
+    assert v.status == "suspect" and "cannot be verified" in v.reason and len(v.reasons) == 1
+
+
+def test_scribbles_alone_and_with_a_box():
+    img, truth = _photo(seed=5)
+    marks = np.zeros(truth.shape, np.uint8)
+    marks[50:56, 60:100] = 1  # an object stroke
+    marks[5:10, 5:150] = 2  # a background stroke
+    for kw in (dict(scribbles=marks), dict(scribbles=marks, boxes=[(44, 24, 72, 62)])):
+        ex = extract(img, method="photo", **kw)
+        assert _iou(ex.contour, truth) > 0.9, kw.keys()
+    with pytest.raises(InputError, match="same size"):
+        extract(img, method="photo", scribbles=marks[:-1])
+
+
+def _write_photo(path, img):
+    import cv2
+
+    cv2.imwrite(str(path), img[:, :, ::-1])
+
+
+def test_cli_boxes_several_per_image_and_scribbles(tmp_path):
+    import cv2
+    import pandas as pd
+
+    from analysis.cli import main
+
+    img, truth = _photo((120, 220), box=(20, 30, 50, 50))
+    img2, truth2 = _photo((120, 220), seed=1, box=(140, 40, 50, 50))
+    both = np.where(truth2[:, :, None], img2, img)
+    _write_photo(tmp_path / "two.png", both)
+    _write_photo(tmp_path / "one.png", img)
+    (tmp_path / "boxes.csv").write_text("image,x,y,width,height\ntwo.png,14,24,62,62\ntwo,134,34,62,62\n")
+    out = tmp_path / "out"
+    assert main(["extract", str(tmp_path / "two.png"), "-o", str(out), "--boxes", str(tmp_path / "boxes.csv"),
+                 "--objects", "all"]) == 0
+    from stimuli.geometry.contour import Contour
+
+    c0, c1 = Contour.from_csv(out / "two.0.contour.csv"), Contour.from_csv(out / "two.1.contour.csv")
+    assert _iou(c0, truth) > 0.9 and _iou(c1, truth2) > 0.9  # in box order
+    sdir = tmp_path / "scr"
+    sdir.mkdir()
+    s = np.zeros(img.shape, np.uint8)
+    s[50:55, 30:60] = (255, 0, 0)
+    s[5:10, 100:200] = (0, 0, 255)
+    cv2.imwrite(str(sdir / "one.png"), s[:, :, ::-1])
+    assert main(["extract", str(tmp_path / "one.png"), "-o", str(out), "--scribbles", str(sdir)]) == 0
+    assert _iou(Contour.from_csv(out / "one.contour.csv"), truth) > 0.9
+    assert pd.read_csv(out / "summary.csv")["resolved"].tolist() == ["photo"]
+
+
+@pytest.mark.parametrize("rows, message", [
+    ("nothere.png,1,1,10,10", "matches no input image"),
+    ("a.png,100,10,80,20", "inside the 160x120 image"),
+    ("a.png,1,1,ten,10", "finite number"),
+    ("a.png,1,1,10,10\na,5,5,10,10", "need --objects all"),
+])
+def test_cli_box_errors_are_one_line(tmp_path, capsys, rows, message):
+    from analysis.cli import main
+
+    _write_photo(tmp_path / "a.png", _photo()[0])
+    (tmp_path / "b.csv").write_text("image,x,y,width,height\n" + rows + "\n")
+    assert main(["extract", str(tmp_path / "a.png"), "-o", str(tmp_path / "o"), "--boxes", str(tmp_path / "b.csv")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err and "b.csv" in err
+    assert not (tmp_path / "o").exists()
+
+
+def test_cli_scribble_errors_are_one_line(tmp_path, capsys):
+    import cv2
+
+    from analysis.cli import main
+
+    _write_photo(tmp_path / "a.png", _photo()[0])
+    sdir = tmp_path / "s"
+    sdir.mkdir()
+    cv2.imwrite(str(sdir / "a.png"), np.zeros((50, 50, 3), np.uint8))
+    args = ["extract", str(tmp_path / "a.png"), "-o", str(tmp_path / "o"), "--scribbles", str(sdir)]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "50x50" in err and "160x120" in err
+    (sdir / "a.png").unlink()
+    cv2.imwrite(str(sdir / "other.png"), np.zeros((120, 160, 3), np.uint8))
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no input image" in err
+
+
+# -------------------------------------------------------------------- model
+def _tiny_network(path, size):
+    """A 1x1 convolution 'red minus green' with a sigmoid: object probability of red pixels."""
+    onnx = pytest.importorskip("onnx")
+    pytest.importorskip("onnxruntime")
+    from onnx import TensorProto, helper, numpy_helper
+
+    w = numpy_helper.from_array(np.array([[[[4.0]], [[-4.0]], [[0.0]]]], np.float32), "w")
+    graph = helper.make_graph(
+        [helper.make_node("Conv", ["x", "w"], ["z"]), helper.make_node("Sigmoid", ["z"], ["p"])],
+        "tiny", [helper.make_tensor_value_info("x", TensorProto.FLOAT, [1, 3, size, size])],
+        [helper.make_tensor_value_info("p", TensorProto.FLOAT, [1, 1, size, size])], [w],
+    )
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 13)])
+    model.ir_version = 8
+    onnx.save(model, str(path))
+
+
+def test_model_method_through_a_tiny_onnx_network(tmp_path, capsys):
+    from analysis.cli import main
+    from stimuli.geometry.contour import Contour
+
+    _tiny_network(tmp_path / "tiny.onnx", 64)
+    cov = _disk((120, 160), 80.3, 60.2, 35)
+    img = np.empty(cov.shape + (3,), np.uint8)
+    img[..., 0] = np.round(40 + 180 * cov)
+    img[..., 1] = np.round(200 - 160 * cov)
+    img[..., 2] = 90
+    _write_photo(tmp_path / "red.png", img)
+    out = tmp_path / "out"
+    args = ["extract", str(tmp_path / "red.png"), "-o", str(out), "--method", "model",
+            "--model-file", str(tmp_path / "tiny.onnx"), "--model-size", "64", "--model-mean", "0", "0", "0",
+            "--model-std", "1", "1", "1"]
+    assert main(args) == 0
+    c = Contour.from_csv(out / "red.contour.csv")
+    # a 64 px map of a 70 px disk, brought back to the photo: the area within 3 %
+    assert c.area == pytest.approx(np.pi * 35**2, rel=0.03)
+    capsys.readouterr()
+    assert main(args[:-12] + ["--method", "model", "--model-file", str(tmp_path / "tiny.onnx"),
+                              "--model-size", "32"]) == 1  # a fixed-size network given another size
+    assert "model-size" in (out / "summary.csv").read_text()
+
+
+def test_auto_keeps_the_exact_paths_of_masks_renders_and_cut_outs():
+    from stimuli.extraction.segment import image_kind
+
+    cov = _disk((120, 140), 70.3, 60.2, 35)
+    assert image_kind(cov >= 0.5) == "otsu"  # a mask
+    assert image_kind(np.round(255 * cov).astype(np.uint8)) == "otsu"  # an antialiased render
+    rgba = np.zeros(cov.shape + (4,), np.uint8)
+    rgba[..., :3] = np.random.default_rng(1).integers(0, 256, cov.shape + (3,))
+    rgba[..., 3] = np.round(255 * cov)
+    assert image_kind(rgba) == "alpha"  # a cut-out
+    assert image_kind(_photo()[0]) == "photo"
+    # and the outline of a render under auto is the one of otsu, point for point
+    render = np.round(255 * cov).astype(np.uint8)
+    assert np.array_equal(extract(render, method="auto").contour.points, extract(render).contour.points)
