@@ -1,55 +1,24 @@
 """Running the jobs of a batch: in this process, in local worker processes or on Dask.
 
-Local workers are forked processes (one per core at most is useful). Each
-worker watches its parent: when the parent dies (even by ``kill -9``, which
-gives it no chance to stop them), the worker exits within a second instead
-of waiting forever for work that will never come. On Linux the kernel is
-also asked to kill it at once (``prctl(PR_SET_PDEATHSIG, SIGKILL)``).
+Local workers are forked processes (one per core at most is useful), made
+by :func:`stimuli.workers.orphan_safe_pool`: when the parent dies (even by
+``kill -9``), they exit within a second instead of waiting forever for work
+that will never come.
 """
 
 from __future__ import annotations
 
 import contextlib
 import math
-import os
 import sys
-import threading
-import time
 
 from stimuli.batch.job import run_job
 from stimuli.errors import InputError
+from stimuli.workers import orphan_safe_pool
 
-__all__ = ["execute", "watch_parent"]
+__all__ = ["execute"]
 
-_PR_SET_PDEATHSIG = 1  # from <linux/prctl.h>
-
-
-def watch_parent(parent_pid, interval=0.5):
-    """Make this process exit when `parent_pid` is no longer its parent.
-
-    A daemon thread polls :func:`os.getppid` every `interval` seconds (a
-    dead parent's children are re-parented); on Linux, the kernel is asked
-    to send SIGKILL when the parent dies, which acts at once.
-    """
-    import signal
-
-    if sys.platform.startswith("linux"):
-        with contextlib.suppress(Exception):
-            import ctypes
-
-            libc = ctypes.CDLL(None, use_errno=True)
-            libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-
-    def poll():
-        while os.getppid() == parent_pid:
-            time.sleep(interval)
-        os._exit(1)  # no cleanup to do: a rerun removes what this worker left half-written
-
-    threading.Thread(target=poll, name="attneave-watch-parent", daemon=True).start()
-
-
-def _init_worker(parent_pid):
-    watch_parent(parent_pid)
+def _init_worker():
     # one process per core: keep libraries from starting thread pools of their own
     with contextlib.suppress(Exception):
         import cv2
@@ -104,7 +73,7 @@ def execute(jobs, out, workers=1, scheduler=None, progress=None, total=None, ini
 
 def _execute_pool(jobs, out, workers, bar):
     import multiprocessing
-    from concurrent.futures import FIRST_EXCEPTION, ProcessPoolExecutor, wait
+    from concurrent.futures import FIRST_EXCEPTION, wait
 
     ctx = None
     if sys.platform.startswith("linux"):
@@ -113,8 +82,7 @@ def _execute_pool(jobs, out, workers, bar):
         # ``if __name__ == "__main__"`` guard in every script that calls this)
         ctx = multiprocessing.get_context("fork")
     out_s = str(out.resolve())
-    ex = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                             initargs=(os.getpid(),))
+    ex = orphan_safe_pool(workers, mp_context=ctx, initializer=_init_worker)
     try:
         futures = {ex.submit(_run_chunk, chunk, out_s): len(chunk) for chunk in _chunks(jobs, workers)}
         pending = set(futures)

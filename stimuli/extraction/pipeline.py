@@ -159,7 +159,7 @@ def extract_images(images, output, workers=1, progress=None, **options):
         else:
             from concurrent.futures import as_completed
 
-            from stimuli.extraction.workers import orphan_safe_pool
+            from stimuli.workers import orphan_safe_pool
 
             with orphan_safe_pool(min(workers, len(tasks))) as pool:
                 futures = {pool.submit(process_one, *task): i for i, task in enumerate(tasks)}
