@@ -87,7 +87,8 @@ def test_analyze_writes_every_output(stimset, clicks, tmp_path, capsys):
     assert set(s["models"]) == {"surprisal", "uniform", *RIVALS} - set(s["models_left_out"])
     assert s["models"]["surprisal"]["tested"] and "vonmises" not in s["models"]
     figs = sorted(p.name for p in (out / "figures").iterdir())
-    assert figs == ["group.png", "stimuli_001.png", "stimuli_002.png"]  # 8 stimuli, 6 per page
+    # 8 stimuli, 6 per page; each figure as PNG and SVG
+    assert figs == sorted(f"{k}.{e}" for k in ("group", "stimuli_001", "stimuli_002") for e in ("png", "svg"))
     html = (out / "report.html").read_text()
     assert html.count('src="data:image/png;base64,') == 3 and "http" not in html.split("<body>")[1]
     per_s = pd.read_csv(out / "per_stimulus.csv")
