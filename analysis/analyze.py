@@ -540,7 +540,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
                               "paper's form; models.csv lists only predictors whose z differ")
     if mixed:
         bar.stage("mixed model")
-        summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level)
+        summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level, start=main["beta"])
     bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)

@@ -74,7 +74,7 @@ class CumulantTable:
             w = np.exp(x - mx)
             sw = w.sum(axis=1)
             p = w / sw[:, None]
-            E = p @ Z[s]
+            E = np.einsum("gn,n->g", p, Z[s])
             d = Z[s][None, :] - E[:, None]
             self.K[s] = np.log(sw) + mx[:, 0]
             self.E[s] = E
@@ -102,13 +102,14 @@ class CumulantTable:
         return K, E, V
 
 
-def _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, u, v, iters=100, tol=1e-10):
+def _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, u, v, iters=100, tol=1e-9):
     """Mode of the penalised log-likelihood over (u, v), and the log-determinant of its curvature.
 
     Cells: stimulus `cs` (row `ts` of the table), participant `cp`, sum of z
     `A` and clicks `M`. Newton steps, halved until the (concave) objective
     rises, so that any start converges.
     """
+    import scipy.linalg
 
     def parts(u, v):
         b = beta + u[cp] + v[cs]
@@ -117,18 +118,20 @@ def _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, u, v, iters=100, tol=1e-1
         w = M * V
         huu = np.bincount(cp, weights=w, minlength=G) + 1 / sp**2
         hvv = np.bincount(cs, weights=w, minlength=S) + 1 / ss**2
-        Huv = np.zeros((G, S))
-        np.add.at(Huv, (cp, cs), w)
-        # eliminate u: the Schur complement of the diagonal u block
-        schur = np.diag(hvv) - Huv.T @ (Huv / huu[:, None])
+        Huv = np.bincount(cp * S + cs, weights=w, minlength=G * S).reshape(G, S)
+        # eliminate u: the Schur complement of the diagonal u block (einsum rather than a BLAS
+        # product: multithreaded BLAS on these small matrices is 10x slower on a busy machine)
+        schur = np.diag(hvv) - np.einsum("ps,pt->st", Huv, Huv / huu[:, None])
         return f, A - M * E, huu, Huv, schur
 
     f, g, huu, Huv, schur = parts(u, v)
     for _ in range(iters):
         gu = np.bincount(cp, weights=g, minlength=G) - u / sp**2
         gv = np.bincount(cs, weights=g, minlength=S) - v / ss**2
-        dv = np.linalg.solve(schur, gv - Huv.T @ (gu / huu))
-        du = (gu - Huv @ dv) / huu
+        # Cholesky (the Schur complement is positive definite): numpy's general solve wakes
+        # multithreaded LAPACK and costs 100x more on a busy machine
+        dv = scipy.linalg.cho_solve(scipy.linalg.cho_factor(schur), gv - np.einsum("p,ps->s", gu / huu, Huv))
+        du = (gu - np.einsum("ps,s->p", Huv, dv)) / huu
         step = 1.0
         while step > 1e-6:
             nu, nv = u + step * du, v + step * dv
@@ -140,11 +143,11 @@ def _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, u, v, iters=100, tol=1e-1
         u, v, f, g, huu, Huv, schur = nu, nv, nf, ng, nhuu, nHuv, nschur
         if done:
             break
-    logdet = np.log(huu).sum() + np.linalg.slogdet(schur)[1]
+    logdet = np.log(huu).sum() + 2 * np.log(np.diag(np.linalg.cholesky(schur))).sum()
     return u, v, f, logdet
 
 
-def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None):
+def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None, start=None):
     """Fit the mixed conditional logit with crossed random slopes (Laplace approximation).
 
     Parameters
@@ -158,6 +161,8 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
         Confidence level of the interval of beta.
     table : CumulantTable, optional
         Reused across fits on the same stimuli.
+    start : float, optional
+        Starting value of beta (e.g. the pooled estimate; default 0).
 
     Returns
     -------
@@ -205,11 +210,12 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
             state["u"], state["v"] = u, v
         return -(ll - G * lsp - S * lss - 0.5 * logdet)
 
-    x0 = np.array([0.0, np.log(0.3), np.log(0.3)])
+    x0 = np.array([0.0 if start is None or not np.isfinite(start) else float(np.clip(start, -10, 10)),
+                   np.log(0.3), np.log(0.3)])
     bounds = [(-15.0, 15.0), _LOG_SD_BOUNDS, _LOG_SD_BOUNDS]
     res = scipy.optimize.minimize(wrapped, x0, method="L-BFGS-B", bounds=bounds,
                                   # finite-difference steps well above the inner solution's rounding
-                                  options=dict(maxiter=200, ftol=1e-12, gtol=1e-6, eps=1e-5))
+                                  options=dict(maxiter=200, ftol=1e-11, gtol=1e-5, eps=1e-5))
     beta, lsp, lss = res.x
     # the variance of beta: the beta-beta element of the inverse numerical Hessian in (beta, log sds)
     # at the optimum; a log sd at its lower bound is a variance estimated as 0 and is held fixed
