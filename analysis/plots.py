@@ -97,8 +97,9 @@ def _shape_panel(ax, analysis, sid, groups):
     if len(peaks):
         ax.plot(p[peaks, 0], p[peaks, 1], "o", mfc="none", mec="tab:red", ms=7, mew=1.2)
     g = groups.get(sid, dict(x=[], y=[], t=[], bad_x=[], bad_y=[]))
-    ax.plot(g["x"], g["y"], ".", color="k", ms=3, alpha=0.6)
-    ax.plot(g["bad_x"], g["bad_y"], "x", color="tab:red", ms=4)
+    # clicks as pixels in the SVG too: thousands of markers would make it huge and slow
+    ax.plot(g["x"], g["y"], ".", color="k", ms=3, alpha=0.6, rasterized=True)
+    ax.plot(g["bad_x"], g["bad_y"], "x", color="tab:red", ms=4, rasterized=True)
     ax.set_xlim(-0.5, W - 0.5)
     ax.set_ylim(H - 0.5, -0.5)
     ax.set_aspect("equal")
@@ -125,7 +126,7 @@ def _profile_panel(ax, analysis, i, sid, groups):
     ax2.tick_params(labelsize=8)
     tc = np.asarray(groups.get(sid, {}).get("t", []))
     lo = ax.get_ylim()[0]
-    lines += ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=7, alpha=0.4, label="clicks")
+    lines += ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=7, alpha=0.4, label="clicks", rasterized=True)
     ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, loc="upper right", framealpha=0.8)
     rho, p = row["spearman_rho"], row["spearman_p"]
     txt = f"Spearman rho = {rho:.2f}, p = {p:.2g}" if np.isfinite(rho) else "Spearman rho: n/a"
