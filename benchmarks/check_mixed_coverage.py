@@ -112,7 +112,7 @@ def main(argv=None):
     print(f"mixed model, 95% interval covers the true mean slope:       {rate(cover)}   target >= 0.93")
     print(f"  median estimates: beta {np.median(e[:, 0]):.3f}, sd_participant {np.median(e[:, 1]):.3f}, "
           f"sd_stimulus {np.median(e[:, 2]):.3f}")
-    print(f"true mean slope 0 (same variances), rejection at alpha = 0.05:")
+    print("true mean slope 0 (same variances), rejection at alpha = 0.05:")
     print(f"  participant-only group test (Monte Carlo, one-sided):    {rate(fp_group)}   (> 0.05: too liberal)")
     print(f"  mixed model (95% interval excludes 0, two-sided):        {rate(fp_mixed)}")
 
