@@ -340,6 +340,9 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     if mixed:
         bar.stage("mixed model")
         summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level, start=main["beta"])
+        if d.U and not summary["mixed"]["converged"]:
+            summary["warnings"].append("the mixed model's optimiser did not report convergence: treat its "
+                                       "estimates as doubtful")
     bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)
