@@ -1,17 +1,18 @@
 """The analysis of a click file against a stimulus set.
 
 :func:`analyze` maps every click (:mod:`analysis.mapping`), indexes the used
-ones once (:class:`Design`) and builds each result from a small function
-that returns one table or one block of the summary: the choice models
-(:func:`model_table`), the participants (:func:`participant_table`), the
-stimuli (:func:`stimulus_table`), and the group tests
-(:func:`group_tests`). The outputs are written by
+ones once (:func:`analysis.design.design`) and builds each result from a
+small function that returns one table or one block of the summary: the
+choice models (:func:`model_table`, :func:`joint_fit`), the effect size
+(:func:`effect_size`), the participants and stimuli
+(:mod:`analysis.tables`), the group tests (:func:`group_tests`), the mixed
+model (:func:`analysis.mixed.fit_mixed`) and the summary
+(:mod:`analysis.summary`). The outputs are written by
 :func:`analysis.report.write_analysis`.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -21,14 +22,17 @@ from stimuli.validate import as_number
 
 from .blurred import fit_beta_blurred
 from .choice import fit_beta, fit_choice, profile_ci
-from .circular import circular_kde, circular_spearman, mean_rho_null, peak_chance, peak_hits, shift_indices
+from .design import design, mean_by
 from .effect import TOP_FRACTION, top_share, top_weights
 from .group import group_test, mean_z_nulls, mean_z_test
+from .mapping import PREDICTORS, map_clicks, predict
 from .mixed import fit_mixed
-from .mapping import DEFAULT_TOLERANCE_FRACTION, PREDICTORS, REASONS, map_clicks, predict
+from .progress import Progress
+from .summary import build_summary, jsonable
+from .tables import (BANDWIDTH_FRACTION, PEAK_FRACTION, click_features, correlation, participant_table,
+                     stimulus_table)
 
-__all__ = ["Analysis", "Design", "analyze", "model_table", "participant_table", "stimulus_table", "group_tests",
-           "DEFAULTS", "jsonable"]
+__all__ = ["Analysis", "analyze", "model_table", "joint_fit", "effect_size", "group_tests", "DEFAULTS"]
 
 DEFAULTS = dict(
     n=100,
@@ -44,8 +48,6 @@ DEFAULTS = dict(
     level=0.95,
     group_simulations=1999,
 )
-BANDWIDTH_FRACTION = 0.02
-PEAK_FRACTION = 0.02
 
 
 @dataclass
@@ -77,50 +79,6 @@ class Analysis:
     stimset: object = None
 
 
-@dataclass
-class Design:
-    """The used clicks as indices into stimuli, participants and points.
-
-    ``sidx, pidx, j`` (U,) stimulus, participant and point of each used click,
-    ``t`` its arc position, ``zc`` the z of the tested prediction there;
-    ``Z`` (S, n) that prediction standardised, ``Zs`` every predictor's z;
-    ``Ms`` (S,) clicks per stimulus, ``Mgs`` (G, S) per participant and
-    stimulus, ``Cs`` (S, n) per stimulus and point.
-    """
-
-    ids: list
-    participants: list
-    sidx: np.ndarray
-    pidx: np.ndarray
-    t: np.ndarray
-    j: np.ndarray
-    zc: np.ndarray
-    perim: np.ndarray
-    npts: int
-    Z: np.ndarray
-    Zs: dict
-    sign: np.ndarray
-    Ms: np.ndarray
-    Mgs: np.ndarray
-    Cs: np.ndarray
-
-    @property
-    def S(self):
-        return len(self.ids)
-
-    @property
-    def G(self):
-        return len(self.participants)
-
-    @property
-    def U(self):
-        return len(self.t)
-
-    @property
-    def constant(self):
-        return np.all(self.Z == 0, axis=1)
-
-
 def _positive(name, value, allow_none=True):
     if value is None and allow_none:
         return None
@@ -131,40 +89,6 @@ def _whole(name, value, minimum):
     if not (isinstance(value, (int, np.integer)) and value >= minimum):
         raise InputError(f"{name} must be a whole number >= {minimum}, got {value!r}")
     return int(value)
-
-
-def mean_by(index, size, values, mask=None):
-    """Mean of `values` per group `index` (NaN for a group without values)."""
-    w = np.ones(len(index)) if mask is None else mask.astype(float)
-    num = np.bincount(index, weights=values * w, minlength=size)
-    den = np.bincount(index, weights=w, minlength=size)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(den > 0, num / den, np.nan)
-
-
-def design(mapped, predictions, ids):
-    """Index the used clicks of `mapped` (from :func:`map_clicks`)."""
-    import pandas as pd
-
-    used = ~mapped["excluded"].to_numpy()
-    sindex = {s: i for i, s in enumerate(ids)}
-    part_all = mapped["participant"].to_numpy(dtype=object)
-    participants = sorted(set(pd.unique(part_all)) - {""})
-    S, G = len(ids), len(participants)
-    sidx = mapped["stimulus_id"].map(sindex).to_numpy()[used].astype(np.int64)
-    pidx = pd.Categorical(part_all[used], categories=participants).codes.astype(np.int64)
-    j = mapped["point"].to_numpy()[used].astype(np.int64)
-    npts = predictions[ids[0]].n
-    return Design(
-        ids=ids, participants=participants, sidx=sidx, pidx=pidx, t=mapped["t"].to_numpy()[used], j=j,
-        zc=mapped["z"].to_numpy()[used], perim=np.array([predictions[s].perimeter for s in ids]), npts=npts,
-        Z=np.stack([predictions[s].z["surprisal"] for s in ids]),
-        Zs={k: np.stack([predictions[s].z[k] for s in ids]) for k in PREDICTORS},
-        sign=np.stack([predictions[s].sign for s in ids]),
-        Ms=np.bincount(sidx, minlength=S).astype(float),
-        Mgs=np.bincount(pidx * S + sidx, minlength=G * S).reshape(G, S).astype(float),
-        Cs=np.bincount(sidx * npts + j, minlength=S * npts).reshape(S, npts).astype(float),
-    )
 
 
 def distinct_predictors(Zs, names):
@@ -249,131 +173,6 @@ def effect_size(d, fraction=TOP_FRACTION):
     per_s = mean_by(d.sidx, d.S, W[d.sidx, d.j])
     per_s[d.constant] = np.nan
     return out, per_s
-
-
-def click_features(d, predictions, pk_px):
-    """Per used click: percentile of its surprisal, peak hit, concave/convex; per stimulus: peak chance."""
-    ids = d.ids
-    chance = np.array([peak_chance(predictions[s].peak_t, pk_px[i] / d.perim[i]) for i, s in enumerate(ids)])
-    npeaks = np.array([len(predictions[s].result.peaks) for s in ids])
-    hit = np.zeros(d.U, bool)
-    order = np.argsort(d.sidx, kind="stable")
-    bounds = np.searchsorted(d.sidx[order], np.arange(d.S + 1))
-    for i, s in enumerate(ids):
-        sel = order[bounds[i]:bounds[i + 1]]
-        if len(sel):
-            hit[sel] = peak_hits(d.t[sel], predictions[s].peak_t, pk_px[i] / d.perim[i])
-    return dict(hit=hit, chance=chance, npeaks=npeaks, has_peaks=npeaks[d.sidx] > 0,
-                concave=d.sign[d.sidx, d.j] < 0, convex=d.sign[d.sidx, d.j] > 0,
-                concave_len=(d.sign < 0).mean(axis=1), convex_len=(d.sign > 0).mean(axis=1))
-
-
-def participant_table(d, mapped, pct, feats, level=0.95):
-    """One row per participant in the file (also those without a used click)."""
-    import pandas as pd
-
-    G = d.G
-    constant = d.constant
-    ng = np.bincount(d.pidx, minlength=G).astype(float)
-    fg = fit_beta(d.Z, np.bincount(d.pidx, weights=d.zc, minlength=G), d.Mgs, level=level) if G else None
-    # a participant whose used clicks all fell on stimuli with constant prediction (z = 0
-    # everywhere) has no measured effect: an exact 0 would enter the group tests as data
-    informative = np.bincount(d.pidx, weights=(~constant[d.sidx]).astype(float), minlength=G) > 0
-    all_counts = mapped["participant"].value_counts()
-    p, G_ = d.pidx, G
-    per_p = pd.DataFrame(dict(
-        participant=d.participants,
-        n_clicks=[int(all_counts.get(q, 0)) for q in d.participants],
-        n_used=ng.astype(int),
-        n_stimuli=(d.Mgs > 0).sum(axis=1),
-        mean_z=np.where(informative, mean_by(p, G_, d.zc), np.nan),
-        beta_hat=fg["beta"] if G else [],
-        beta_se=fg["se"] if G else [],
-        beta_at_bound=fg["at_bound"] if G else [],
-        auc=np.where(informative, mean_by(p, G_, pct), np.nan),
-        peak_hit_rate=mean_by(p, G_, feats["hit"].astype(float), feats["has_peaks"]),
-        peak_chance=mean_by(p, G_, feats["chance"][d.sidx], feats["has_peaks"]),
-        concave_click_share=mean_by(p, G_, feats["concave"].astype(float)),
-        concave_length_share=mean_by(p, G_, feats["concave_len"][d.sidx]),
-    ))
-    per_p.insert(3, "n_excluded", per_p["n_clicks"] - per_p["n_used"])
-    # concavity is measured only on stimuli with both concave and other points
-    cl = feats["concave_len"]
-    per_p.attrs["concave_informative"] = np.bincount(
-        d.pidx, weights=((cl > 0) & (cl < 1))[d.sidx].astype(float), minlength=G) > 0
-    return per_p
-
-
-def correlation(d, bw_px, grid, permutations, seed):
-    """Click density along each contour against the prediction: Spearman with circular shifts.
-
-    Returns the density and interpolated z profiles, per-stimulus rho and p,
-    and the mean rho over stimuli with its p.
-    """
-    S = d.S
-    dens = circular_kde(d.t, bw_px / d.perim, m=grid, group=d.sidx, n_groups=S)
-    gt = np.arange(grid) / grid
-    tp = np.append(np.arange(d.npts) / d.npts, 1.0)
-    zgrid = np.stack([np.interp(gt, tp, np.append(d.Z[i], d.Z[i, 0])) for i in range(S)])
-    shifts = shift_indices(grid, permutations)
-    rho, prho = np.full(S, np.nan), np.full(S, np.nan)
-    null = np.full((S, len(shifts)), np.nan)
-    ok = (d.Ms > 0) & ~d.constant
-    if ok.any():
-        rho[ok], null[ok], prho[ok] = circular_spearman(dens[ok], zgrid[ok], shifts)
-    rng = np.random.default_rng(seed)
-    mean_null = mean_rho_null(null[ok], rng) if ok.any() and len(shifts) else np.empty(0)
-    mean_rho = float(np.nanmean(rho[ok])) if ok.any() else np.nan
-    p_mean = (1 + (mean_null >= mean_rho - 1e-12).sum()) / (1 + len(mean_null)) if len(mean_null) else np.nan
-    return dict(t=gt, density=dens, z=zgrid, rho=rho, p=prho, ok=ok, shifts=shifts, mean_rho=mean_rho,
-                p_mean=p_mean)
-
-
-def stimulus_table(d, mapped, predictions, stimset, pct, feats, corr, bw_px, pk_px, level=0.95):
-    """One row per stimulus of the set (also those without a used click)."""
-    import pandas as pd
-
-    S, ids = d.S, d.ids
-    fs = fit_beta(d.Z, np.bincount(d.sidx, weights=d.zc, minlength=S), np.diag(d.Ms), level=level)
-    n_rows = mapped["stimulus_id"].value_counts()
-    G1 = max(d.G, 1)
-    parts = np.bincount(np.unique(d.sidx * G1 + d.pidx) // G1, minlength=S)
-    s_ = d.sidx
-    per_s = pd.DataFrame(dict(
-        stimulus_id=ids,
-        n_clicks=[int(n_rows.get(s, 0)) for s in ids],
-        n_used=d.Ms.astype(int),
-        n_participants=parts,
-        perimeter_px=d.perim,
-        n_points=d.npts,
-        ds_px=d.perim / d.npts,
-        constant_prediction=d.constant,
-        surprisal_sd=[float(np.std(predictions[s].predictors["surprisal"])) for s in ids],
-        beta_hat=fs["beta"],
-        beta_se=fs["se"],
-        beta_at_bound=fs["at_bound"],
-        mean_z=mean_by(s_, S, d.zc),
-        spearman_rho=corr["rho"],
-        spearman_p=corr["p"],
-        n_shifts=len(corr["shifts"]),
-        bandwidth_px=bw_px,
-        n_peaks=feats["npeaks"],
-        peak_tolerance_px=pk_px,
-        peak_hit_rate=mean_by(s_, S, feats["hit"].astype(float)),
-        peak_chance=feats["chance"],
-        auc=mean_by(s_, S, pct),
-        concave_click_share=mean_by(s_, S, feats["concave"].astype(float)),
-        concave_length_share=feats["concave_len"],
-        convex_click_share=mean_by(s_, S, feats["convex"].astype(float)),
-        convex_length_share=feats["convex_len"],
-    ))
-    per_s.loc[feats["npeaks"] == 0, "peak_hit_rate"] = np.nan
-    mani = stimset.manifest
-    if mani is not None:
-        for col in ("condition", "generator", "parent_id"):
-            if col in mani.columns:
-                per_s[col] = mani[col].to_numpy()
-    return per_s
 
 
 def group_tests(d, per_p, seed, group_simulations, level=0.95, progress=None):
@@ -496,7 +295,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level!r}")
     predictors = _predictor_names(predictors)
-    bar = _Progress(progress)
+    bar = Progress(progress)
     if predictions is None:
         bar.stage("predictions")
         predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit)
@@ -527,7 +326,7 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
 
     bar.stage("Monte Carlo group and items tests")
     tests = group_tests(d, per_p, seed, group_simulations, level, progress=bar.sub)
-    summary = _summary(d, mapped, main, pci, models, tests, corr, feats, predictions, level,
+    summary = build_summary(d, mapped, main, pci, models, tests, corr, feats, predictions, level,
                        dict(coords=coords, scale=scale, tolerance=tolerance, bandwidth=bandwidth,
                             peak_tolerance=peak_tolerance, permutations=permutations, grid=grid, seed=seed,
                             group_simulations=group_simulations, click_sd=click_sd))
@@ -540,81 +339,13 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
                               "paper's form; models.csv lists only predictors whose z differ")
     if mixed:
         bar.stage("mixed model")
-        summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level)
+        summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level, start=main["beta"])
+        if d.U and not summary["mixed"]["converged"]:
+            summary["warnings"].append("the mixed model's optimiser did not report convergence: treat its "
+                                       "estimates as doubtful")
     bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)
-
-
-def _summary(d, mapped, main, pci, models, tests, corr, feats, predictions, level, p):
-    """The JSON summary: counts, the tested model's fit, every test and every resolved parameter."""
-    U, ok = d.U, corr["ok"]
-    hit, has_peaks, sidx = feats["hit"], feats["has_peaks"], d.sidx
-    ng = np.bincount(d.pidx, minlength=d.G)
-    tol, bw, pk, click_sd = p["tolerance"], p["bandwidth"], p["peak_tolerance"], p["click_sd"]
-    first = predictions[d.ids[0]].result.params
-    summary = dict(
-        # the key is absent from results of a library that predates the unit
-        length_unit=first.get("length_unit", "px"),
-        n_clicks=int(len(mapped)),
-        n_used=int(U),
-        n_excluded=int(mapped["excluded"].sum()),
-        exclusions={r: int((mapped["reason"] == r).sum()) for r in REASONS},
-        n_participants=d.G,
-        n_participants_used=int((ng > 0).sum()),
-        n_stimuli=d.S,
-        n_stimuli_clicked=int((d.Ms > 0).sum()),
-        beta_hat=main["beta"],
-        beta_se=main["se"],
-        beta_ci=[main["ci_low"], main["ci_high"]],
-        beta_ci_method=f"Wald ({level:g}, Fisher information)",
-        beta_profile_ci=list(pci),
-        beta_at_bound=main["at_bound"],
-        lr_test=dict(statistic=main["lr_stat"], df=1, p_value=main["lr_p"],
-                     note="pooled likelihood-ratio test against uniform clicking; treats clicks as independent"),
-        group=tests["group"],
-        by_stimulus=tests["by_stimulus"],
-        participant_beta=tests["participant_beta"],
-        models={row.model: dict(beta_hat=row.beta_hat, se=row.se, ci=[row.ci_low, row.ci_high], loglik=row.loglik,
-                                aic=row.aic, delta_aic=row.delta_aic, n_params=int(row.n_params),
-                                tested=bool(row.tested))
-                for row in models.itertuples()},
-        spearman=dict(mean_rho=corr["mean_rho"], p_value=corr["p_mean"], n_stimuli=int(ok.sum()),
-                      n_significant=int((corr["p"][ok] < 0.05).sum()), shifts_per_stimulus=int(len(corr["shifts"])),
-                      grid=p["grid"], alternative="greater"),
-        peaks=dict(hit_rate=float(hit[has_peaks].mean()) if has_peaks.any() else None,
-                   chance=float(feats["chance"][sidx][has_peaks].mean()) if has_peaks.any() else None,
-                   n_clicks=int(has_peaks.sum()), excess_test=tests["peaks"]),
-        auc=dict(value=float(np.mean(mapped["surprisal_percentile"].to_numpy()[~mapped["excluded"].to_numpy()])
-                             / 100) if U else None, test_vs_half=tests["auc"]),
-        concave=dict(click_share=float(feats["concave"].mean()) if U else None,
-                     length_share=float(feats["concave_len"][sidx].mean()) if U else None,
-                     convex_click_share=float(feats["convex"].mean()) if U else None,
-                     convex_length_share=float(feats["convex_len"][sidx].mean()) if U else None,
-                     excess_test=tests["concave"]),
-        params=dict(
-            n=int(d.npts), model=first["model"], length_unit=first.get("length_unit", "px"), A=first.get("A"), b=first.get("b"), units=first.get("units"),
-            coords=p["coords"], scale=float(p["scale"]),
-            tolerance=dict(px=tol, rule=f"{tol:g} px" if tol is not None
-                           else f"{DEFAULT_TOLERANCE_FRACTION:g} x image diagonal"),
-            bandwidth=dict(px=bw, rule=f"{bw:g} px" if bw else
-                           f"{BANDWIDTH_FRACTION:g} x perimeter (kernel sd in arc length)"),
-            peak_tolerance=dict(px=pk, rule=f"{pk:g} px" if pk else
-                                f"{PEAK_FRACTION:g} x perimeter (arc length each side)"),
-            permutations=int(p["permutations"]), grid=int(p["grid"]), seed=int(p["seed"]), level=float(level),
-            group_simulations=int(p["group_simulations"]),
-            click_sd=click_sd,
-            choice_model="p(j) = exp(beta z_j) / sum_i exp(beta z_i) over the n points; z = standardised surprisal"
-            + ("" if click_sd is None else f"; observed through Gaussian error of sd {click_sd:g} px along the contour"),
-        ),
-        warnings=[],
-    )
-    if U == 0:
-        summary["warnings"].append("no usable clicks: every row was excluded; see clicks.csv for the reasons")
-    if d.constant.any():
-        summary["warnings"].append(
-            f"{int(d.constant.sum())} stimulus/stimuli with constant surprisal (e.g. circles): z = 0, no information")
-    return summary
 
 
 def _predictor_names(names):
@@ -625,56 +356,3 @@ def _predictor_names(names):
     if bad or not names or len(set(names)) != len(names):
         raise InputError(f"--predictors must be distinct names among {','.join(PREDICTORS)}, got {','.join(names)!r}")
     return names
-
-
-class _Progress:
-    """Stages of the analysis on a tqdm bar on stderr; `sub` reports a stage's own progress (0..1)."""
-
-    def __init__(self, enabled):
-        import sys
-
-        from tqdm import tqdm
-
-        self.bar = tqdm(total=1000, desc="analyze", file=sys.stderr, disable=None if enabled is None else not enabled,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed}", leave=False)
-        self.done = 0
-        # share of the run each stage takes (measured on 1,000,000 clicks), so the bar moves evenly
-        self.weights = {"predictions": 40, "mapping clicks": 250, "choice models": 100, "correlations": 60,
-                        "Monte Carlo group and items tests": 450, "mixed model": 100}
-        self.current = None
-
-    def stage(self, name):
-        self._finish()
-        self.current = name
-        self.start = self.done
-        self.bar.set_description(f"analyze: {name}")
-
-    def sub(self, fraction):
-        self.bar.update(int(self.start + fraction * self.weights.get(self.current, 0)) - self.done)
-        self.done = int(self.start + fraction * self.weights.get(self.current, 0))
-
-    def _finish(self):
-        if self.current is not None:
-            self.sub(1.0)
-
-    def close(self):
-        self._finish()
-        self.bar.close()
-
-
-def jsonable(obj):
-    """NaN/inf -> None and numpy scalars -> Python, recursively."""
-    if isinstance(obj, dict):
-        return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [jsonable(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return [jsonable(v) for v in obj.tolist()]
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer,)):
-        return int(obj)
-    if isinstance(obj, (float, np.floating)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    return obj

@@ -122,7 +122,7 @@ def expected_top_share(Z, beta, fraction=TOP_FRACTION, weights=None):
     return float(per @ w / w.sum())
 
 
-def beta_for_top_share(Z, target, fraction=TOP_FRACTION, bound=50.0):
+def beta_for_top_share(Z, target, fraction=TOP_FRACTION, bound=50.0, name="--top-share", per=1.0):
     """The beta at which the choice model puts a share `target` of clicks on the top points.
 
     The expected share rises with beta (its derivative is the covariance of
@@ -138,6 +138,9 @@ def beta_for_top_share(Z, target, fraction=TOP_FRACTION, bound=50.0):
         Wanted share, in ``[fraction, largest reachable)``.
     fraction : float
         Share of points counted as top.
+    name, per : str, float
+        How the caller gave the target (the flag, and the factor from its
+        value to the share: ``fraction`` for a lift), for the error message.
 
     Returns
     -------
@@ -160,8 +163,8 @@ def beta_for_top_share(Z, target, fraction=TOP_FRACTION, bound=50.0):
     lo = expected_top_share(Z, 0.0, fraction)
     hi = expected_top_share(Z, bound, fraction)
     if not (np.isfinite(target) and lo - 1e-12 <= target < hi):
-        raise InputError(f"--top-share must be in [{lo:.3g}, {hi:.3g}) on this stimulus set (chance is {lo:.3g}; "
-                         f"the largest share any beta <= {bound:g} reaches is {hi:.3g}), got {target!r}")
+        raise InputError(f"{name} must be in [{lo / per:.3g}, {hi / per:.3g}) on this stimulus set (chance share "
+                         f"{lo:.3g}; the largest share any beta <= {bound:g} reaches is {hi:.3g}), got {target / per:g}")
     if target <= lo:
         return 0.0
     return float(scipy.optimize.brentq(lambda b: expected_top_share(Z, b, fraction) - target, 0.0, bound,
@@ -196,7 +199,8 @@ def resolve_effect(Z, beta=None, lift=None, top_share=None, fraction=TOP_FRACTIO
     if unit == "beta":
         b = float(value)
     else:
-        b = beta_for_top_share(Z, value * fraction if unit == "lift" else value, fraction)
+        per = fraction if unit == "lift" else 1.0
+        b = beta_for_top_share(Z, value * per, fraction, name=f"--{unit.replace('_', '-')}", per=per)
     share = expected_top_share(Z, b, fraction)
     return dict(beta=b, top_share=share, chance_share=float(fraction), lift=share / fraction,
                 fraction=float(fraction), given=unit)

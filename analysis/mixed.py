@@ -20,11 +20,14 @@ step costs one S x S solve. ``log sum_i exp(b z_si)`` and its first three
 derivatives in b are tabulated per stimulus on a fine grid and interpolated
 by cubic Hermite polynomials (relative error below 1e-9 for the fits here),
 so an evaluation costs O(cells) whatever n. The approximate marginal
-log-likelihood is maximised over (beta, log sd_participant, log
-sd_stimulus) with :func:`scipy.optimize.minimize`; the interval of beta is
-Wald's, from the numerical Hessian of that log-likelihood, with
-t quantiles on ``min(G, S) - 1`` degrees of freedom (the smaller set of
-random units limits what is known about the mean slope).
+log-likelihood is maximised over (log sd_participant, log
+sd_stimulus) with :func:`scipy.optimize.minimize`, beta being integrated
+out with a flat prior (the Laplace analogue of REML: beta is found jointly
+with the random effects at the mode, so the outer problem has two
+dimensions). The interval of beta is Wald's, from the beta element of the
+inverse curvature at the mode, with t quantiles on ``min(G, S) - 1`` degrees
+of freedom (the smaller set of random units limits what is known about the
+mean slope).
 
 References
 ----------
@@ -59,7 +62,7 @@ class CumulantTable:
         Grid step.
     """
 
-    def __init__(self, Z, bound=40.0, step=0.01):
+    def __init__(self, Z, bound=12.0, step=0.01):
         Z = np.asarray(Z, dtype=float)
         self.bound, self.step = float(bound), float(step)
         b = np.arange(-bound, bound + step / 2, step)
@@ -74,7 +77,7 @@ class CumulantTable:
             w = np.exp(x - mx)
             sw = w.sum(axis=1)
             p = w / sw[:, None]
-            E = p @ Z[s]
+            E = np.einsum("gn,n->g", p, Z[s])
             d = Z[s][None, :] - E[:, None]
             self.K[s] = np.log(sw) + mx[:, 0]
             self.E[s] = E
@@ -102,49 +105,65 @@ class CumulantTable:
         return K, E, V
 
 
-def _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, u, v, iters=100, tol=1e-10):
-    """Mode of the penalised log-likelihood over (u, v), and the log-determinant of its curvature.
+def _mode(table, ts, cs, cp, A, M, G, S, sp, ss, u, v, beta, iters=100, tol=1e-9):
+    """Joint mode of (u, v, beta) of the penalised log-likelihood, given the two sds.
 
     Cells: stimulus `cs` (row `ts` of the table), participant `cp`, sum of z
     `A` and clicks `M`. Newton steps, halved until the (concave) objective
-    rises, so that any start converges.
-    """
+    rises, so that any start converges. The u block of the Hessian is
+    diagonal and is eliminated by its Schur complement, leaving an
+    (S + 1) x (S + 1) system in (v, beta).
 
-    def parts(u, v):
+    Returns u, v, beta, the objective at the mode, the log-determinant of
+    minus its Hessian, and the variance of beta (the beta element of the
+    inverse of minus the Hessian).
+    """
+    import scipy.linalg
+
+    def parts(u, v, beta):
         b = beta + u[cp] + v[cs]
         K, E, V = table(ts, b)
         f = float((b * A - M * K).sum() - (u @ u) / (2 * sp**2) - (v @ v) / (2 * ss**2))
         w = M * V
-        huu = np.bincount(cp, weights=w, minlength=G) + 1 / sp**2
-        hvv = np.bincount(cs, weights=w, minlength=S) + 1 / ss**2
-        Huv = np.zeros((G, S))
-        np.add.at(Huv, (cp, cs), w)
-        # eliminate u: the Schur complement of the diagonal u block
-        schur = np.diag(hvv) - Huv.T @ (Huv / huu[:, None])
-        return f, A - M * E, huu, Huv, schur
+        hu = np.bincount(cp, weights=w, minlength=G)
+        hv = np.bincount(cs, weights=w, minlength=S)
+        C = np.empty((G, S + 1))
+        C[:, :S] = np.bincount(cp * S + cs, weights=w, minlength=G * S).reshape(G, S)
+        C[:, S] = hu
+        huu = hu + 1 / sp**2
+        B = np.diag(np.r_[hv + 1 / ss**2, w.sum()])
+        B[:S, S] = B[S, :S] = hv
+        # the Schur complement of the diagonal u block (einsum rather than a BLAS product:
+        # multithreaded BLAS on these small matrices is 10x slower on a busy machine)
+        schur = B - np.einsum("pa,pb->ab", C, C / huu[:, None])
+        return f, A - M * E, huu, C, scipy.linalg.cho_factor(schur)
 
-    f, g, huu, Huv, schur = parts(u, v)
+    f, g, huu, C, chol = parts(u, v, beta)
     for _ in range(iters):
         gu = np.bincount(cp, weights=g, minlength=G) - u / sp**2
-        gv = np.bincount(cs, weights=g, minlength=S) - v / ss**2
-        dv = np.linalg.solve(schur, gv - Huv.T @ (gu / huu))
-        du = (gu - Huv @ dv) / huu
+        gw = np.r_[np.bincount(cs, weights=g, minlength=S) - v / ss**2, g.sum()]
+        # Cholesky solves: numpy's general solve wakes multithreaded LAPACK, 100x slower here
+        dw = scipy.linalg.cho_solve(chol, gw - np.einsum("p,pa->a", gu / huu, C))
+        du = (gu - np.einsum("pa,a->p", C, dw)) / huu
         step = 1.0
         while step > 1e-6:
-            nu, nv = u + step * du, v + step * dv
-            nf, ng, nhuu, nHuv, nschur = parts(nu, nv)
+            nu, nv, nb = u + step * du, v + step * dw[:S], beta + step * dw[S]
+            nf, ng, nhuu, nC, nchol = parts(nu, nv, nb)
             if nf >= f - 1e-12 * abs(f):
                 break
             step /= 2
-        done = step * max(np.abs(du).max(initial=0), np.abs(dv).max(initial=0)) < tol
-        u, v, f, g, huu, Huv, schur = nu, nv, nf, ng, nhuu, nHuv, nschur
+        done = step * max(np.abs(du).max(initial=0), np.abs(dw).max()) < tol
+        u, v, beta, f, g, huu, C, chol = nu, nv, nb, nf, ng, nhuu, nC, nchol
         if done:
             break
-    logdet = np.log(huu).sum() + np.linalg.slogdet(schur)[1]
-    return u, v, f, logdet
+    logdet = np.log(huu).sum() + 2 * np.log(np.diag(chol[0])).sum()
+    e = np.zeros(S + 1)
+    e[S] = 1.0
+    var_beta = float(scipy.linalg.cho_solve(chol, e)[S])
+    return u, v, beta, f, logdet, var_beta
 
 
-def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None):
+def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None, start=None):
     """Fit the mixed conditional logit with crossed random slopes (Laplace approximation).
 
     Parameters
@@ -158,6 +177,8 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
         Confidence level of the interval of beta.
     table : CumulantTable, optional
         Reused across fits on the same stimuli.
+    start : float, optional
+        Starting value of beta (e.g. the pooled estimate; default 0).
 
     Returns
     -------
@@ -194,32 +215,27 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
     M = np.bincount(inv).astype(float)
     cp, cs = cells // S, cells % S
     ts = su[cs]
-    state = dict(u=np.zeros(G), v=np.zeros(S))
+    b0 = 0.0 if start is None or not np.isfinite(start) else float(np.clip(start, -10, 10))
+    state = dict(u=np.zeros(G), v=np.zeros(S), beta=b0, var=np.nan)
 
     def wrapped(theta):
-        """Minus the Laplace log-likelihood; the modes warm-start the next call."""
-        beta, lsp, lss = theta
+        """Minus the Laplace log-likelihood of the two log sds; the modes warm-start the next call."""
+        lsp, lss = theta
         sp, ss = np.exp(lsp), np.exp(lss)
-        u, v, ll, logdet = _mode(table, ts, cs, cp, A, M, G, S, beta, sp, ss, state["u"], state["v"])
-        if np.isfinite(u).all() and np.isfinite(v).all():
-            state["u"], state["v"] = u, v
+        u, v, beta, ll, logdet, var = _mode(table, ts, cs, cp, A, M, G, S, sp, ss, state["u"], state["v"],
+                                            state["beta"])
+        if np.isfinite(u).all() and np.isfinite(v).all() and np.isfinite(beta):
+            state.update(u=u, v=v, beta=beta, var=var)
         return -(ll - G * lsp - S * lss - 0.5 * logdet)
 
-    x0 = np.array([0.0, np.log(0.3), np.log(0.3)])
-    bounds = [(-15.0, 15.0), _LOG_SD_BOUNDS, _LOG_SD_BOUNDS]
-    res = scipy.optimize.minimize(wrapped, x0, method="L-BFGS-B", bounds=bounds,
+    res = scipy.optimize.minimize(wrapped, np.log([0.3, 0.3]), method="L-BFGS-B",
+                                  bounds=[_LOG_SD_BOUNDS, _LOG_SD_BOUNDS],
                                   # finite-difference steps well above the inner solution's rounding
-                                  options=dict(maxiter=200, ftol=1e-12, gtol=1e-6, eps=1e-5))
-    beta, lsp, lss = res.x
-    # the variance of beta: the beta-beta element of the inverse numerical Hessian in (beta, log sds)
-    # at the optimum; a log sd at its lower bound is a variance estimated as 0 and is held fixed
-    free = [0] + [k for k in (1, 2) if res.x[k] > _LOG_SD_BOUNDS[0] + 1e-3]
-    H = _hessian(wrapped, res.x, free)
-    try:
-        cov = np.linalg.inv(H)
-        se = float(np.sqrt(cov[0, 0])) if cov[0, 0] > 0 else np.nan
-    except np.linalg.LinAlgError:
-        se = np.nan
+                                  options=dict(maxiter=200, ftol=1e-11, gtol=1e-5, eps=1e-5))
+    wrapped(res.x)  # the modes at the optimum
+    lsp, lss = res.x
+    beta = state["beta"]
+    se = float(np.sqrt(state["var"])) if state["var"] > 0 else np.nan
     df = max(min(G, S) - 1, 1)
     q = scipy.stats.t.ppf(0.5 + level / 2, df)
     sp, ss = np.exp(lsp), np.exp(lss)
@@ -228,21 +244,3 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
                sd_stimulus=float(ss) if lss > _LOG_SD_BOUNDS[0] + 1e-3 else 0.0,
                loglik=float(-res.fun), converged=bool(res.success))
     return out
-
-
-def _hessian(f, x, free, h=1e-3):
-    """Central-difference Hessian of `f` at `x` over the coordinates `free`."""
-    k = len(free)
-    H = np.empty((k, k))
-    f0 = f(x)
-    for a in range(k):
-        for b in range(a, k):
-            ea = np.zeros(len(x))
-            eb = np.zeros(len(x))
-            ea[free[a]] = h
-            eb[free[b]] = h
-            if a == b:
-                H[a, a] = (f(x + ea) - 2 * f0 + f(x - ea)) / h**2
-            else:
-                H[a, b] = H[b, a] = (f(x + ea + eb) - f(x + ea - eb) - f(x - ea + eb) + f(x - ea - eb)) / (4 * h * h)
-    return H

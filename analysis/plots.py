@@ -20,7 +20,7 @@ import io
 
 import numpy as np
 
-__all__ = ["stimulus_page", "group_figure", "all_figures", "to_png"]
+__all__ = ["stimulus_page", "group_figure", "all_figures", "to_png", "to_svg"]
 
 
 def _figure(w, h, dpi=80, layout=None):
@@ -56,6 +56,16 @@ def to_png(fig):
     return buf.getvalue()
 
 
+def to_svg(fig):
+    """Render a figure to SVG bytes (no date, fixed ids, so reruns give the same bytes)."""
+    import matplotlib
+
+    buf = io.BytesIO()
+    with matplotlib.rc_context({"svg.hashsalt": "attneave"}):
+        fig.savefig(buf, format="svg", metadata={"Date": None, "Creator": None})
+    return buf.getvalue()
+
+
 def _read_image(path):
     if path is None:
         return None
@@ -87,50 +97,52 @@ def _shape_panel(ax, analysis, sid, groups):
     if len(peaks):
         ax.plot(p[peaks, 0], p[peaks, 1], "o", mfc="none", mec="tab:red", ms=7, mew=1.2)
     g = groups.get(sid, dict(x=[], y=[], t=[], bad_x=[], bad_y=[]))
-    ax.plot(g["x"], g["y"], ".", color="k", ms=3, alpha=0.6)
-    ax.plot(g["bad_x"], g["bad_y"], "x", color="tab:red", ms=4)
+    # clicks as pixels in the SVG too: thousands of markers would make it huge and slow
+    ax.plot(g["x"], g["y"], ".", color="k", ms=3, alpha=0.6, rasterized=True)
+    ax.plot(g["bad_x"], g["bad_y"], "x", color="tab:red", ms=4, rasterized=True)
     ax.set_xlim(-0.5, W - 0.5)
     ax.set_ylim(H - 0.5, -0.5)
     ax.set_aspect("equal")
     ax.set_xticks([])
     ax.set_yticks([])
-    ax.set_title(f"{sid}  ({len(g['x'])} clicks)", fontsize=9)
+    ax.set_title(f"{sid}  ({len(g['x'])} clicks)", fontsize=10)
 
 
 def _profile_panel(ax, analysis, i, sid, groups):
     prof = analysis.profiles
     row = analysis.per_stimulus.iloc[i]
     t = prof["t"]
-    ax.plot(t, prof["z"][i], color="tab:orange", lw=1.2, label="z (surprisal)")
+    lines = ax.plot(t, prof["z"][i], color="tab:orange", lw=1.4, label="surprisal z")
     ax.set_xlim(0, 1)
-    ax.set_xlabel("t (arc position)", fontsize=8)
-    ax.set_ylabel("z", fontsize=8, color="tab:orange")
-    ax.tick_params(labelsize=7)
+    ax.set_xlabel("arc position t (fraction of perimeter)", fontsize=9)
+    ax.set_ylabel("surprisal z", fontsize=9, color="tab:orange")
+    ax.tick_params(labelsize=8)
     ax2 = ax.twinx()
     d = prof["density"][i]
     if np.isfinite(d).all():
-        ax2.plot(t, d, color="tab:blue", lw=1.2)
+        lines += ax2.plot(t, d, color="tab:blue", lw=1.4, label="click density")
         ax2.set_ylim(bottom=0)
-    ax2.set_ylabel("click density", fontsize=8, color="tab:blue")
-    ax2.tick_params(labelsize=7)
+    ax2.set_ylabel("click density (1 = uniform)", fontsize=9, color="tab:blue")
+    ax2.tick_params(labelsize=8)
     tc = np.asarray(groups.get(sid, {}).get("t", []))
     lo = ax.get_ylim()[0]
-    ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=6, alpha=0.4)
+    lines += ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=7, alpha=0.4, label="clicks", rasterized=True)
+    ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, loc="upper right", framealpha=0.8)
     rho, p = row["spearman_rho"], row["spearman_p"]
-    txt = f"rho = {rho:.2f}, p = {p:.3g}" if np.isfinite(rho) else "rho n/a"
-    ax.set_title(txt, fontsize=8)
+    txt = f"Spearman rho = {rho:.2f}, p = {p:.2g}" if np.isfinite(rho) else "Spearman rho: n/a"
+    ax.set_title(txt, fontsize=9)
 
 
 def stimulus_page(analysis, ids, per_row=2, groups=None):
     """One page of stimuli: shape with clicks, and density/surprisal profile."""
     groups = _click_groups(analysis) if groups is None else groups
     rows = int(np.ceil(len(ids) / per_row))
-    height = 3.3 * rows
-    fig = _figure(4.2 * 2 * per_row, height)
+    height = 3.6 * rows
+    fig = _figure(4.4 * 2 * per_row, height, dpi=100)
     # margins in inches, whatever the number of rows
     axes = fig.subplots(rows, 2 * per_row, squeeze=False, width_ratios=[1, 1.3] * per_row,
                         gridspec_kw=dict(left=0.03, right=0.96, bottom=0.55 / height, top=1 - 0.35 / height,
-                                         wspace=0.45, hspace=0.9 / 3.3))
+                                         wspace=0.5, hspace=1.0 / 3.6))
     index = {s: i for i, s in enumerate(analysis.profiles["ids"])}
     for k in range(rows * per_row):
         a_shape, a_prof = axes[k // per_row, 2 * (k % per_row)], axes[k // per_row, 2 * (k % per_row) + 1]
@@ -199,10 +211,18 @@ def group_figure(analysis):
     cal = _calibration(analysis)
     if cal is not None:
         centre, obs, pred = cal
-        ax2.axhline(1, color="0.5", lw=1, label="uniform")
-        ax2.plot(centre, obs, "o", color="k", label="observed")
-        ax2.plot(centre, pred, "-", color="tab:red", label=f"model, beta = {analysis.summary['beta_hat']:.2f}")
+        from matplotlib.ticker import LogLocator, NullFormatter, ScalarFormatter
+
+        o = np.argsort(centre)
+        ax2.axhline(1, color="0.5", lw=1, label="uniform clicking")
+        ax2.plot(centre[o], obs[o], "o", color="k", label="observed")
+        ax2.plot(centre[o], pred[o], "s--", color="tab:red", ms=4, lw=1,
+                 label=f"choice model, beta = {analysis.summary['beta_hat']:.2f}")
         ax2.set_yscale("log")
+        ax2.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
+        ax2.yaxis.set_major_formatter(ScalarFormatter())
+        # ticks at 1, 2, 5 x 10^k with plain labels, not two bare powers of ten
+        ax2.yaxis.set_minor_formatter(NullFormatter())
         ax2.legend(fontsize=8)
     ax2.set_xlabel("z (standardised surprisal), bin mean")
     ax2.set_ylabel("click rate / uniform rate")
@@ -216,12 +236,31 @@ def group_figure(analysis):
     return fig
 
 
+GROUP_CAPTION = ("Left: each participant's mean standardised surprisal z at their used clicks (dots, sorted; 0 under "
+                 "uniform clicking), with the group mean (red line) and its 95% t interval (band). Middle: the "
+                 "click rate in bins of z relative to uniform clicking (log scale): observed (dots) and predicted by "
+                 "the pooled choice model (squares). Right: log-likelihood gain over uniform clicking of the choice "
+                 "model with each predictor alone (red: surprisal, the model under test).")
+STIMULUS_CAPTION = ("Stimuli {first}-{last}. For each stimulus, left: the contour coloured by surprisal (yellow "
+                    "high, purple low), predicted peaks (red), used clicks (black dots) and excluded clicks with "
+                    "coordinates (red crosses); right: standardised surprisal z (orange) and the click density "
+                    "(blue, 1 = uniform) along the contour from its first point, with the used clicks as ticks; "
+                    "the title gives Spearman's rho between them and its circular-shift p.")
+
+
 def all_figures(analysis, per_page=6):
-    """Every figure of the report as ``(file name, PNG bytes)``, group figure first."""
-    out = [("group.png", to_png(group_figure(analysis)))]
+    """Every figure of the report, group figure first.
+
+    Returns
+    -------
+    list of (stem, caption, PNG bytes, SVG bytes)
+    """
+    fig = group_figure(analysis)
+    out = [("group", GROUP_CAPTION, to_png(fig), to_svg(fig))]
     ids = list(analysis.profiles["ids"])
     groups = _click_groups(analysis)
     for k in range(0, len(ids), per_page):
         fig = stimulus_page(analysis, ids[k:k + per_page], groups=groups)
-        out.append((f"stimuli_{k // per_page + 1:03d}.png", to_png(fig)))
+        cap = STIMULUS_CAPTION.format(first=k + 1, last=min(len(ids), k + per_page))
+        out.append((f"stimuli_{k // per_page + 1:03d}", cap, to_png(fig), to_svg(fig)))
     return out

@@ -52,7 +52,7 @@ __all__ = ["RIVALS", "rival_values", "extremum_proximity", "medial_axis_salience
 RIVALS = ("abs_curvature", "concavity", "convexity", "extremum_proximity", "medial_axis")
 # the rasterised silhouette's longer side, in pixels: enough for the skeleton's branches,
 # small enough that 100 stimuli take well under a second
-_SKELETON_SIZE = 160
+_SKELETON_SIZE = 128
 
 
 def extremum_proximity(curvature, min_prominence=0.05):

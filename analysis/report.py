@@ -21,9 +21,10 @@
     ``beta_hat`` with its Wald and profile intervals, the group test, the
     model comparison, the correlation, peak, AUC and concavity results, and
     every resolved parameter.
-``figures/*.png`` and ``report.html``
-    The figures of :mod:`analysis.plots` and one self-contained page (images
-    embedded as base64) showing them with the main tables.
+``figures/*.png``, ``figures/*.svg`` and ``report.html``
+    The figures of :mod:`analysis.plots` (each as PNG and SVG) and one
+    self-contained page written as a methods-and-results section
+    (:mod:`analysis.report_html`; images embedded as base64).
 
 Writing is all-or-nothing: everything is written into a fresh hidden
 temporary directory beside the output directory, which is renamed into place
@@ -34,6 +35,7 @@ error it can catch, and never a half-written output directory.
 
 from __future__ import annotations
 
+import datetime
 import json
 import os
 import shutil
@@ -110,16 +112,21 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
             from . import plots
 
             (tmp / "figures").mkdir()
-            for name, png in plots.all_figures(analysis):
-                with atomic_write(tmp / "figures" / name, "wb") as fh:
-                    fh.write(png)
-                images.append((name, png))
-        summary["figures"] = [f"figures/{name}" for name, _ in images]
+            for stem, caption, png, svg in plots.all_figures(analysis):
+                for ext, data in (("png", png), ("svg", svg)):
+                    with atomic_write(tmp / "figures" / f"{stem}.{ext}", "wb") as fh:
+                        fh.write(data)
+                images.append((stem, caption, png, f"{stem}.svg"))
+        summary["figures"] = [f"figures/{stem}.{ext}" for stem, *_ in images for ext in ("png", "svg")]
         with atomic_write(tmp / "summary.json", "w") as fh:
             json.dump(summary, fh, indent=2, sort_keys=True, allow_nan=False)
             fh.write("\n")
+        from .report_html import render
+
+        # the date goes into the page only, so that reruns give the same summary.json
+        page = dict(summary, date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"))
         with atomic_write(tmp / "report.html", "w") as fh:
-            fh.write(_html(analysis, summary, images))
+            fh.write(render(analysis, page, images))
         os.chmod(tmp, 0o755)
         _swap_into_place(tmp, out)
     except BaseException:
@@ -161,73 +168,3 @@ def _swap_into_place(tmp, out):
         shutil.rmtree(old, ignore_errors=True)
     else:
         os.replace(tmp, out)
-
-
-def _fmt(v, digits=4):
-    if v is None:
-        return "n/a"
-    if isinstance(v, float):
-        return f"{v:.{digits}g}"
-    return str(v)
-
-
-def _html(analysis, summary, images):
-    import base64
-    import html
-
-    s = summary
-    g = s["group"]
-    esc = html.escape
-    rows = [
-        ("clicks", s["n_clicks"]), ("used", s["n_used"]), ("excluded", s["n_excluded"]),
-        ("participants (with a used click)", f"{s['n_participants']} ({s['n_participants_used']})"),
-        ("stimuli (clicked)", f"{s['n_stimuli']} ({s['n_stimuli_clicked']})"),
-        ("beta_hat (pooled ML)", f"{_fmt(s['beta_hat'])}, {s['beta_ci_method']} CI "
-                                 f"[{_fmt(s['beta_ci'][0])}, {_fmt(s['beta_ci'][1])}], profile CI "
-                                 f"[{_fmt(s['beta_profile_ci'][0])}, {_fmt(s['beta_profile_ci'][1])}]"),
-        ("group test", f"{g['test']}: t = {_fmt(g['statistic'])} ({g['n']} participants), "
-                       f"p = {_fmt(g['p_value'])} (one-sided, greater; t distribution with {g['df']} df "
-                       f"would give {_fmt(g['p_value_parametric'])}), d_z = {_fmt(g['effect_size'])}, "
-                       f"mean = {_fmt(g['mean'])}"),
-        ("items test", f"per-stimulus mean z: t = {_fmt(s['by_stimulus']['statistic'])} "
-                       f"({s['by_stimulus']['n']} stimuli), Monte Carlo p = {_fmt(s['by_stimulus']['p_value'])} "
-                       f"(one-sided)"),
-        ("Spearman (density vs surprisal)", f"mean rho = {_fmt(s['spearman']['mean_rho'])}, circular-shift p = "
-                                            f"{_fmt(s['spearman']['p_value'])}; {s['spearman']['n_significant']} of "
-                                            f"{s['spearman']['n_stimuli']} stimuli p < 0.05"),
-        ("peak hit rate vs chance", f"{_fmt(s['peaks']['hit_rate'])} vs {_fmt(s['peaks']['chance'])}"),
-        ("AUC (surprisal at clicks vs all points)", _fmt(s["auc"]["value"])),
-        ("concave share: clicks vs length", f"{_fmt(s['concave']['click_share'])} vs "
-                                            f"{_fmt(s['concave']['length_share'])}"),
-    ]
-    table = "\n".join(f"<tr><th>{esc(k)}</th><td>{esc(str(v))}</td></tr>" for k, v in rows)
-    excl = "\n".join(f"<tr><th>{esc(k)}</th><td>{v}</td></tr>" for k, v in s["exclusions"].items())
-    models = analysis.models.to_html(index=False, float_format=lambda x: f"{x:.6g}", border=0)
-    per_s = analysis.per_stimulus.head(500).to_html(index=False, float_format=lambda x: f"{x:.4g}", border=0)
-    per_p = analysis.per_participant.head(500).to_html(index=False, float_format=lambda x: f"{x:.4g}", border=0)
-    figs = "\n".join(
-        f'<figure><img alt="{esc(name)}" src="data:image/png;base64,{base64.b64encode(png).decode("ascii")}">'
-        f"<figcaption>{esc(name)}</figcaption></figure>"
-        for name, png in images
-    )
-    warn = "".join(f"<p class=warn>{esc(w)}</p>" for w in s.get("warnings", []))
-    params = esc(json.dumps(s["params"], indent=1, sort_keys=True))
-    return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8"><title>attneave analysis</title>
-<style>
-body {{ font-family: sans-serif; margin: 2em; max-width: 1400px; }}
-table {{ border-collapse: collapse; margin-bottom: 1.5em; font-size: 90%; }}
-th, td {{ border-bottom: 1px solid #ddd; padding: 3px 8px; text-align: left; }}
-img {{ max-width: 100%; }} .warn {{ color: #a00; }} pre {{ background: #f6f6f6; padding: 1em; }}
-</style></head><body>
-<h1>Clicks against predicted information</h1>
-{warn}
-<h2>Summary</h2><table>{table}</table>
-<h2>Exclusions (rows kept in clicks.csv with their reason)</h2><table>{excl}</table>
-<h2>Models</h2>{models}
-<h2>Figures</h2>{figs or '<p>(figures not drawn)</p>'}
-<h2>Per stimulus</h2>{per_s}
-<h2>Per participant</h2>{per_p}
-<h2>Parameters</h2><pre>{params}</pre>
-</body></html>
-"""

@@ -86,8 +86,23 @@ def test_analyze_writes_every_output(stimset, clicks, tmp_path, capsys):
 
     assert set(s["models"]) == {"surprisal", "uniform", *RIVALS} - set(s["models_left_out"])
     assert s["models"]["surprisal"]["tested"] and "vonmises" not in s["models"]
+    # the output contract: unit of length, portable effect, joint predictors, mixed model
+    assert s["length_unit"] == s["params"]["length_unit"] and isinstance(s["length_unit"], str)
+    e = s["effect"]
+    assert e["chance_share"] == 0.1 and e["lift"] == pytest.approx(e["top_share"] / 0.1)
+    assert set(s["predictors"]) == {"surprisal"}
+    j = s["predictors"]["surprisal"]
+    # one predictor fitted jointly is the pooled fit
+    assert j["coef"] == pytest.approx(s["beta_hat"], abs=1e-6) and j["ci_low"] < j["coef"] < j["ci_high"]
+    assert 0 <= j["lr_p"] <= 1
+    m = s["mixed"]
+    assert m["ci_low"] < m["beta"] < m["ci_high"] and m["sd_participant"] >= 0 and m["sd_stimulus"] >= 0
+    assert {"points.csv", "choices.csv", "analysis.R"} <= {p.name for p in out.iterdir()}
+    ch = pd.read_csv(out / "choices.csv")
+    assert len(ch) == s["n_used"] * 100 and ch.groupby("choice_set")["chosen"].sum().eq(1).all()
     figs = sorted(p.name for p in (out / "figures").iterdir())
-    assert figs == ["group.png", "stimuli_001.png", "stimuli_002.png"]  # 8 stimuli, 6 per page
+    # 8 stimuli, 6 per page; each figure as PNG and SVG
+    assert figs == sorted(f"{k}.{e}" for k in ("group", "stimuli_001", "stimuli_002") for e in ("png", "svg"))
     html = (out / "report.html").read_text()
     assert html.count('src="data:image/png;base64,') == 3 and "http" not in html.split("<body>")[1]
     per_s = pd.read_csv(out / "per_stimulus.csv")
@@ -273,3 +288,10 @@ def test_simulate_rejects_bad_values(stimset, tmp_path, capsys):
     assert main(["simulate", "--stimuli", str(stimset), "-o", str(tmp_path / "c.csv"), "--participants", "0",
                  "--clicks", "2", "--beta", "1", "--seed", "1"]) == 2
     assert "--participants" in capsys.readouterr().err and not (tmp_path / "c.csv").exists()
+
+
+def test_bad_predictor_names_are_one_line_exit_2(stimset, clicks, tmp_path, capsys):
+    rc = _analyze(clicks, stimset, tmp_path / "o", "--no-figures", "--predictors", "surprisal,wiggliness")
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "--predictors" in err and "concavity" in err
+    assert not (tmp_path / "o").exists()
