@@ -79,15 +79,29 @@ class Analysis:
     stimset: object = None
 
 
-def _positive(name, value, allow_none=True):
+# Bounds of the size and scale arguments: far beyond any real design, and
+# small enough that no argument can ask for gigabytes or overflow a float.
+MAX_POINTS = 100_000  # -n: points per contour
+MAX_REPLICATES = 100_000  # --permutations, --group-simulations
+MAX_GRID = 65_536  # --grid
+MAX_PX = 1e6  # --tolerance, --bandwidth, --peak-tolerance, --click-sd (px)
+MIN_CLICK_SD = 1e-3  # px; less is no localisation error at all
+
+
+def _positive(name, value, allow_none=True, lo=None, hi=MAX_PX):
     if value is None and allow_none:
         return None
-    return as_number(value, name, gt=0)
+    v = as_number(value, name, gt=0)
+    if (lo is not None and v < lo) or v > hi:
+        raise InputError(f"{name} must be from {lo if lo is not None else 0:g} to {hi:g} px, got {value!r}")
+    return v
 
 
-def _whole(name, value, minimum):
+def _whole(name, value, minimum, maximum=None):
     if not (isinstance(value, (int, np.integer)) and value >= minimum):
         raise InputError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+    if maximum is not None and value > maximum:
+        raise InputError(f"{name} must be at most {maximum:,}, got {value:,}")
     return int(value)
 
 
@@ -287,11 +301,13 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     tolerance = _positive("--tolerance", tolerance)
     bandwidth = _positive("--bandwidth", bandwidth)
     peak_tolerance = _positive("--peak-tolerance", peak_tolerance)
-    click_sd = _positive("--click-sd", click_sd)
-    scale = _positive("--scale", scale, allow_none=False)
-    permutations = _whole("--permutations", permutations, 0)
-    group_simulations = _whole("--group-simulations", group_simulations, 0)
-    grid = _whole("--grid", grid, 8)
+    click_sd = _positive("--click-sd", click_sd, lo=MIN_CLICK_SD)
+    scale = _positive("--scale", scale, allow_none=False, hi=np.inf)
+    n = _whole("-n", n, 3, MAX_POINTS)
+    permutations = _whole("--permutations", permutations, 0, MAX_REPLICATES)
+    group_simulations = _whole("--group-simulations", group_simulations, 0, MAX_REPLICATES)
+    grid = _whole("--grid", grid, 8, MAX_GRID)
+    seed = _whole("--seed", seed, 0, 2**63 - 1)
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level!r}")
     predictors = _predictor_names(predictors)

@@ -279,3 +279,22 @@ def test_item14_messages_do_not_echo_arbitrary_files(tmp_path, stimset, capsys):
     code, err = _cli(["surprisal", g, "-o", tmp_path / "o.csv"], capsys)
     _one_line_error(code, err)
     assert "'" + "a" * 29 + "...'" in err and "'c3', ..." in err and "(9 columns)" in err and "c4" not in err
+
+
+@pytest.mark.parametrize("flag, value, needle", [
+    ("-n", "100000000", "at most 100,000"),                      # a 100-million-point prediction per contour
+    ("--group-simulations", "1000000000", "at most 100,000"),    # ran for ever
+    ("--grid", "1000000000", "at most 65,536"),                  # asked 179 GiB
+    ("--click-sd", "1e300", "from 0.001 to 1e+06 px"),           # ValueError traceback
+    ("--click-sd", "1e-300", "from 0.001 to 1e+06 px"),          # overflow RuntimeWarning
+    ("--bandwidth", "1e308", "from 0 to 1e+06 px"),              # overflow RuntimeWarning
+    ("--seed", "-5", "--seed must be a whole number >= 0"),      # numpy ValueError traceback
+])
+def test_item9_analyze_size_and_scale_arguments_are_bounded(tmp_path, capsys, stimset, flag, value, needle):
+    clicks = tmp_path / "clicks.csv"
+    pts = _rf(3)[::50]
+    pd.DataFrame({"participant": "P1", "stimulus_id": "rf_003", "x": pts[:, 0], "y": pts[:, 1]}).to_csv(clicks, index=False)
+    out = tmp_path / "out"
+    code, err = _cli(["analyze", clicks, "--stimuli", stimset, "-o", out, "--no-figures", flag, value], capsys)
+    _one_line_error(code, err)
+    assert needle in err and not out.exists()
