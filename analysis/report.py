@@ -43,6 +43,7 @@ import tempfile
 from pathlib import Path
 
 from stimuli.errors import InputError
+from stimuli.io import replace_directory
 
 __all__ = ["check_output_dir", "write_analysis"]
 
@@ -128,7 +129,7 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
         with atomic_write(tmp / "report.html", "w") as fh:
             fh.write(render(analysis, page, images))
         os.chmod(tmp, 0o755)
-        _swap_into_place(tmp, out)
+        replace_directory(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
@@ -153,18 +154,3 @@ def _write_r_export(analysis, tmp, version):
             f"choices.csv not written: it would exceed {MAX_CHOICE_ROWS:,} rows (used clicks x points); "
             "analysis.R builds it from clicks.csv and points.csv")
     return dict(choices_csv=choices is not None, points_csv=True, r_script="analysis.R", predictors=names, note=note)
-
-
-def _swap_into_place(tmp, out):
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
-        os.rmdir(old)
-        os.replace(out, old)
-        try:
-            os.replace(tmp, out)
-        except BaseException:
-            os.replace(old, out)
-            raise
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        os.replace(tmp, out)

@@ -23,6 +23,7 @@ from stimuli.errors import InputError
 
 __all__ = [
     "MAX_TEXT_BYTES",
+    "replace_directory",
     "atomic_write",
     "write_table",
     "check_regular_file",
@@ -467,3 +468,28 @@ def read_points(path, columns=("x", "y")):
                                  f"got {shorten(row[c])}")
             out[i, j] = v
     return out
+
+
+def replace_directory(tmp, out):
+    """Rename the finished directory `tmp` to `out`, replacing an old `out`.
+
+    The old directory is first renamed aside (and restored if the second
+    rename fails), then removed, so that `out` is at every moment either the
+    old or the new directory, never a mixture. `tmp` and `out` must be on
+    the same file system.
+    """
+    import shutil
+
+    tmp, out = Path(tmp), Path(out)
+    if not out.exists():
+        os.replace(tmp, out)
+        return
+    old = Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-old-", dir=out.parent))
+    os.rmdir(old)
+    os.replace(out, old)
+    try:
+        os.replace(tmp, out)
+    except BaseException:
+        os.replace(old, out)
+        raise
+    shutil.rmtree(old, ignore_errors=True)

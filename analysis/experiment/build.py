@@ -26,6 +26,7 @@ from importlib import resources
 from pathlib import Path
 
 from stimuli.errors import InputError
+from stimuli.io import replace_directory
 
 from .options import ExperimentOptions
 from .order import latin_square_lists
@@ -438,13 +439,5 @@ def _swap_into_place(tmp, out, action):
         os.replace(out, aside)
         os.replace(tmp, out)
         return aside
-    old = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".old", dir=out.parent))
-    os.rmdir(old)
-    os.replace(out, old)
-    try:
-        os.replace(tmp, out)
-    except BaseException:
-        os.replace(old, out)
-        raise
-    shutil.rmtree(old, ignore_errors=True)
+    replace_directory(tmp, out)
     return None
