@@ -93,6 +93,10 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a directory; expected a file name to write")
+    kind = _special_kind(path)
+    if kind:
+        # the rename would put a regular file in place of /dev/null or a FIFO (as root, of a device)
+        raise InputError(f"{path}: is {kind}, not a regular file; expected a file name to write")
     try:
         fd, tmp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{path.name[:80]}",
                                    dir=path.parent)
@@ -161,6 +165,26 @@ def _format_column(values, float_format):
             (float_format % v if isinstance(v, float) else str(v)) for v in a.tolist()]
 
 
+def _kind(mode):
+    """What a file that is neither regular nor a directory is, for messages."""
+    import stat
+
+    return ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
+            else "a block device" if stat.S_ISBLK(mode) else "a socket" if stat.S_ISSOCK(mode)
+            else "a special file")
+
+
+def _special_kind(path):
+    """:func:`_kind` of an existing `path` (links followed) that is not a regular file or directory, else ''."""
+    import stat
+
+    try:
+        mode = path.stat().st_mode
+    except OSError:  # missing (the usual case for an output), or unreachable: mkstemp will say
+        return ""
+    return "" if stat.S_ISREG(mode) or stat.S_ISDIR(mode) else _kind(mode)
+
+
 def check_regular_file(path, what="a file", max_bytes=None):
     """Check that `path` is a regular file that may be read, before opening it.
 
@@ -209,10 +233,7 @@ def check_regular_file(path, what="a file", max_bytes=None):
     if stat.S_ISDIR(mode):
         raise InputError(f"{path}: is a directory, expected {what}")
     if not stat.S_ISREG(mode):
-        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
-                else "a block device" if stat.S_ISBLK(mode) else "a socket" if stat.S_ISSOCK(mode)
-                else "a special file")
-        raise InputError(f"{path}: is {kind}, not a regular file; expected {what}")
+        raise InputError(f"{path}: is {_kind(mode)}, not a regular file; expected {what}")
     if max_bytes is not None and st.st_size > max_bytes:
         raise InputError(f"{path}: {st.st_size / 1e6:,.0f} MB is larger than the limit of "
                          f"{max_bytes / 1e6:,.0f} MB for {what}")
@@ -366,7 +387,7 @@ def _read_records(path, what, empty):
                 if header is None:
                     header = [c.strip() for c in record]
                     continue
-                rows.append(_fit_record(path, record, len(header), start))
+                rows.append(_fit_record(path, record, header, start))
                 lines.append(start)
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
@@ -383,10 +404,14 @@ def _read_records(path, what, empty):
     return header, rows, lines
 
 
-def _fit_record(path, record, n, line):
-    """A record cut or padded to the header's `n` fields; non-empty extras are an error."""
+def _fit_record(path, record, header, line):
+    """A record cut or padded to the `header`'s fields; non-empty extras are an error."""
+    n = len(header)
     if len(record) > n:
         if any(v.strip() for v in record[n:]):
+            hint = describe_columns(header) if n == 1 else ""
+            if "separator" in hint:  # 'x;y' as one column: say so, not 'add a column name'
+                raise InputError(f"{path}: line 1: {hint}")
             extra = ", ".join(shorten(v) for v in record[n:][:3]) + (", ..." if len(record) - n > 3 else "")
             raise InputError(f"{path}: line {line}: {len(record)} fields but the header has {n} "
                              f"(extra value(s) {extra}); add a column name to the header or remove them")

@@ -279,3 +279,31 @@ def test_item14_messages_do_not_echo_arbitrary_files(tmp_path, stimset, capsys):
     code, err = _cli(["surprisal", g, "-o", tmp_path / "o.csv"], capsys)
     _one_line_error(code, err)
     assert "'" + "a" * 29 + "...'" in err and "'c3', ..." in err and "(9 columns)" in err and "c4" not in err
+
+
+# --- found by the independent hostile-user check (after the items above were fixed) ---
+
+
+def test_review_an_output_that_is_a_fifo_or_device_is_refused_not_replaced(tmp_path, capsys):
+    # atomic_write's rename used to put a regular file in place of the FIFO
+    # (and, run as root, in place of /dev/full: the device was destroyed)
+    contour = _square_csv(tmp_path / "square.csv")
+    fifo = tmp_path / "out.fifo"
+    os.mkfifo(fifo)
+    code, err = _cli(["surprisal", contour, "-o", fifo], capsys)
+    _one_line_error(code, err)
+    assert "out.fifo: is a FIFO" in err and "file name to write" in err
+    assert fifo.is_fifo()
+    link = tmp_path / "null.csv"
+    link.symlink_to(os.devnull)
+    code, err = _cli(["surprisal", contour, "-o", link], capsys)
+    _one_line_error(code, err)
+    assert Path(os.devnull).is_char_device() and link.is_symlink()
+
+
+def test_review_a_semicolon_contour_file_is_named_as_such(tmp_path, capsys):
+    path = tmp_path / "euro.csv"
+    path.write_text("x;y\n0,5;0\n100;0,5\n100;100\n0;100\n")  # decimal commas, as a European locale saves
+    code, err = _cli(["surprisal", path, "-o", tmp_path / "o.csv"], capsys)
+    _one_line_error(code, err)
+    assert "euro.csv" in err and "';' as separator" in err
