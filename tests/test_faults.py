@@ -307,3 +307,52 @@ def test_review_a_semicolon_contour_file_is_named_as_such(tmp_path, capsys):
     code, err = _cli(["surprisal", path, "-o", tmp_path / "o.csv"], capsys)
     _one_line_error(code, err)
     assert "euro.csv" in err and "';' as separator" in err
+
+
+def _never(*args, **kwargs):
+    raise AssertionError("the simulation was reached with an option that should have been refused")
+
+
+@pytest.mark.parametrize("command, args, named", [
+    ("simulate", ["--participants", "100000000", "--clicks", "1", "--beta", "1"], "2,000,000"),
+    ("simulate", ["--participants", "1", "--clicks", "100000000", "--beta", "1"], "--clicks 100000000"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1e308"], "--beta"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "--seed", "-1"], "--seed"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "--noise", "1e308"], "--noise"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "--beta-sd", "1e308"], "--beta-sd"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "-n", "100000000"], "-n"),
+    ("power", ["--beta", "1", "--participants", "100000000"], "2,000,000"),
+    ("power", ["--beta", "1", "--participants", "4", "--simulations", "1000000000"], "--simulations"),
+    ("power", ["--beta", "1", "--participants", "4", "--group-simulations", "1000000000"], "--group-simulations"),
+    ("power", ["--beta", "1", "--participants", "4", "--target", "1e308"], "--target"),
+    ("power", ["--beta", "1", "--participants", "4", "--seed", "-1"], "--seed"),
+])
+def test_review_simulate_and_power_sizes_and_effects_are_bounded(tmp_path, stimset, capsys, monkeypatch,
+                                                                    command, args, named):
+    # each of these was a MemoryError, an overflow warning or a numpy ValueError traceback
+    for name in ("analysis.mapping.predict", "analysis.observers.simulate", "analysis.observers.power"):
+        monkeypatch.setattr(name, _never)  # refused before any work (the old code allocated there)
+    out = ["-o", tmp_path / "sim.csv"] if command == "simulate" else []
+    out += ["--seed", "1"] if command == "simulate" and "--seed" not in args else []
+    code, err = _cli([command, "--stimuli", stimset, *out, *args], capsys)
+    _one_line_error(code, err)
+    assert named in err, err
+
+
+def test_review_a_stray_quote_does_not_swallow_the_rows_after_it(tmp_path):
+    # a quote left open made every later line one field of its row: 60 clicks read as 5, exit 0
+    from analysis.clicks import read_clicks
+
+    f = tmp_path / "clicks.csv"
+    f.write_text('participant,stimulus_id,x,y,comment\n'
+                 'P1,a,1,2,"fine,\nthanks"\n'          # a typed answer with a line break: one row
+                 'P1,"a,3,4,\n' 'P1,a,5,6,\n'          # a stray quote ...
+                 'P1,"a,7,8,\n'                        # ... closed by the next stray quote
+                 + "".join(f"P2,a,{i},{i},\n" for i in range(10, 15))
+                 + 'P2,a,20,21,"oops\n' 'P2,a,22,23,\n' 'P2,a,24,25,\n')  # open to the end of the file
+    df = read_clicks(f)
+    assert df["line"].tolist() == [2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14]
+    assert df["x"].tolist()[2] == "5" and df["x"].tolist()[-2:] == ["22", "24"]
+    bad = df.loc[df["row_error"] != "", "line"].tolist()
+    assert bad == [4, 6, 12] and df["row_error"].iloc[1] == "a quote opened on line 4 is never closed"
+    assert df["comment"].iloc[0] == "fine,\nthanks"

@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
-from analysis.commands.simulate import add_effect_arguments
+from analysis.commands.simulate import add_effect_arguments, check_design
+
+#: Most simulated experiments per design and Monte Carlo replicates of the null: each is a
+#: float per replicate held at once, and beyond these the p-value's resolution gains nothing.
+MAX_SIMULATIONS = 100_000
+MAX_GROUP_SIMULATIONS = 1_000_000
 
 
 def _int_list(text):
@@ -57,6 +62,7 @@ def run(args):
     from analysis.observers import power
     from stimuli.stimulus_set import read_stimulus_set
     from stimuli.io import write_table
+    from stimuli.validate import as_int, as_number
 
     if args.output:
         # found before minutes of simulation, not after
@@ -70,6 +76,10 @@ def run(args):
         if not out.parent.is_dir():
             raise InputError(f"{out}: cannot write there (no directory {out.parent})")
     stimset = read_stimulus_set(args.stimuli)
+    check_design(len(stimset), max(args.participants), args.clicks, args)
+    as_int(args.simulations, "--simulations", lo=1, hi=MAX_SIMULATIONS)
+    as_int(args.group_simulations, "--group-simulations", lo=1, hi=MAX_GROUP_SIMULATIONS)
+    as_number(args.target, "--target", gt=0, le=1)
     pred = predict(stimset, n=args.n, model=args.model)
     eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
                          top_share=args.top_share)
