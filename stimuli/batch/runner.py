@@ -153,6 +153,7 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
 
 def _run_locked(batch, out, workers, scheduler, resume, force, progress):
     """The batch, once this process holds the directory: (stimuli, jobs, jobs run)."""
+    outdir.check_inside(out)
     state = outdir.inspect(out, batch)
     if state in ("other", "unknown") and not force:
         what = ("was made by another config (or another attneave version)" if state == "other"
