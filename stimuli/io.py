@@ -11,9 +11,11 @@ configs) are bounded by :data:`MAX_TEXT_BYTES`.
 from __future__ import annotations
 
 import contextlib
+import errno
 import math
 import os
 import re
+import sys
 import tempfile
 from pathlib import Path
 
@@ -116,6 +118,41 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
         raise
+
+
+#: errno values that mean the disk (full, over quota, failing), not the input: exit status 1
+DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EIO)
+
+
+def disk_error_exit(command, output, exc, note="the earlier file, if any, is untouched"):
+    """Say in one line that writing `output` failed for the disk's sake, and return exit status 1.
+
+    Any other `exc` is raised again: only a full, over-quota or failing disk
+    is neither the input's fault (exit 2) nor a bug (a traceback).
+
+    Parameters
+    ----------
+    command : str
+        The command's name, e.g. ``'surprisal'``.
+    output : str or Path
+        What was being written.
+    exc : OSError
+    note : str
+        What the user should know about the files (atomic writes leave none half-written).
+
+    Returns
+    -------
+    int
+        1.
+    """
+    if getattr(exc, "errno", None) not in DISK_ERRORS:
+        raise exc
+    where = f" ({exc.filename})" if exc.filename else ""
+    print(f"attneave {command}: error: {output}: {exc.strerror}{where}; {note}", file=sys.stderr)
+    return 1
+
+
+__all__ += ["DISK_ERRORS", "disk_error_exit"]
 
 
 def _read_umask():

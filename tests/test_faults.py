@@ -356,3 +356,21 @@ def test_review_a_stray_quote_does_not_swallow_the_rows_after_it(tmp_path):
     bad = df.loc[df["row_error"] != "", "line"].tolist()
     assert bad == [4, 6, 12] and df["row_error"].iloc[1] == "a quote opened on line 4 is never closed"
     assert df["comment"].iloc[0] == "fine,\nthanks"
+
+
+@pytest.mark.parametrize("command", ["surprisal", "simulate"])
+def test_review_a_full_disk_is_one_line_exit_1_for_every_writer(tmp_path, stimset, capsys, monkeypatch, command):
+    # generate said it in one line; surprisal and simulate gave an OSError traceback
+    import errno
+
+    def full(table, path, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+
+    monkeypatch.setattr("stimuli.io.write_table", full)
+    out = tmp_path / "out.csv"
+    argv = {"surprisal": ["surprisal", _square_csv(tmp_path / "sq.csv"), "-o", out],
+            "simulate": ["simulate", "--stimuli", stimset, "-o", out, "--participants", "2", "--clicks", "2",
+                         "--beta", "1", "--seed", "1"]}[command]
+    code, err = _cli(argv, capsys)
+    _one_line_error(code, err, status=1)
+    assert "No space left on device" in err and "out.csv" in err

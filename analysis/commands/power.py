@@ -61,7 +61,7 @@ def run(args):
     from analysis.mapping import predict
     from analysis.observers import power
     from stimuli.stimulus_set import read_stimulus_set
-    from stimuli.io import write_table
+    from stimuli.io import disk_error_exit, write_table
     from stimuli.validate import as_int, as_number
 
     if args.output:
@@ -87,7 +87,10 @@ def run(args):
                         simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
                         beta_sd=args.beta_sd, target=args.target, group_simulations=args.group_simulations)
     if args.output:
-        write_table(table, args.output)
+        try:
+            write_table(table, args.output)
+        except OSError as exc:  # a full disk: one line, exit 1
+            return disk_error_exit('power', args.output, exc)
     print(f"beta = {info['beta']:.4g} (expected top share {eff['top_share']:.3f}, chance {eff['chance_share']:g}, "
           f"lift {eff['lift']:.2f}), {info['stimuli']} stimuli x {info['clicks']} clicks, alpha = {info['alpha']:g}, "
           f"{info['simulations']} simulations per design")

@@ -99,7 +99,7 @@ def run(args):
     from analysis.mapping import predict
     from analysis.observers import simulate
     from stimuli.stimulus_set import read_stimulus_set
-    from stimuli.io import write_table
+    from stimuli.io import disk_error_exit, write_table
 
     stimset = read_stimulus_set(args.stimuli)
     check_design(len(stimset), args.participants, args.clicks, args)
@@ -108,7 +108,10 @@ def run(args):
                          top_share=args.top_share)
     df, params = simulate(pred, args.participants, args.clicks, eff["beta"], args.seed, noise=args.noise,
                           beta_sd=args.beta_sd, coords=args.coords, scale=args.scale)
-    write_table(df, args.output, float_format="%.17g")
+    try:
+        write_table(df, args.output, float_format="%.17g")
+    except OSError as exc:  # a full disk: one line, exit 1
+        return disk_error_exit('simulate', args.output, exc)
     print(f"{len(df)} clicks ({params['participants']} participants x {params['stimuli']} stimuli x "
           f"{params['clicks']} clicks, beta = {params['beta']:.4g}, expected top share {eff['top_share']:.3f} "
           f"(chance {eff['chance_share']:g}, lift {eff['lift']:.2f}), seed = {params['seed']}) -> {args.output}")

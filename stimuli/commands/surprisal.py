@@ -43,7 +43,7 @@ def add_parser(sub):
 def run(args):
     from stimuli.geometry.contour import Contour
     from stimuli.geometry.information import surprisal
-    from stimuli.io import write_table
+    from stimuli.io import disk_error_exit, write_table
 
     c = Contour.from_csv(args.contour, closed=not args.open)
     _check_size(args, c)
@@ -52,7 +52,10 @@ def run(args):
         prominence=args.prominence, **({} if args.length_unit is None else {"length_unit": args.length_unit}),
     )
     _check_finite(r)
-    write_table(r.table(), args.output, float_format="%.17g")
+    try:
+        write_table(r.table(), args.output, float_format="%.17g")
+    except OSError as exc:  # a full disk: one line, exit 1
+        return disk_error_exit('surprisal', args.output, exc)
     return 0
 
 
