@@ -61,21 +61,31 @@ def _square_csv(path, side=100.0, offset=0.0):
 
 
 # --------------------------------------------------------------------------- item 4
-def test_item4_special_files_are_refused_not_read(tmp_path, stimset, capsys):
-    # a FIFO blocked the reader forever; a writer opened after 5 s keeps the old code from
-    # hanging the suite (it then failed on the empty file instead of naming the FIFO)
-    fifo = tmp_path / "pipe.csv"
-    os.mkfifo(fifo)
+def _unblock(fifo, every=5):
+    """Open `fifo` for writing every `every` s until the returned event is set.
+
+    A reader blocked on the FIFO (the old code) then sees an empty file and
+    fails differently instead of hanging the suite.
+    """
     done = threading.Event()
 
     def unblock():
-        while not done.wait(5):
+        while not done.wait(every):
             try:
                 os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
             except OSError:
                 pass
 
     threading.Thread(target=unblock, daemon=True).start()
+    return done
+
+
+def test_item4_special_files_are_refused_not_read(tmp_path, stimset, capsys):
+    # a FIFO blocked the reader forever; a writer opened after 5 s keeps the old code from
+    # hanging the suite (it then failed on the empty file instead of naming the FIFO)
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    done = _unblock(fifo)
     try:
         code, err = _cli(["surprisal", fifo, "-o", tmp_path / "o.csv"], capsys)
         _one_line_error(code, err)
@@ -374,3 +384,30 @@ def test_review_a_full_disk_is_one_line_exit_1_for_every_writer(tmp_path, stimse
     code, err = _cli(argv, capsys)
     _one_line_error(code, err, status=1)
     assert "No space left on device" in err and "out.csv" in err
+
+
+def test_review_experiment_configs_and_sizes_are_bounded(tmp_path, stimset, capsys):
+    # a FIFO as --config (of experiment, and of generate) blocked open() forever; an alias bomb
+    # was expanded; --lists 1e9 was a MemoryError; --clicks 1e9 and --size-px 1e308 were accepted
+    fifo = tmp_path / "exp.yaml"
+    os.mkfifo(fifo)
+    done = _unblock(fifo)
+    try:
+        for argv in (["experiment", stimset, "-o", tmp_path / "e1", "--config", fifo],
+                     ["generate", fifo, "-o", tmp_path / "g"]):
+            code, err = _cli(argv, capsys)
+            _one_line_error(code, err)
+            assert "exp.yaml: is a FIFO" in err
+    finally:
+        done.set()
+    bomb = tmp_path / "bomb.yaml"
+    bomb.write_text("a: &a [1,1,1,1,1,1,1,1,1,1]\n" + "".join(
+        f"a{i}: &a{i} [{','.join([f'*a{i - 1}' if i > 1 else '*a'] * 10)}]\n" for i in range(1, 9)))
+    code, err = _cli(["experiment", stimset, "-o", tmp_path / "e2", "--config", bomb], capsys)
+    _one_line_error(code, err)
+    assert "aliases are expanded" in err
+    for option, value in (("--lists", "1000000000"), ("--clicks", "1000000000"), ("--size-px", "1e308")):
+        code, err = _cli(["experiment", stimset, "-o", tmp_path / "e3", option, value], capsys)
+        _one_line_error(code, err)
+        assert option in err
+    assert not any((tmp_path / name).exists() for name in ("e1", "e2", "e3", "g"))
