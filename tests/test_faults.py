@@ -411,3 +411,16 @@ def test_review_experiment_configs_and_sizes_are_bounded(tmp_path, stimset, caps
         _one_line_error(code, err)
         assert option in err
     assert not any((tmp_path / name).exists() for name in ("e1", "e2", "e3", "g"))
+
+
+@pytest.mark.parametrize("spacing, closed", [("1e308", True), ("159", True), ("199", False)])
+def test_review_a_spacing_giving_fewer_than_3_points_names_the_option(tmp_path, capsys, spacing, closed):
+    # was "resampling needs n >= 3 points, got 0": no word of --spacing; a square of side 100 has
+    # L = 400 closed (3 points need L/ds >= 2.5: ds < 160) and 300 open (L/ds >= 1.5: ds < 200)
+    argv = ["surprisal", _square_csv(tmp_path / "sq.csv"), "-o", tmp_path / "o.csv", "--spacing", spacing]
+    code, err = _cli(argv + ([] if closed else ["--open"]), capsys)
+    if spacing != "1e308":  # in range: a spacing just inside the bound works
+        assert code == 0, err
+        return
+    _one_line_error(code, err)
+    assert "--spacing" in err and "fewer than 3 points" in err and "below 160 px" in err

@@ -72,6 +72,10 @@ def _check_size(args, contour):
         if n > MAX_POINTS:
             raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
                              f"n = {n:.3g} points; n <= {MAX_POINTS:,} (use a larger spacing)")
+        least = 1.5 if args.open else 2.5  # round(n) (+ 1, the end point of an open contour) >= 3
+        if n < least:
+            raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
+                             f"fewer than 3 points (use a spacing below {contour.perimeter / least:.6g} px)")
 
 
 def _check_finite(result):
