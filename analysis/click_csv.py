@@ -1,7 +1,7 @@
 """Reading click files as the tools of the lab write them: separators, decimal commas, bad rows.
 
 A contour file or a manifest is written by a program and read strictly
-(:func:`stimuli.io.read_text_csv`). A click file comes from an experiment
+(:func:`stimuli.tables.read_text_csv`). A click file comes from an experiment
 run in PsychoPy, jsPsych, a spreadsheet or a script, often saved by a
 spreadsheet with a European locale, so it is read tolerantly:
 
@@ -200,8 +200,35 @@ def read_tolerant_csv(path, sep=None, what="a CSV file", empty="expected a heade
     fast = _read_fast(raw, sep, names, header) if n else None
     if fast is not None:
         return (*fast, sep)
+    physical = io.StringIO(text, newline="").readlines()  # the lines as csv counts them
     rows, lines, errors = [], [], []
-    prev = reader.line_num
+    done = reader.line_num  # physical lines consumed (the header's)
+    while True:
+        more, ends = _parse_rows(path, physical[done:], sep, n, done)
+        i = _open_quote(physical, sep, n, *more, ends)
+        for part, got in zip((rows, lines, errors), more):
+            part.extend(got[:i])
+        if i == len(ends):
+            break
+        # a quote left open swallows the lines after it into one field (up to the next quote,
+        # or to the end of the file): its own line is a malformed row, and the lines after it
+        # are read again as the rows they are
+        line = more[1][i]
+        fields = next(csv.reader([physical[line - 1].rstrip("\r\n")], delimiter=sep, skipinitialspace=True,
+                                 quoting=csv.QUOTE_NONE))
+        rows.append(_fit(fields, n)[0])
+        lines.append(line)
+        errors.append(f"a quote opened on line {line} is never closed")
+        done = line
+    df = pd.DataFrame(rows, columns=names, dtype=object) if rows else pd.DataFrame(columns=names, dtype=object)
+    return df, np.asarray(lines, dtype=np.int64), np.asarray(errors, dtype=object), sep
+
+
+def _parse_rows(path, physical, sep, n, offset):
+    """``((rows, lines, errors), last lines)`` of the CSV records in `physical`, the lines after line `offset`."""
+    reader = csv.reader(iter(physical), delimiter=sep, skipinitialspace=True)
+    rows, lines, errors, ends = [], [], [], []
+    prev = 0
     try:
         for row in reader:
             start, prev = prev + 1, reader.line_num
@@ -209,15 +236,33 @@ def read_tolerant_csv(path, sep=None, what="a CSV file", empty="expected a heade
                 continue  # a blank line is not a row
             row, err = _fit(row, n)
             rows.append(row)
-            lines.append(start)
+            lines.append(offset + start)
             errors.append(err)
+            ends.append(offset + prev)
     except csv.Error as exc:  # a NUL byte, a field beyond csv's size limit
-        raise InputError(f"{path}: line {reader.line_num}: not readable as CSV ({exc})") from None
-    if rows and text.count('"') % 2 and prev > lines[-1]:
-        # a quote left open swallows every line after it into one field of the last row
-        errors[-1] = f"a quote opened here is never closed (lines {lines[-1]}-{prev} read as one row)"
-    df = pd.DataFrame(rows, columns=names, dtype=object) if rows else pd.DataFrame(columns=names, dtype=object)
-    return df, np.asarray(lines, dtype=np.int64), np.asarray(errors, dtype=object), sep
+        raise InputError(f"{path}: line {offset + reader.line_num}: not readable as CSV ({exc})") from None
+    return (rows, lines, errors), ends
+
+
+def _open_quote(physical, sep, n, rows, lines, errors, ends):
+    """Index of the first row that a stray quote made span several lines, or ``len(rows)``.
+
+    Such a row is malformed (its field count is wrong); or it is the last and
+    its lines hold an odd number of quotes (the quote runs to the end of the
+    file); or its first line and another of its lines are each a whole record
+    by themselves (a quote that the next stray quote closed, swallowing the
+    rows between). A field that legitimately holds a line break (a typed
+    answer) leaves its first line short of fields.
+    """
+    def whole(line):
+        fields = next(csv.reader([physical[line - 1].rstrip("\r\n")], delimiter=sep, quoting=csv.QUOTE_NONE), [])
+        return _fit(fields, n)[1] == ""
+
+    for i, (start, end) in enumerate(zip(lines, ends)):
+        if end > start and (errors[i] or (i == len(rows) - 1 and "".join(physical[start - 1 : end]).count('"') % 2)
+                            or (whole(start) and any(whole(k) for k in range(start + 1, end + 1)))):
+            return i
+    return len(rows)
 
 
 def _fit(row, n):

@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.io import describe_columns, plausible_header
+from stimuli.tables import describe_columns, plausible_header
 from stimuli.validate import as_number
 
 __all__ = [

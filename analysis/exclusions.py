@@ -13,7 +13,7 @@ p-value from the few left would mislead).
 from __future__ import annotations
 
 
-from stimuli.io import shorten
+from stimuli.tables import shorten
 
 __all__ = ["WARN_FRACTION", "match_stimulus_ids", "resolve_stimulus_ids", "exclusion_report"]
 

@@ -87,7 +87,8 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
         `out`.
     """
     from stimuli import __version__
-    from stimuli.io import atomic_write, write_table
+    from stimuli.io import atomic_write
+    from stimuli.tables import write_table
 
     out = Path(out)
     check_output_dir(out, force)
@@ -138,7 +139,8 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
 
 def _write_r_export(analysis, tmp, version):
     """points.csv, choices.csv (when small enough) and analysis.R; returns what was written."""
-    from stimuli.io import atomic_write, write_table
+    from stimuli.io import atomic_write
+    from stimuli.tables import write_table
 
     from .choice_table import MAX_CHOICE_ROWS, choices_table, points_table, r_script
 

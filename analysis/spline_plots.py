@@ -67,7 +67,7 @@ def load_bird30():
     clockwise on the screen)."""
     from importlib.resources import files
 
-    from stimuli.io import read_points
+    from stimuli.tables import read_points
 
     return read_points(files("stimuli") / "data" / "bird30.csv")
 

@@ -71,7 +71,7 @@ from analysis.mapping import predict
 from analysis.observers import simulate
 from analysis.analyze import analyze
 from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
-from stimuli.io import write_table
+from stimuli.tables import write_table
 
 
 def make_shapes(count, rng):

@@ -11,13 +11,13 @@ configs) are bounded by :data:`MAX_TEXT_BYTES`.
 from __future__ import annotations
 
 import contextlib
-import math
+import errno
 import os
 import re
+import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
 
 from stimuli.errors import InputError
 
@@ -25,14 +25,7 @@ __all__ = [
     "MAX_TEXT_BYTES",
     "replace_directory",
     "atomic_write",
-    "write_table",
     "check_regular_file",
-    "describe_columns",
-    "plausible_header",
-    "shorten",
-    "read_text_csv",
-    "read_table",
-    "read_points",
 ]
 
 #: Largest CSV or other text input read (bytes): 200 MB holds millions of
@@ -94,6 +87,10 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a directory; expected a file name to write")
+    kind = _special_kind(path)
+    if kind:
+        # the rename would put a regular file in place of /dev/null or a FIFO (as root, of a device)
+        raise InputError(f"{path}: is {kind}, not a regular file; expected a file name to write")
     try:
         fd, tmp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{path.name[:80]}",
                                    dir=path.parent)
@@ -115,6 +112,41 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
         raise
 
 
+#: errno values that mean the disk (full, over quota, failing), not the input: exit status 1
+DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EIO)
+
+
+def disk_error_exit(command, output, exc, note="the earlier file, if any, is untouched"):
+    """Say in one line that writing `output` failed for the disk's sake, and return exit status 1.
+
+    Any other `exc` is raised again: only a full, over-quota or failing disk
+    is neither the input's fault (exit 2) nor a bug (a traceback).
+
+    Parameters
+    ----------
+    command : str
+        The command's name, e.g. ``'surprisal'``.
+    output : str or Path
+        What was being written.
+    exc : OSError
+    note : str
+        What the user should know about the files (atomic writes leave none half-written).
+
+    Returns
+    -------
+    int
+        1.
+    """
+    if getattr(exc, "errno", None) not in DISK_ERRORS:
+        raise exc
+    where = f" ({exc.filename})" if exc.filename else ""
+    print(f"attneave {command}: error: {output}: {exc.strerror}{where}; {note}", file=sys.stderr)
+    return 1
+
+
+__all__ += ["DISK_ERRORS", "disk_error_exit"]
+
+
 def _read_umask():
     # os.umask can only be read by setting it; do it once, at import, not in threads
     mask = os.umask(0o022)
@@ -125,41 +157,24 @@ def _read_umask():
 _UMASK = _read_umask()
 
 
-def write_table(table, path, float_format="%.10g"):
-    """Write a mapping of columns or a DataFrame to CSV, atomically.
+def _kind(mode):
+    """What a file that is neither regular nor a directory is, for messages."""
+    import stat
 
-    Floats are written with 10 significant digits by default, enough for
-    sub-micro-pixel coordinates, and deterministic so that the same input
-    gives byte-identical files. NaN and None are written as empty fields.
-    A mapping of columns is written with the csv module (no pandas import:
-    commands that write one table start faster); a DataFrame with its own
-    ``to_csv``, with the same formatting.
-    """
-    if hasattr(table, "to_csv"):
-        with atomic_write(path, "w", newline="") as fh:
-            table.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
-        return
-    import csv
-
-    names = list(table)
-    columns = [_format_column(table[name], float_format) for name in names]
-    with atomic_write(path, "w", newline="") as fh:
-        writer = csv.writer(fh, lineterminator="\n")
-        writer.writerow(names)
-        writer.writerows(zip(*columns))
+    return ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
+            else "a block device" if stat.S_ISBLK(mode) else "a socket" if stat.S_ISSOCK(mode)
+            else "a special file")
 
 
-def _format_column(values, float_format):
-    """The text of every value of a column, as pandas' ``to_csv`` writes it."""
-    a = np.asarray(values)
-    if a.ndim == 0:
-        a = a.reshape(1)
-    if a.dtype.kind == "f":
-        return ["" if v != v else float_format % v for v in a.tolist()]
-    if a.dtype.kind in "iub":
-        return [str(v) for v in a.tolist()]
-    return ["" if v is None or (isinstance(v, float) and v != v) else
-            (float_format % v if isinstance(v, float) else str(v)) for v in a.tolist()]
+def _special_kind(path):
+    """:func:`_kind` of an existing `path` (links followed) that is not a regular file or directory, else ''."""
+    import stat
+
+    try:
+        mode = path.stat().st_mode
+    except OSError:  # missing (the usual case for an output), or unreachable: mkstemp will say
+        return ""
+    return "" if stat.S_ISREG(mode) or stat.S_ISDIR(mode) else _kind(mode)
 
 
 def check_regular_file(path, what="a file", max_bytes=None):
@@ -210,264 +225,13 @@ def check_regular_file(path, what="a file", max_bytes=None):
     if stat.S_ISDIR(mode):
         raise InputError(f"{path}: is a directory, expected {what}")
     if not stat.S_ISREG(mode):
-        kind = ("a FIFO (named pipe)" if stat.S_ISFIFO(mode) else "a character device" if stat.S_ISCHR(mode)
-                else "a block device" if stat.S_ISBLK(mode) else "a socket" if stat.S_ISSOCK(mode)
-                else "a special file")
-        raise InputError(f"{path}: is {kind}, not a regular file; expected {what}")
+        raise InputError(f"{path}: is {_kind(mode)}, not a regular file; expected {what}")
     if max_bytes is not None and st.st_size > max_bytes:
         raise InputError(f"{path}: {st.st_size / 1e6:,.0f} MB is larger than the limit of "
                          f"{max_bytes / 1e6:,.0f} MB for {what}")
     if not os.access(path, os.R_OK):
         raise InputError(f"{path}: cannot read (permission denied)")
     return path
-
-
-def shorten(text, limit=30):
-    """`text` as ``repr``, cut to about `limit` characters (for messages that quote a file).
-
-    Examples
-    --------
-    >>> shorten("x")
-    "'x'"
-    >>> shorten("a" * 40, limit=10)
-    "'aaaaaaaaa...'"
-    """
-    text = str(text)
-    return repr(text if len(text) <= limit else text[: limit - 1] + "...")
-
-
-# a column name as people write them: words, digits, spaces and a little punctuation;
-# anything else (':' of /etc/passwd, '$' of a password hash, binary) is not a header
-_HEADER_NAME = re.compile(r"^[\w .()\[\]/%#+*'-]{1,64}$")
-_OTHER_SEPARATORS = {";": "';'", "\t": "tab", "|": "'|'"}
-
-
-def plausible_header(columns):
-    """True when `columns` look like the column names of a CSV header.
-
-    Names as people write them (words, digits, spaces and ``. ( ) [ ] / % #
-    + * ' -``, at most 64 characters each); pandas' ``Unnamed: i`` for empty
-    fields is ignored. The first line of a password file, a binary file or
-    prose is not a header, and its text is not quoted in messages.
-
-    Examples
-    --------
-    >>> plausible_header(["participant", "mouse.x", "rt (ms)"]), plausible_header(["root:x:0:0"])
-    (True, False)
-    """
-    names = [str(c).strip() for c in columns if not re.fullmatch(r"Unnamed: \d+", str(c))]
-    return bool(names) and all(_HEADER_NAME.match(c) for c in names if c)
-
-
-def describe_columns(columns, limit=5):
-    """Name the columns found in a file, for a message about missing columns.
-
-    Quoting a file's first line in a message would echo the contents of any
-    file a user (or an attacker) points the program at, so the names are
-    given only when they look like a CSV header, and cut short: the first
-    `limit` names, each to 30 characters.
-
-    Parameters
-    ----------
-    columns : sequence of str
-        Column names as read.
-    limit : int
-        How many names to quote at most.
-
-    Returns
-    -------
-    str
-        E.g. ``"found 'a', 'b' (2 columns)"``, ``"found no columns"`` or a
-        sentence saying the first line is not a CSV header (naming the
-        separator it seems to use, if it is ';', tab or '|').
-
-    Examples
-    --------
-    >>> describe_columns(["participant", "x"])
-    "found 'participant', 'x' (2 columns)"
-    >>> describe_columns(["participant;stimulus_id;x;y"])
-    "found 1 column whose name holds ';': the file seems to use ';' as separator; expected commas"
-    >>> describe_columns(["root:x:0:0:root:/root:/bin/bash"])
-    'the first line is not a CSV header with comma-separated column names'
-    """
-    # pandas names an empty header field 'Unnamed: 3' (a trailing comma, as PsychoPy writes)
-    names = [str(c) for c in columns if not re.fullmatch(r"Unnamed: \d+", str(c))]
-    if not names:
-        return "found no columns"
-    if len(names) == 1:
-        for sep, name in _OTHER_SEPARATORS.items():
-            if sep in names[0] and all(_HEADER_NAME.match(p.strip() or "_") for p in names[0].split(sep)):
-                return (f"found 1 column whose name holds {name}: the file seems to use {name} as separator; "
-                        "expected commas")
-    if not plausible_header(names):
-        return "the first line is not a CSV header with comma-separated column names"
-    shown = ", ".join(shorten(c) for c in names[:limit]) + (", ..." if len(names) > limit else "")
-    return f"found {shown} ({len(names)} column{'s' if len(names) != 1 else ''})"
-
-
-def read_text_csv(path, what="a CSV file", empty="expected a header"):
-    """Read a CSV file as text, with the physical line of each row.
-
-    Every value is a ``str`` as written (leading spaces skipped). Unlike a bare
-    :func:`pandas.read_csv`, a data row with more fields than the header is
-    never read shifted (pandas would take its first field as an index):
-    empty extra fields (a delimiter at the end of every row, as some
-    exporters write) are ignored, and a non-empty one is an error naming the
-    line. A row with fewer fields than the header is padded with empty
-    values. Blank lines are not rows; a row of empty fields is.
-
-    Parameters
-    ----------
-    path : Path
-    what : str
-        What the file should be (for messages).
-    empty : str
-        What an empty file lacks (for messages).
-
-    Returns
-    -------
-    df : pandas.DataFrame
-        Columns as in the header (stripped), one row per non-blank record.
-    lines : (M,) ndarray of int
-        Line of the file on which each row starts (the header is line 1).
-
-    Raises
-    ------
-    InputError
-        Missing, a directory or other non-regular file, larger than
-        :data:`MAX_TEXT_BYTES`, empty, not UTF-8 text, not parseable, or a row
-        with values beyond the header.
-    """
-    import pandas as pd
-
-    header, rows, lines = _read_records(path, what, empty)
-    df = pd.DataFrame(rows, columns=header, dtype=str) if rows else pd.DataFrame(columns=header, dtype=str)
-    return df, np.asarray(lines, dtype=np.int64)
-
-
-def _read_records(path, what, empty):
-    """``(header, rows, lines)`` of a CSV file, read with the csv module.
-
-    The one CSV parser behind :func:`read_text_csv` and :func:`read_points`
-    (pandas only wraps its result), so that reading a contour file costs no
-    pandas import.
-    """
-    import csv
-
-    path = check_regular_file(path, what, max_bytes=MAX_TEXT_BYTES)
-    header, rows, lines = None, [], []
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            reader = csv.reader(fh, skipinitialspace=True, strict=True)
-            end = 0
-            for record in reader:
-                start, end = end + 1, reader.line_num
-                if not record:
-                    continue  # a blank line
-                if header is None:
-                    header = [c.strip() for c in record]
-                    continue
-                rows.append(_fit_record(path, record, len(header), start))
-                lines.append(start)
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such file") from None
-    except IsADirectoryError:
-        raise InputError(f"{path}: is a directory, expected {what}") from None
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{path}: not a readable CSV file (not UTF-8 text: {exc.reason})") from None
-    except csv.Error as exc:
-        raise InputError(f"{path}: not a readable CSV file ({exc})") from None
-    except OSError as exc:  # no permission, ...
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    if header is None:
-        raise InputError(f"{path}: empty file ({empty})")
-    return header, rows, lines
-
-
-def _fit_record(path, record, n, line):
-    """A record cut or padded to the header's `n` fields; non-empty extras are an error."""
-    if len(record) > n:
-        if any(v.strip() for v in record[n:]):
-            extra = ", ".join(shorten(v) for v in record[n:][:3]) + (", ..." if len(record) - n > 3 else "")
-            raise InputError(f"{path}: line {line}: {len(record)} fields but the header has {n} "
-                             f"(extra value(s) {extra}); add a column name to the header or remove them")
-        return record[:n]
-    return record + [""] * (n - len(record))
-
-
-def read_table(path, required=(), numeric=()):
-    """Read a CSV file, checking that it has the columns it needs.
-
-    Parameters
-    ----------
-    path : str or Path
-        The CSV file.
-    required : sequence of str
-        Columns that must be present.
-    numeric : sequence of str
-        Columns whose every value must be a finite number.
-
-    Returns
-    -------
-    pandas.DataFrame
-        With `numeric` columns converted to float.
-
-    Raises
-    ------
-    InputError
-        One line naming the file and, where it applies, the column and the
-        line number (the header is line 1).
-    """
-    import pandas as pd
-
-    path = Path(path)
-    df, lines = read_text_csv(path)
-    missing = [c for c in required if c not in df.columns]
-    if missing:
-        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(df.columns)}")
-    for col in numeric:
-        values = pd.to_numeric(df[col], errors="coerce")
-        bad = ~np.isfinite(values.to_numpy(dtype=float))
-        if bad.any():
-            i = int(np.flatnonzero(bad)[0])
-            raise InputError(
-                f"{path}: line {lines[i]}: column {col!r} must be a finite number, got {shorten(df[col].iloc[i])}"
-            )
-        df[col] = values.astype(float)
-    return df
-
-
-def read_points(path, columns=("x", "y")):
-    """Read an (N, 2) array of points from a CSV file with columns `x`, `y`.
-
-    Points are ``(x, y)`` in image pixels (x = column, y = row, y down).
-
-    Raises
-    ------
-    InputError
-        As :func:`read_table`: a missing column, a value that is not a finite
-        number (naming its line), or no rows.
-    """
-    path = Path(path)
-    header, rows, lines = _read_records(path, "a CSV file", "expected a header")
-    missing = [c for c in columns if c not in header]
-    if missing:
-        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(header)}")
-    if not rows:
-        raise InputError(f"{path}: no rows")
-    out = np.empty((len(rows), len(columns)))
-    for j, name in enumerate(columns):
-        c = header.index(name)
-        for i, row in enumerate(rows):
-            try:
-                v = float(row[c])
-            except ValueError:
-                v = math.nan
-            if not math.isfinite(v):
-                raise InputError(f"{path}: line {lines[i]}: column {name!r} must be a finite number, "
-                                 f"got {shorten(row[c])}")
-            out[i, j] = v
-    return out
 
 
 def replace_directory(tmp, out):

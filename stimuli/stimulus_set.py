@@ -43,7 +43,7 @@ import numpy as np
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
 
-from stimuli.io import describe_columns, read_text_csv
+from stimuli.tables import describe_columns, read_text_csv
 
 __all__ = [
     "StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS",

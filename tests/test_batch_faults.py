@@ -304,3 +304,19 @@ def test_5_the_lock_dies_with_its_holder_not_with_its_forked_workers(tmp_path):
             pass
     finally:
         os.kill(child, signal.SIGKILL)
+
+
+def test_review_an_images_link_leading_outside_is_refused_before_writing(small, tmp_path, capsys):
+    # the set's PNGs were written through the link into another directory, and the set then
+    # written was refused by 'analyze' (its paths lead outside the set)
+    cfg, _ = small
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "holiday.png").write_bytes(b"my photo")
+    dest = tmp_path / "set"
+    dest.mkdir()
+    (dest / "images").symlink_to(elsewhere)
+    assert cli(["generate", str(cfg), "-o", str(dest), "--force", "--no-progress"]) == 2
+    err = _one_line(capsys)
+    assert "images: leads outside the output directory" in err
+    assert sorted(p.name for p in elsewhere.iterdir()) == ["holiday.png"]

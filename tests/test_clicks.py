@@ -256,9 +256,9 @@ def test_malformed_rows_and_unclosed_quotes_are_flagged_not_fatal(tmp_path):
     f = tmp_path / "c.csv"
     f.write_text('participant,stimulus_id,x,y\nP1,a,1,2\nP1,a,3\nP1,a,5,6\nP1,"a,7,8\nP1,a,9,10\n')
     df = read_clicks(f)
-    assert df["line"].tolist() == [2, 3, 4, 5]
-    assert df["row_error"].tolist() == ["", "3 fields, the header has 4", "", df["row_error"].iloc[3]]
-    assert "never closed (lines 5-6" in df["row_error"].iloc[3]
+    assert df["line"].tolist() == [2, 3, 4, 5, 6]  # the line after the open quote is a row of its own
+    assert df["row_error"].tolist() == ["", "3 fields, the header has 4", "", df["row_error"].iloc[3], ""]
+    assert "quote opened on line 5 is never closed" in df["row_error"].iloc[3]
 
 
 def test_utf16_file_as_excel_writes_unicode_text(tmp_path):

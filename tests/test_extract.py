@@ -412,7 +412,7 @@ def test_cli_failures_reported_and_others_written(tmp_path):
     import pandas as pd
 
     from analysis.cli import main
-    from stimuli.io import read_points
+    from stimuli.tables import read_points
 
     _write_inputs(tmp_path)
     out = tmp_path / "out"

@@ -61,21 +61,31 @@ def _square_csv(path, side=100.0, offset=0.0):
 
 
 # --------------------------------------------------------------------------- item 4
-def test_item4_special_files_are_refused_not_read(tmp_path, stimset, capsys):
-    # a FIFO blocked the reader forever; a writer opened after 5 s keeps the old code from
-    # hanging the suite (it then failed on the empty file instead of naming the FIFO)
-    fifo = tmp_path / "pipe.csv"
-    os.mkfifo(fifo)
+def _unblock(fifo, every=5):
+    """Open `fifo` for writing every `every` s until the returned event is set.
+
+    A reader blocked on the FIFO (the old code) then sees an empty file and
+    fails differently instead of hanging the suite.
+    """
     done = threading.Event()
 
     def unblock():
-        while not done.wait(5):
+        while not done.wait(every):
             try:
                 os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
             except OSError:
                 pass
 
     threading.Thread(target=unblock, daemon=True).start()
+    return done
+
+
+def test_item4_special_files_are_refused_not_read(tmp_path, stimset, capsys):
+    # a FIFO blocked the reader forever; a writer opened after 5 s keeps the old code from
+    # hanging the suite (it then failed on the empty file instead of naming the FIFO)
+    fifo = tmp_path / "pipe.csv"
+    os.mkfifo(fifo)
+    done = _unblock(fifo)
     try:
         code, err = _cli(["surprisal", fifo, "-o", tmp_path / "o.csv"], capsys)
         _one_line_error(code, err)
@@ -298,3 +308,138 @@ def test_item9_analyze_size_and_scale_arguments_are_bounded(tmp_path, capsys, st
     code, err = _cli(["analyze", clicks, "--stimuli", stimset, "-o", out, "--no-figures", flag, value], capsys)
     _one_line_error(code, err)
     assert needle in err and not out.exists()
+
+
+# --- found by the independent hostile-user check (after the items above were fixed) ---
+
+
+def test_review_an_output_that_is_a_fifo_or_device_is_refused_not_replaced(tmp_path, capsys):
+    # atomic_write's rename used to put a regular file in place of the FIFO
+    # (and, run as root, in place of /dev/full: the device was destroyed)
+    contour = _square_csv(tmp_path / "square.csv")
+    fifo = tmp_path / "out.fifo"
+    os.mkfifo(fifo)
+    code, err = _cli(["surprisal", contour, "-o", fifo], capsys)
+    _one_line_error(code, err)
+    assert "out.fifo: is a FIFO" in err and "file name to write" in err
+    assert fifo.is_fifo()
+    link = tmp_path / "null.csv"
+    link.symlink_to(os.devnull)
+    code, err = _cli(["surprisal", contour, "-o", link], capsys)
+    _one_line_error(code, err)
+    assert Path(os.devnull).is_char_device() and link.is_symlink()
+
+
+def test_review_a_semicolon_contour_file_is_named_as_such(tmp_path, capsys):
+    path = tmp_path / "euro.csv"
+    path.write_text("x;y\n0,5;0\n100;0,5\n100;100\n0;100\n")  # decimal commas, as a European locale saves
+    code, err = _cli(["surprisal", path, "-o", tmp_path / "o.csv"], capsys)
+    _one_line_error(code, err)
+    assert "euro.csv" in err and "';' as separator" in err
+
+
+def _never(*args, **kwargs):
+    raise AssertionError("the simulation was reached with an option that should have been refused")
+
+
+@pytest.mark.parametrize("command, args, named", [
+    ("simulate", ["--participants", "100000000", "--clicks", "1", "--beta", "1"], "2,000,000"),
+    ("simulate", ["--participants", "1", "--clicks", "100000000", "--beta", "1"], "--clicks 100000000"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1e308"], "--beta"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "--seed", "-1"], "--seed"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "--noise", "1e308"], "--noise"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "--beta-sd", "1e308"], "--beta-sd"),
+    ("simulate", ["--participants", "2", "--clicks", "2", "--beta", "1", "-n", "100000000"], "-n"),
+    ("power", ["--beta", "1", "--participants", "100000000"], "2,000,000"),
+    ("power", ["--beta", "1", "--participants", "4", "--simulations", "1000000000"], "--simulations"),
+    ("power", ["--beta", "1", "--participants", "4", "--group-simulations", "1000000000"], "--group-simulations"),
+    ("power", ["--beta", "1", "--participants", "4", "--target", "1e308"], "--target"),
+    ("power", ["--beta", "1", "--participants", "4", "--seed", "-1"], "--seed"),
+])
+def test_review_simulate_and_power_sizes_and_effects_are_bounded(tmp_path, stimset, capsys, monkeypatch,
+                                                                    command, args, named):
+    # each of these was a MemoryError, an overflow warning or a numpy ValueError traceback
+    for name in ("analysis.mapping.predict", "analysis.observers.simulate", "analysis.observers.power"):
+        monkeypatch.setattr(name, _never)  # refused before any work (the old code allocated there)
+    out = ["-o", tmp_path / "sim.csv"] if command == "simulate" else []
+    out += ["--seed", "1"] if command == "simulate" and "--seed" not in args else []
+    code, err = _cli([command, "--stimuli", stimset, *out, *args], capsys)
+    _one_line_error(code, err)
+    assert named in err, err
+
+
+def test_review_a_stray_quote_does_not_swallow_the_rows_after_it(tmp_path):
+    # a quote left open made every later line one field of its row: 60 clicks read as 5, exit 0
+    from analysis.clicks import read_clicks
+
+    f = tmp_path / "clicks.csv"
+    f.write_text('participant,stimulus_id,x,y,comment\n'
+                 'P1,a,1,2,"fine,\nthanks"\n'          # a typed answer with a line break: one row
+                 'P1,"a,3,4,\n' 'P1,a,5,6,\n'          # a stray quote ...
+                 'P1,"a,7,8,\n'                        # ... closed by the next stray quote
+                 + "".join(f"P2,a,{i},{i},\n" for i in range(10, 15))
+                 + 'P2,a,20,21,"oops\n' 'P2,a,22,23,\n' 'P2,a,24,25,\n')  # open to the end of the file
+    df = read_clicks(f)
+    assert df["line"].tolist() == [2, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14]
+    assert df["x"].tolist()[2] == "5" and df["x"].tolist()[-2:] == ["22", "24"]
+    bad = df.loc[df["row_error"] != "", "line"].tolist()
+    assert bad == [4, 6, 12] and df["row_error"].iloc[1] == "a quote opened on line 4 is never closed"
+    assert df["comment"].iloc[0] == "fine,\nthanks"
+
+
+@pytest.mark.parametrize("command", ["surprisal", "simulate"])
+def test_review_a_full_disk_is_one_line_exit_1_for_every_writer(tmp_path, stimset, capsys, monkeypatch, command):
+    # generate said it in one line; surprisal and simulate gave an OSError traceback
+    import errno
+
+    def full(table, path, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
+
+    monkeypatch.setattr("stimuli.tables.write_table", full)
+    out = tmp_path / "out.csv"
+    argv = {"surprisal": ["surprisal", _square_csv(tmp_path / "sq.csv"), "-o", out],
+            "simulate": ["simulate", "--stimuli", stimset, "-o", out, "--participants", "2", "--clicks", "2",
+                         "--beta", "1", "--seed", "1"]}[command]
+    code, err = _cli(argv, capsys)
+    _one_line_error(code, err, status=1)
+    assert "No space left on device" in err and "out.csv" in err
+
+
+def test_review_experiment_configs_and_sizes_are_bounded(tmp_path, stimset, capsys):
+    # a FIFO as --config (of experiment, and of generate) blocked open() forever; an alias bomb
+    # was expanded; --lists 1e9 was a MemoryError; --clicks 1e9 and --size-px 1e308 were accepted
+    fifo = tmp_path / "exp.yaml"
+    os.mkfifo(fifo)
+    done = _unblock(fifo)
+    try:
+        for argv in (["experiment", stimset, "-o", tmp_path / "e1", "--config", fifo],
+                     ["generate", fifo, "-o", tmp_path / "g"]):
+            code, err = _cli(argv, capsys)
+            _one_line_error(code, err)
+            assert "exp.yaml: is a FIFO" in err
+    finally:
+        done.set()
+    bomb = tmp_path / "bomb.yaml"
+    bomb.write_text("a: &a [1,1,1,1,1,1,1,1,1,1]\n" + "".join(
+        f"a{i}: &a{i} [{','.join([f'*a{i - 1}' if i > 1 else '*a'] * 10)}]\n" for i in range(1, 9)))
+    code, err = _cli(["experiment", stimset, "-o", tmp_path / "e2", "--config", bomb], capsys)
+    _one_line_error(code, err)
+    assert "aliases are expanded" in err
+    for option, value in (("--lists", "1000000000"), ("--clicks", "1000000000"), ("--size-px", "1e308")):
+        code, err = _cli(["experiment", stimset, "-o", tmp_path / "e3", option, value], capsys)
+        _one_line_error(code, err)
+        assert option in err
+    assert not any((tmp_path / name).exists() for name in ("e1", "e2", "e3", "g"))
+
+
+@pytest.mark.parametrize("spacing, closed", [("1e308", True), ("159", True), ("199", False)])
+def test_review_a_spacing_giving_fewer_than_3_points_names_the_option(tmp_path, capsys, spacing, closed):
+    # was "resampling needs n >= 3 points, got 0": no word of --spacing; a square of side 100 has
+    # L = 400 closed (3 points need L/ds >= 2.5: ds < 160) and 300 open (L/ds >= 1.5: ds < 200)
+    argv = ["surprisal", _square_csv(tmp_path / "sq.csv"), "-o", tmp_path / "o.csv", "--spacing", spacing]
+    code, err = _cli(argv + ([] if closed else ["--open"]), capsys)
+    if spacing != "1e308":  # in range: a spacing just inside the bound works
+        assert code == 0, err
+        return
+    _one_line_error(code, err)
+    assert "--spacing" in err and "fewer than 3 points" in err and "below 160 px" in err

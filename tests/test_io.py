@@ -5,7 +5,8 @@ import pytest
 
 from analysis.cli import main
 from stimuli import Contour, InputError
-from stimuli.io import atomic_write, read_points, read_table
+from stimuli.io import atomic_write
+from stimuli.tables import read_points, read_table
 
 
 def _ellipse_csv(path):

@@ -2,7 +2,12 @@
 
 from __future__ import annotations
 
-from analysis.commands.simulate import add_effect_arguments
+from analysis.commands.simulate import add_effect_arguments, check_design
+
+#: Most simulated experiments per design and Monte Carlo replicates of the null: each is a
+#: float per replicate held at once, and beyond these the p-value's resolution gains nothing.
+MAX_SIMULATIONS = 100_000
+MAX_GROUP_SIMULATIONS = 1_000_000
 
 
 def _int_list(text):
@@ -56,7 +61,9 @@ def run(args):
     from analysis.mapping import predict
     from analysis.observers import power
     from stimuli.stimulus_set import read_stimulus_set
-    from stimuli.io import write_table
+    from stimuli.io import disk_error_exit
+    from stimuli.tables import write_table
+    from stimuli.validate import as_int, as_number
 
     if args.output:
         # found before minutes of simulation, not after
@@ -70,6 +77,10 @@ def run(args):
         if not out.parent.is_dir():
             raise InputError(f"{out}: cannot write there (no directory {out.parent})")
     stimset = read_stimulus_set(args.stimuli)
+    check_design(len(stimset), max(args.participants), args.clicks, args)
+    as_int(args.simulations, "--simulations", lo=1, hi=MAX_SIMULATIONS)
+    as_int(args.group_simulations, "--group-simulations", lo=1, hi=MAX_GROUP_SIMULATIONS)
+    as_number(args.target, "--target", gt=0, le=1)
     pred = predict(stimset, n=args.n, model=args.model)
     eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
                          top_share=args.top_share)
@@ -77,7 +88,10 @@ def run(args):
                         simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
                         beta_sd=args.beta_sd, target=args.target, group_simulations=args.group_simulations)
     if args.output:
-        write_table(table, args.output)
+        try:
+            write_table(table, args.output)
+        except OSError as exc:  # a full disk: one line, exit 1
+            return disk_error_exit('power', args.output, exc)
     print(f"beta = {info['beta']:.4g} (expected top share {eff['top_share']:.3f}, chance {eff['chance_share']:g}, "
           f"lift {eff['lift']:.2f}), {info['stimuli']} stimuli x {info['clicks']} clicks, alpha = {info['alpha']:g}, "
           f"{info['simulations']} simulations per design")

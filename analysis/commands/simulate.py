@@ -3,6 +3,53 @@
 from __future__ import annotations
 
 
+#: Most clicks one simulated experiment may hold (participants x stimuli x clicks): twice the
+#: 1,000,000 that 'attneave analyze' is built to handle; beyond it memory runs out (~100 B a click).
+MAX_CLICKS = 2_000_000
+#: Largest |beta| and beta sd: exp(beta*z) at |z| ~ 10 stays finite, and 50 already puts every
+#: click on the single most surprising point (the bound --top-share is solved within).
+MAX_BETA = 50.0
+#: Most points per contour in the choice model: far below a pixel's spacing on any stimulus
+#: (a perimeter of 100,000 px); the rival predictors' tables grow as n x peaks.
+MAX_MODEL_POINTS = 100_000
+#: Largest click noise in pixels (the bound on --scale's image sizes); more only overflows.
+MAX_NOISE_PX = 1e6
+
+
+def check_design(n_stimuli, participants, clicks, args):
+    """Check the size and effect options shared by 'simulate' and 'power' before any work.
+
+    Parameters
+    ----------
+    n_stimuli : int
+        Stimuli in the set.
+    participants, clicks : int
+        The largest number of participants and the clicks per participant per stimulus.
+    args : argparse.Namespace
+        With ``n``, ``seed``, ``beta``, ``beta_sd`` and ``noise``.
+
+    Raises
+    ------
+    InputError
+        One line naming the option and its bound.
+    """
+    from stimuli.errors import InputError
+    from stimuli.validate import as_int, as_number
+
+    as_int(args.n, "-n", lo=3, hi=MAX_MODEL_POINTS)
+    as_int(args.seed, "--seed", lo=0)
+    if args.beta is not None:
+        as_number(args.beta, "--beta", ge=-MAX_BETA, le=MAX_BETA)
+    as_number(args.beta_sd, "--beta-sd", ge=0, le=MAX_BETA)
+    as_number(args.noise, "--noise", ge=0, le=MAX_NOISE_PX)
+    as_int(participants, "--participants", lo=1)
+    as_int(clicks, "--clicks", lo=1)
+    total = participants * clicks * max(n_stimuli, 1)
+    if total > MAX_CLICKS:
+        raise InputError(f"--participants {participants} x {n_stimuli} stimuli x --clicks {clicks} = {total:,} "
+                         f"clicks; at most {MAX_CLICKS:,} per experiment")
+
+
 def add_effect_arguments(p):
     """The effect, in one of three units (shared with 'attneave power')."""
     g = p.add_mutually_exclusive_group(required=True)
@@ -52,15 +99,20 @@ def run(args):
     from analysis.mapping import predict
     from analysis.observers import simulate
     from stimuli.stimulus_set import read_stimulus_set
-    from stimuli.io import write_table
+    from stimuli.io import disk_error_exit
+    from stimuli.tables import write_table
 
     stimset = read_stimulus_set(args.stimuli)
+    check_design(len(stimset), args.participants, args.clicks, args)
     pred = predict(stimset, n=args.n, model=args.model)
     eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
                          top_share=args.top_share)
     df, params = simulate(pred, args.participants, args.clicks, eff["beta"], args.seed, noise=args.noise,
                           beta_sd=args.beta_sd, coords=args.coords, scale=args.scale)
-    write_table(df, args.output, float_format="%.17g")
+    try:
+        write_table(df, args.output, float_format="%.17g")
+    except OSError as exc:  # a full disk: one line, exit 1
+        return disk_error_exit('simulate', args.output, exc)
     print(f"{len(df)} clicks ({params['participants']} participants x {params['stimuli']} stimuli x "
           f"{params['clicks']} clicks, beta = {params['beta']:.4g}, expected top share {eff['top_share']:.3f} "
           f"(chance {eff['chance_share']:g}, lift {eff['lift']:.2f}), seed = {params['seed']}) -> {args.output}")

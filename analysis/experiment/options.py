@@ -20,6 +20,11 @@ from stimuli.errors import InputError
 __all__ = ["ExperimentOptions", "load_options", "DEFAULT_INSTRUCTIONS", "DEFAULT_SIZE_DEG"]
 
 DEFAULT_SIZE_DEG = 10.0
+#: Bounds that keep a page usable and its build small: clicks a trial may ask for, counterbalanced
+#: lists (each is a list of every trial), and an image side in CSS pixels (the largest canvas).
+MAX_CLICKS = 1000
+MAX_LISTS = 1000
+MAX_SIZE_PX = 16384.0
 
 # The task of Attneave (1954) and Norman et al. (2001), in words a participant reads.
 DEFAULT_INSTRUCTIONS = (
@@ -119,18 +124,18 @@ class ExperimentOptions(BaseModel):
     end_text: str = "Thank you! The experiment is over."
     practice: Union[int, list[str]] = 0
     clicks: Union[int, Literal["done"]] = 5
-    min_clicks: int = 1
-    max_clicks: Optional[int] = None
+    min_clicks: int = Field(default=1, le=MAX_CLICKS)
+    max_clicks: Optional[int] = Field(default=None, le=MAX_CLICKS)
     undo: bool = True
     order: Literal["random", "blocked", "fixed"] = "random"
     seed: str = ""
     conditions: Optional[list[str]] = None
-    lists: int = 1
+    lists: int = Field(default=1, le=MAX_LISTS)
     fixation_ms: int = 500
     iti_ms: int = 300
     break_every: int = 0
     size_deg: Optional[float] = Field(default=None, gt=0, le=90)
-    size_px: Optional[float] = Field(default=None, gt=0)
+    size_px: Optional[float] = Field(default=None, gt=0, le=MAX_SIZE_PX)
     px_per_deg: Optional[float] = Field(default=None, gt=0)
     viewing_distance_cm: float = Field(default=57.0, gt=0)
     background: Union[str, float] = "auto"
@@ -154,9 +159,12 @@ class ExperimentOptions(BaseModel):
         if isinstance(v, str) and v.strip().lower() == "done":
             return "done"
         try:
-            return _whole(v, "clicks", 1)
+            k = _whole(v, "clicks", 1)
         except ValueError:
             raise ValueError(f"expected a whole number >= 1 or 'done', got {v!r}") from None
+        if k > MAX_CLICKS:
+            raise ValueError(f"at most {MAX_CLICKS} clicks per trial, got {k}")
+        return k
 
     @field_validator("min_clicks", "lists", mode="before")
     @classmethod
@@ -249,20 +257,13 @@ def _yaml_lines(text):
 
 
 def _read_yaml(path):
-    import yaml
+    # the batch config's bounded reader: a FIFO, a device, a huge file, deep nesting or an
+    # alias bomb ("billion laughs") is refused in one line instead of hanging or exhausting memory
+    from stimuli.batch.config_file import parse_yaml, read_text
 
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" line {mark.line + 1}" if mark is not None else ""
-        problem = getattr(exc, "problem", None) or "not valid YAML"
-        raise InputError(f"{path}:{where}: {problem}") from None
+    text = read_text(path)
+    data = parse_yaml(text, path)[1]
     if data is None:
         data = {}
     if not isinstance(data, dict):

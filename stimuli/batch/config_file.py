@@ -13,6 +13,7 @@ import os
 import stat
 
 from stimuli.errors import InputError
+from stimuli.io import check_regular_file
 from stimuli.stimulus_set import to_jsonable
 
 __all__ = ["MAX_CONFIG_BYTES", "MAX_DEPTH", "MAX_NODES", "read_text", "parse_yaml", "yaml_line", "dumper", "resolved_text"]
@@ -24,6 +25,8 @@ MAX_NODES = 1_000_000  # YAML values counted with aliases expanded (a "billion l
 
 def read_text(path):
     """The config's text; a FIFO, a device or a file over MAX_CONFIG_BYTES is refused unread."""
+    # checked before open(): opening a FIFO for reading blocks until someone writes to it
+    check_regular_file(path, "a YAML config file")
     try:
         with open(path, "rb") as fh:
             info = os.fstat(fh.fileno())

@@ -116,6 +116,25 @@ def inspect(out, batch):
     return "fresh"
 
 
+def check_inside(out):
+    """Refuse an ``images/``, ``contours/`` or journal directory that is a link leading outside `out`.
+
+    The set's files would be written elsewhere, and the set read back would be
+    refused (:func:`stimuli.stimulus_set.inside`): say so before writing anything.
+
+    Raises
+    ------
+    InputError
+        Naming the directory and where it leads.
+    """
+    root = Path(os.path.realpath(out))
+    for sub in ("images", "contours", ROWS_DIR):
+        full = Path(os.path.realpath(out / sub))
+        if full.parent != root:
+            raise InputError(f"{out / sub}: leads outside the output directory (to {full}); the set's files must "
+                             "be inside it: remove the link or choose another directory")
+
+
 def remove_previous(out):
     """Delete an earlier batch: the files its manifest and journals list, then its own files.
 

@@ -37,7 +37,6 @@ How that is kept
 from __future__ import annotations
 
 import contextlib
-import errno
 import os
 import shutil
 import time
@@ -49,13 +48,12 @@ from stimuli.batch.config import ResolvedBatch, load_config
 from stimuli.batch.execution import execute
 from stimuli.batch.job import ROWS_DIR, plan_jobs
 from stimuli.errors import InputError
-from stimuli.io import atomic_write
+from stimuli.io import DISK_ERRORS, atomic_write
 from stimuli.stimulus_set import write_manifest
 
 __all__ = ["BatchResult", "run_batch", "DISK_ERRORS"]
 
 # errors of the disk rather than of the input: the batch stops, keeps what is complete, exit 1
-DISK_ERRORS = (errno.ENOSPC, errno.EDQUOT, errno.EIO)
 
 
 @dataclass
@@ -153,6 +151,7 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
 
 def _run_locked(batch, out, workers, scheduler, resume, force, progress):
     """The batch, once this process holds the directory: (stimuli, jobs, jobs run)."""
+    outdir.check_inside(out)
     state = outdir.inspect(out, batch)
     if state in ("other", "unknown") and not force:
         what = ("was made by another config (or another attneave version)" if state == "other"

@@ -157,7 +157,7 @@ def run(args):
     from pathlib import Path
 
     from stimuli.errors import InputError
-    from stimuli.io import write_table
+    from stimuli.tables import write_table
 
     out = Path(args.output)
     if not out.parent.is_dir():

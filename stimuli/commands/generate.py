@@ -37,7 +37,8 @@ def run(args):
     import sys
 
     from stimuli.batch.config import load_config
-    from stimuli.batch.runner import DISK_ERRORS, run_batch
+    from stimuli.batch.runner import run_batch
+    from stimuli.io import disk_error_exit
     from stimuli.errors import InputError
 
     if args.workers < 1:
@@ -60,13 +61,9 @@ def run(args):
             force=args.force, progress=False if args.no_progress else None,
         )
     except OSError as exc:
-        if exc.errno not in DISK_ERRORS:
-            raise
         # the disk, not the input: exit 1; every file in place is complete, the rerun completes the set
-        where = f" ({exc.filename})" if exc.filename else ""
-        print(f"attneave generate: error: {args.output}: {exc.strerror}{where}; the files written so far are "
-              f"complete: free space and run the same command again to finish the set", file=sys.stderr)
-        return 1
+        return disk_error_exit("generate", args.output, exc, "the files written so far are complete: free space "
+                                                               "and run the same command again to finish the set")
     skipped = res.n_jobs - res.n_run
     note = f" ({skipped} already complete)" if skipped else ""
     print(f"attneave generate: {res.n_stimuli} stimuli from {res.n_jobs} recipe calls in {res.directory}"

@@ -164,7 +164,8 @@ def run(args):
     from stimuli.commands.counts import MAX_ROWS
     from stimuli.curves.splines import fit_spline
     from stimuli.errors import InputError
-    from stimuli.io import atomic_write, read_points, write_table
+    from stimuli.io import atomic_write
+    from stimuli.tables import read_points, write_table
 
     closed = not args.open
     P = read_points(args.points)

@@ -43,7 +43,8 @@ def add_parser(sub):
 def run(args):
     from stimuli.geometry.contour import Contour
     from stimuli.geometry.information import surprisal
-    from stimuli.io import write_table
+    from stimuli.io import disk_error_exit
+    from stimuli.tables import write_table
 
     c = Contour.from_csv(args.contour, closed=not args.open)
     _check_size(args, c)
@@ -52,7 +53,10 @@ def run(args):
         prominence=args.prominence, **({} if args.length_unit is None else {"length_unit": args.length_unit}),
     )
     _check_finite(r)
-    write_table(r.table(), args.output, float_format="%.17g")
+    try:
+        write_table(r.table(), args.output, float_format="%.17g")
+    except OSError as exc:  # a full disk: one line, exit 1
+        return disk_error_exit('surprisal', args.output, exc)
     return 0
 
 
@@ -69,6 +73,10 @@ def _check_size(args, contour):
         if n > MAX_POINTS:
             raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
                              f"n = {n:.3g} points; n <= {MAX_POINTS:,} (use a larger spacing)")
+        least = 1.5 if args.open else 2.5  # round(n) (+ 1, the end point of an open contour) >= 3
+        if n < least:
+            raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
+                             f"fewer than 3 points (use a spacing below {contour.perimeter / least:.6g} px)")
 
 
 def _check_finite(result):

@@ -121,7 +121,7 @@ class Curve:
         return np.column_stack([self.x, self.y])
 
     def table(self):
-        """Columns ``s, x, y, theta, curvature`` as a dict (for :func:`stimuli.io.write_table`)."""
+        """Columns ``s, x, y, theta, curvature`` as a dict (for :func:`stimuli.tables.write_table`)."""
         return {k: np.asarray(getattr(self, k)) for k in ("s", "x", "y", "theta", "curvature")}
 
 

@@ -61,7 +61,7 @@ def read_boxes(path, images, objects="largest"):
     """
     from stimuli.extraction.grabcut import check_box
     from stimuli.extraction.imageio import header_size
-    from stimuli.io import read_table
+    from stimuli.tables import read_table
 
     df = read_table(path, required=("image", "x", "y", "width", "height"), numeric=("x", "y", "width", "height"))
     match = _matcher(images)

@@ -127,7 +127,7 @@ def extract_images(images, output, workers=1, progress=None, **options):
     """
     from tqdm import tqdm
 
-    from stimuli.io import write_table
+    from stimuli.tables import write_table
 
     unknown = set(options) - set(DEFAULTS)
     if unknown:
@@ -289,7 +289,7 @@ def _analyse(image, stem, opts):
 
 
 def _table_writer(table, float_format="%.17g"):
-    from stimuli.io import write_table
+    from stimuli.tables import write_table
 
     return lambda path: write_table(table, path, float_format=float_format)
 

@@ -430,14 +430,14 @@ class Contour:
             Missing columns, non-numeric or NaN values (naming the line), or
             fewer than 3 distinct points.
         """
-        from stimuli.io import read_points
+        from stimuli.tables import read_points
 
         kwargs.setdefault("name", str(path))
         return cls(read_points(path), closed, **kwargs)
 
     def to_csv(self, path):
         """Write columns ``x, y`` to `path` atomically, in stored order."""
-        from stimuli.io import write_table
+        from stimuli.tables import write_table
 
         write_table({"x": self._points[:, 0], "y": self._points[:, 1]}, path)
 
