@@ -7,8 +7,9 @@ about people (figures, analyze, simulate, power, experiment). Each command modul
 assembles them. Heavy imports happen inside ``run`` so that ``attneave
 --help`` stays fast.
 
-Exit status: 0 on success, 1 when a batch finished but some items failed,
-2 on bad input (one line on stderr, no traceback), 130 on Ctrl-C.
+Exit status: 0 on success, 1 when a batch finished but some items failed or
+the disk was full, 2 on bad input (one line on stderr, no traceback), 130 on
+Ctrl-C.
 """
 
 from __future__ import annotations
@@ -67,6 +68,13 @@ def main(argv=None):
     except KeyboardInterrupt:
         print(f"attneave {args.command}: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:
+        # a full, over-quota or failing disk is neither bad input nor a bug: one line, exit 1
+        # (outputs are written atomically, so nothing is left half-written); anything else is raised
+        from stimuli.io import disk_error_exit
+
+        return disk_error_exit(args.command, getattr(exc, "filename", None) or "output", exc,
+                               note="nothing was left half-written")
     return int(status or 0)
 
 

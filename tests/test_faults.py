@@ -443,3 +443,31 @@ def test_review_a_spacing_giving_fewer_than_3_points_names_the_option(tmp_path, 
         return
     _one_line_error(code, err)
     assert "--spacing" in err and "fewer than 3 points" in err and "below 160 px" in err
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--c", "1", "--s-end", "1e308"], "s_end: must be <= 1000000"),  # overflow RuntimeWarning
+    (["--c", "1e308", "--s-end", "1"], "c: must be <= 1000000000000"),
+])
+def test_item11_curve_arguments_that_overflow_are_one_line(tmp_path, capsys, argv, needle):
+    code, err = _cli(["curve", "clothoid", *argv, "-o", tmp_path / "c.csv"], capsys)
+    _one_line_error(code, err)
+    assert needle in err and not (tmp_path / "c.csv").exists()
+
+
+def test_item6_disk_full_in_any_command_is_one_line_exit_1(tmp_path, capsys, stimset, monkeypatch):
+    import errno
+
+    import analysis.report
+
+    def full(*args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp_path / "out" / "clicks.csv"))
+
+    monkeypatch.setattr(analysis.report, "write_analysis", full)
+    clicks = tmp_path / "clicks.csv"
+    pts = _rf(3)[::50]
+    pd.DataFrame({"participant": "P1", "stimulus_id": "rf_003", "x": pts[:, 0], "y": pts[:, 1]}).to_csv(clicks, index=False)
+    code, err = _cli(["analyze", clicks, "--stimuli", stimset, "-o", tmp_path / "out", "--no-figures",
+                      "--group-simulations", "19", "--permutations", "19"], capsys)
+    _one_line_error(code, err, status=1)
+    assert "No space left on device" in err

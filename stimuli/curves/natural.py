@@ -130,17 +130,29 @@ class Curve:
 
 
 
+#: Largest |arc length| of a curve, in its own units: far beyond any figure,
+#: and small enough that curvature x arc length cannot overflow.
+MAX_ARC = 1e6
+#: Largest |curvature parameter| (k0, c) of the clothoid.
+MAX_RATE = 1e12
+
+
 def arc_grid(s_start, s_end, num, s=None):
-    """The output arc lengths: `num` equally spaced in [s_start, s_end], or `s`."""
+    """The output arc lengths: `num` equally spaced in [s_start, s_end], or `s`.
+
+    Arc lengths must lie within +-:data:`MAX_ARC`.
+    """
     if s is not None:
         s = np.asarray(s, dtype=float)
         if s.ndim != 1 or len(s) < 2 or not np.all(np.isfinite(s)):
             raise InputError("s must be a 1-D array of at least 2 finite arc lengths")
+        if np.max(np.abs(s)) > MAX_ARC:
+            raise InputError(f"s: arc lengths must lie within +-{MAX_ARC:g}")
         if np.any(np.diff(s) <= 0):
             raise InputError("s must be strictly increasing")
         return s
-    s_start = as_number(s_start, "s_start")
-    s_end = as_number(s_end, "s_end")
+    s_start = as_number(s_start, "s_start", ge=-MAX_ARC, le=MAX_ARC)
+    s_end = as_number(s_end, "s_end", ge=-MAX_ARC, le=MAX_ARC)
     if not s_end > s_start:
         raise InputError(f"s_end must be greater than s_start, got s_start={s_start:g}, s_end={s_end:g}")
     if isinstance(num, bool) or not float(num).is_integer() or num < 2:
@@ -349,8 +361,8 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     """
     from stimuli.curves.euler import clothoid_points
 
-    k0 = as_number(k0, "k0")
-    c = as_number(c, "c")
+    k0 = as_number(k0, "k0", ge=-MAX_RATE, le=MAX_RATE)
+    c = as_number(c, "c", ge=-MAX_RATE, le=MAX_RATE)
     grid = arc_grid(s_start, s_end, num, s)
     s0 = grid[0]
     theta = k0 * (grid - s0) + 0.5 * c * (grid - s0) * (grid + s0)
