@@ -10,8 +10,11 @@ are reduced for the search and the mask brought back to full size):
   margin) is a second hypothesis, and the agreement (IoU) of the two is a
   measure of how sure the answer is (it feeds the verdict);
 * a box ``(x, y, width, height)``: outside is background; GrabCut on the
-  smoothed and on the raw photo, the smoothed one's answer kept, their
-  agreement recorded;
+  smoothed and on the raw photo, the smoothed one's answer kept (the raw
+  one's when smoothing found no boundary: nothing, or the whole box), their
+  agreement recorded; when both find (nearly) nothing, GrabCut again with
+  the box's central fifth held as object (a person centres the box on the
+  object); the mask never leaves the box;
 * scribbles: a label image of the photo's size (see :func:`read_scribbles`)
   whose object strokes are sure object and background strokes sure
   background; with a box they refine it, alone the object is sought near
