@@ -137,6 +137,23 @@ def test_box_and_automatic_recover_a_photographed_object():
     assert v.status == "suspect" and "cannot be verified" in v.reason and len(v.reasons) == 1
 
 
+def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
+    # a photo above WORK_PIXELS is reduced for GrabCut; a box 1 px inside the
+    # frame must still leave background on the reduced copy, and the mask
+    # never leaves the box
+    from stimuli.extraction import photo
+
+    monkeypatch.setattr(photo, "WORK_PIXELS", 5000)
+    shape = (120, 160)
+    img, truth = _photo(shape, seed=3, box=(40, 30, 80, 60))
+    res = photo.segment_photo(img, box=(1, 1, shape[1] - 2, shape[0] - 2))
+    assert res.params["scale"] < 1.0
+    inside = np.zeros(shape, bool)
+    inside[1:-1, 1:-1] = True
+    assert not (res.mask & ~inside).any()
+    assert (res.mask & truth).sum() / (res.mask | truth).sum() > 0.9
+
+
 def test_scribbles_alone_and_with_a_box():
     img, truth = _photo(seed=5)
     marks = np.zeros(truth.shape, np.uint8)

@@ -10,8 +10,11 @@ are reduced for the search and the mask brought back to full size):
   margin) is a second hypothesis, and the agreement (IoU) of the two is a
   measure of how sure the answer is (it feeds the verdict);
 * a box ``(x, y, width, height)``: outside is background; GrabCut on the
-  smoothed and on the raw photo, the smoothed one's answer kept, their
-  agreement recorded;
+  smoothed and on the raw photo, the smoothed one's answer kept (the raw
+  one's when smoothing found no boundary: nothing, or the whole box), their
+  agreement recorded; when both find (nearly) nothing, GrabCut again with
+  the box's central fifth held as object (a person centres the box on the
+  object); the mask never leaves the box;
 * scribbles: a label image of the photo's size (see :func:`read_scribbles`)
   whose object strokes are sure object and background strokes sure
   background; with a box they refine it, alone the object is sought near
@@ -132,9 +135,14 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
     smooth = cv2.bilateralFilter(small, 7, 40, 5)
 
     def shrink(b):
+        # a box that leaves some background at full size leaves some on the
+        # working copy too (rounding outwards could cover it all, and GrabCut
+        # then has no background to learn from)
         x, y, bw, bh = b
         x0, y0 = int(np.floor(x * sx)), int(np.floor(y * sy))
         x1, y1 = min(sw, int(np.ceil((x + bw) * sx))), min(sh, int(np.ceil((y + bh) * sy)))
+        x0, y0 = max(x0, int(x > 0)), max(y0, int(y > 0))
+        x1, y1 = min(x1, sw - int(x + bw < w)), min(y1, sh - int(y + bh < h))
         return (x0, y0, max(2, x1 - x0), max(2, y1 - y0))
 
     sbox = None if box is None else shrink(box)
@@ -148,6 +156,14 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         first = largest_filled(grabcut(smooth, box=sbox, iterations=iterations))
         second = largest_filled(grabcut(small, box=sbox, iterations=iterations))
         first, second = second, first  # the smoothed photo's answer is the one kept
+        if _degenerate(second, sbox) and not _degenerate(first, sbox):
+            # smoothing can merge the object into the background (nothing
+            # left) or the reverse; the raw photo's answer is then the better
+            second = first
+        if np.count_nonzero(second) < 0.01 * sbox[2] * sbox[3]:
+            # the colour models took (nearly) everything for background: a person's box
+            # is centred on the object, so its core is held as object
+            second = largest_filled(grabcut(smooth, labels=_core_labels(smooth.shape, sbox), iterations=iterations))
         mode = "box"
     else:
         raw = grabcut(smooth, box=inset_box(smooth.shape), iterations=iterations)
@@ -165,9 +181,35 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
     mask = first if mode == "auto" else second
     if scale != 1.0:
         mask = cv2.resize(mask.astype(np.float32), (w, h), interpolation=cv2.INTER_LINEAR) > 0.5
+    if box is not None:
+        # outside the box is background by definition (upsampling may spill over)
+        x, y, bw, bh = box
+        inside = np.zeros((h, w), bool)
+        inside[y : y + bh, x : x + bw] = True
+        mask &= inside
     params = dict(mode=mode, box=None if box is None else list(box), scale=scale, iterations=int(iterations),
                   agreement=float(agreement), competing=competing)
     return PhotoMask(mask, float(agreement), params)
+
+
+def _degenerate(mask, box):
+    """Whether a box-mode answer is empty or fills (nearly) its whole box, i.e. found no boundary."""
+    n = np.count_nonzero(mask)
+    return n == 0 or n >= 0.99 * box[2] * box[3]
+
+
+def _core_labels(shape, box, core=0.2):
+    """GrabCut labels: background outside `box`, probably object inside, sure object on an ellipse
+    of `core` times the box's size at its centre."""
+    import cv2
+
+    labels = np.full(shape[:2], BGD, np.uint8)
+    x, y, bw, bh = box
+    labels[y : y + bh, x : x + bw] = PR_FGD
+    centre = (int(round(x + bw / 2)), int(round(y + bh / 2)))
+    axes = (max(1, int(core * bw / 2)), max(1, int(core * bh / 2)))
+    cv2.ellipse(labels, centre, axes, 0, 0, 360, FGD, thickness=-1)
+    return labels
 
 
 def _runner_up(mask):
