@@ -290,7 +290,9 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         Fit the mixed conditional logit with crossed random slopes
         (:func:`analysis.mixed.fit_mixed`).
     progress : bool, optional
-        A progress bar on stderr (default: when stderr is a terminal).
+        A progress bar on stderr (default: when stderr is a terminal). Where
+        there is no bar and there are 100,000 clicks or more, each stage is
+        written to stderr as one line instead.
 
     Returns
     -------
@@ -311,7 +313,8 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     if not 0 < level < 1:
         raise InputError(f"level must be in (0, 1), got {level!r}")
     predictors = _predictor_names(predictors)
-    bar = Progress(progress)
+    # a run of 100,000 clicks or more takes long enough to report its stages in a log too
+    bar = Progress(progress, announce=len(clicks) >= 100_000)
     if predictions is None:
         bar.stage("predictions")
         predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit)
