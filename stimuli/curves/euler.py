@@ -42,6 +42,7 @@ __all__ = [
     "clothoid_points",
     "guess_A",
     "segment_state",
+    "add_derivatives",
     "wrap_angle",
 ]
 
@@ -250,7 +251,9 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
     function theorem): ``q_t0``, ``q_t1`` with respect to the start and end
     tangent angle, and ``q_r``, the first-order change that brings G to zero
     at fixed angles. At a solved A (G = 0) the ``q_t*`` are the derivatives
-    of the G1 Hermite solution.
+    of the G1 Hermite solution. ``derivatives='later'`` keeps what
+    :func:`add_derivatives` needs to add them without recomputing the
+    moments (Newton's line search rejects or finishes at many states).
     """
     delta = phi1 - phi0
     N0 = delta - A
@@ -261,8 +264,27 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
     k0 = N0 / L
     k1 = N1 / L
     st = {"G": Y0, "X0": X0, "L": L, "k0": k0, "k1": k1}
-    if not derivatives:
+    if derivatives:
+        st["pending"] = (I, N0, N1, r)
+        if derivatives != "later":
+            add_derivatives(st)
+    return st
+
+
+# per unit of (theta0, theta1, r) the k0 and k1 rows of the state's
+# derivatives gain Xr * (_K_BASE -+ dA), dA the change of A along G
+_K_BASE = np.array([-1.0, 1.0, 0.0])[:, None]
+_K_SIGN = np.array([-1.0, 1.0])[:, None, None]
+
+
+def add_derivatives(st):
+    """Add the derivatives of :func:`segment_state` to a state computed with
+    ``derivatives='later'`` (in place; returns `st`)."""
+    pending = st.pop("pending", None)
+    if pending is None:
         return st
+    I, N0, N1, r = pending
+    X0, Y0, L = st["X0"], st["G"], st["L"]
     X1, Y1, X2, Y2 = I[1].real, I[1].imag, I[2].real, I[2].imag
     # (a, b, c) = (2A, delta - A, phi0) move by (2, -1, 0) per unit of A,
     # (0, -1, 1) per unit of theta0 and (0, 1, 0) per unit of theta1;
@@ -270,22 +292,20 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
     gA = X2 - X1
     g0 = X0 - X1
     st["G_A"], st["G_0"], st["G_1"] = gA, g0, X1
-    ia = -1.0 / gA
-    a0, a1, ar = g0 * ia, X1 * ia, Y0 * ia  # dA along G = const (and to G = 0)
+    # dA along G = const per unit of theta0, theta1 (and to G = 0): rows
+    dA = np.stack((g0, X1, Y0)) * (-1.0 / gA)
     Yd = Y1 - Y2  # dX0/dA
-    dX0 = (Y1 - Y0) + Yd * a0
-    dX1 = Yd * a1 - Y1
-    dXr = Yd * ar
+    # dX0 along G = const per unit of theta0, theta1 and to G = 0
+    dX = Yd * dA
+    dX[0] += Y1 - Y0
+    dX[1] -= Y1
     Xr = X0 / r
-    k0x, k1x = N0 / r, N1 / r
-    st["k0_t0"] = k0x * dX0 - (1.0 + a0) * Xr
-    st["k0_t1"] = k0x * dX1 + (1.0 - a1) * Xr
-    st["k0_r"] = k0x * dXr - ar * Xr
-    st["k1_t0"] = k1x * dX0 - (1.0 - a0) * Xr
-    st["k1_t1"] = k1x * dX1 + (1.0 + a1) * Xr
-    st["k1_r"] = k1x * dXr + ar * Xr
-    mL = -L / X0
-    st["L_t0"], st["L_t1"], st["L_r"] = mL * dX0, mL * dX1, mL * dXr
+    # k0 = N0 X0 / r and k1 = N1 X0 / r with N0 = delta - A, N1 = delta + A
+    K = np.stack((N0, N1)) / r
+    dK = K[:, None] * dX + (_K_BASE + _K_SIGN * dA) * Xr
+    st["k0_t0"], st["k0_t1"], st["k0_r"] = dK[0]
+    st["k1_t0"], st["k1_t1"], st["k1_r"] = dK[1]
+    st["L_t0"], st["L_t1"], st["L_r"] = (-L / X0) * dX
     return st
 
 
