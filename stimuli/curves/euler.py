@@ -121,11 +121,11 @@ def _moments_fresnel(a, b, nk):
     return np.where(sgn < 0, np.conj(out), out)
 
 
-def _moments_gauss(a, b, nk, c):
+def _moments_gauss(a, b, nk, c, p):
     """I_k(a, b) exp(i c) for small |a| and |b|: Gauss-Legendre quadrature
     of an integrand that is entire and turns by at most a few radians (one
-    complex exponential per node and segment, one small matrix product)."""
-    p = float(np.max(0.5 * np.abs(a) + np.abs(b), initial=0.0))
+    complex exponential per node and segment, one small matrix product).
+    `p` bounds the range of the phase, |a|/2 + |b|."""
     t, tw = _GAUSS_RULES[bisect.bisect_left(_GAUSS_BOUNDS, p)]
     phase = (0.5 * a * t + b) * t
     if c is not None:
@@ -159,10 +159,12 @@ def _moments(a, b, nk=3, c=None):
     k < nk, for 1-D float arrays a, b, times exp(i c) when the array `c`
     is given. Returns an (nk, M) complex array."""
     absa = np.abs(a)
-    smallb = np.abs(b) <= _B_SERIES
+    absb = np.abs(b)
+    smallb = absb <= _B_SERIES
     series = (absa < _A_SERIES) & smallb
     if series.all():
-        return _moments_gauss(a, b, nk, c)
+        p = float((0.5 * absa + absb).max()) if a.size else 0.0
+        return _moments_gauss(a, b, nk, c, p)
     recur = (absa < _A_RECUR) & ~smallb
     big = ~(series | recur)
     if big.all():
@@ -175,7 +177,8 @@ def _moments(a, b, nk=3, c=None):
     if c is not None:
         out *= np.exp(1j * c)
     if series.any():
-        out[:, series] = _moments_gauss(a[series], b[series], nk, None if c is None else c[series])
+        p = float((0.5 * absa + absb)[series].max())
+        out[:, series] = _moments_gauss(a[series], b[series], nk, None if c is None else c[series], p)
     return out
 
 
@@ -293,7 +296,7 @@ def add_derivatives(st):
     g0 = X0 - X1
     st["G_A"], st["G_0"], st["G_1"] = gA, g0, X1
     # dA along G = const per unit of theta0, theta1 (and to G = 0): rows
-    dA = np.stack((g0, X1, Y0)) * (-1.0 / gA)
+    dA = np.concatenate((g0, X1, Y0)).reshape(3, -1) * (-1.0 / gA)
     Yd = Y1 - Y2  # dX0/dA
     # dX0 along G = const per unit of theta0, theta1 and to G = 0
     dX = Yd * dA
@@ -301,7 +304,7 @@ def add_derivatives(st):
     dX[1] -= Y1
     Xr = X0 / r
     # k0 = N0 X0 / r and k1 = N1 X0 / r with N0 = delta - A, N1 = delta + A
-    K = np.stack((N0, N1)) / r
+    K = np.concatenate((N0, N1)).reshape(2, -1) / r
     dK = K[:, None] * dX + (_K_BASE + _K_SIGN * dA) * Xr
     st["k0_t0"], st["k0_t1"], st["k0_r"] = dK[0]
     st["k1_t0"], st["k1_t1"], st["k1_r"] = dK[1]

@@ -154,9 +154,9 @@ def small_angle_start(p0i, p1i, r, closed, free_start=True, free_end=True, held=
     c0 = -(2.0 * p0i + p1i) * w  # 2 phi0 + phi1 and its weight, start of segment
     c1 = -(p0i + 2.0 * p1i) * w  # phi0 + 2 phi1, end of segment
     if closed:
-        wp = np.roll(w, 1)
+        wp = np.concatenate((w[-1:], w[:-1]))
         sub, diag, sup = wp, 2.0 * (wp + w), w
-        rhs = np.roll(c1, 1) + c0
+        rhs = np.concatenate((c1[-1:], c1[:-1])) + c0
     else:
         n = p0i.size + 1
         sub, diag, sup, rhs = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
@@ -221,8 +221,8 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
     """
     n = p0i.size if closed else p0i.size + 1
     idx = np.arange(n)
-    nxt = np.r_[idx[1:], 0] if closed else idx[1:]
-    prev = np.r_[n - 1, idx[:-1]]
+    nxt = (idx + 1) % n if closed else idx[1:]
+    prev = idx - 1  # index -1 is the last node
     m = p0i.size
 
     def state(d, A):
