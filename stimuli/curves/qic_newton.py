@@ -10,8 +10,10 @@ its closure equation are solved by damped Newton; eliminating A segment by
 segment (implicit function theorem) leaves a tridiagonal system in the node
 angles, cyclic for closed curves. A node may instead be *held*: its tangent
 stays at its initial value and its curvature equation is dropped (a G1 node,
-where curvature may jump). Everything is vectorised over segments; the work
-per iteration is O(N).
+where curvature may jump). Newton starts from the solution of the
+small-angle (cubic) approximation of the same equations, a linear
+tridiagonal system (:func:`small_angle_start`). Everything is vectorised
+over segments; the work per iteration is O(N).
 
 References
 ----------
