@@ -28,8 +28,8 @@ iterations at N = 30 and 1 at N = 1000 (was 3 and 2). Instruction counts
 (``valgrind --tool=callgrind``, 1000 fits minus none in fresh processes,
 ``PYTHONHASHSEED=0``, N = 30): 4.43 M -> 2.79 M per pure fit against 0.97 M
 per libspiro call through this script's ctypes wrapper (4.6 -> 2.9 x). The
-2 x target at N = 30 is not reached: what is left is numpy's per-call cost
-(about 200 array operations per fit for 30 segments).
+2 x target at N = 30 is not reached: what is left is per-call overhead
+(cProfile: about 300 Python-level calls per fit, on arrays of 30).
 
 Usage::
 
