@@ -414,13 +414,10 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
 
     Notes
     -----
-    Scale invariant: each piece is scaled by its mean chord length before
-    solving. Newton starts from the spline that is G2 to first order in the
-    angles (:func:`stimuli.curves.qic_newton.small_angle_start`): on smooth
-    points it converges in two iterations at N = 30 and one at N = 1000.
-    Each iteration costs O(N) (a tridiagonal, cyclic for closed curves,
-    solve by LAPACK ``dgtsv`` and Sherman-Morrison); the robust rule adds a
-    crossing test per round (GEOS, through shapely).
+    Scale invariant: each piece is scaled by its mean chord length. Newton
+    starts from the small-angle G2 spline (:mod:`stimuli.curves.qic_newton`)
+    and costs O(N) per iteration (a cyclic tridiagonal solve, LAPACK
+    ``dgtsv``); the robust rule adds a crossing test per round (GEOS).
 
     References
     ----------
