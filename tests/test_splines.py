@@ -440,3 +440,40 @@ def test_closed_qic_through_collinear_points_is_an_error_not_a_huge_segment(n):
         return
     chords = np.hypot(*np.diff(np.vstack([P, P[:1]]), axis=0).T)
     assert np.all(sp.length < 1e3 * chords)
+
+
+@pytest.mark.parametrize("closed", [False, True])
+def test_small_angle_start_is_g2_to_third_order(closed):
+    """Newton's starting point: with end angles (to each chord) of size eps,
+    the exact clothoids (solved independently, segment by segment) jump in
+    curvature by O(eps) at the circle-free start and by O(eps**3) after the
+    small-angle increments, at every node that is not held."""
+    from stimuli.curves.euler import g1_hermite
+    from stimuli.curves.qic_newton import small_angle_start
+
+    rng = np.random.default_rng(5)
+    m = 9
+    r = rng.uniform(0.5, 1.5, m)
+    base0, base1 = rng.uniform(-1, 1, m), rng.uniform(-1, 1, m)
+    n = m if closed else m + 1
+    held = np.zeros(n, bool)
+    held[4] = True
+    free = ~held
+
+    def jumps(p0, p1, d):
+        nxt = np.arange(1, m + 1) % n
+        seg = g1_hermite(0, 0, p0 + d[:m], r, 0, p1 + d[nxt])
+        if closed:
+            return (np.roll(seg["k1"], 1) - seg["k"])[free]
+        return np.r_[seg["k"][0], seg["k1"][:-1] - seg["k"][1:], seg["k1"][-1]][free]
+
+    before, after = [], []
+    for eps in (0.2, 0.1, 0.05):
+        p0, p1 = eps * base0, eps * base1
+        d = small_angle_start(p0, p1, r, closed, held=held)
+        assert abs(d[4]) < 1e-15  # a held node keeps its tangent
+        before.append(np.abs(jumps(p0, p1, np.zeros(n))).max())
+        after.append(np.abs(jumps(p0, p1, d)).max())
+    assert np.allclose(np.divide(before[:-1], before[1:]), 2.0, rtol=0.1)
+    assert np.all(np.divide(after[:-1], after[1:]) > 6.0)
+    assert after[-1] < 1e-3 * before[-1]

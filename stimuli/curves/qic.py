@@ -260,7 +260,7 @@ class _Fit:
         N = len(P)
         segs, self.iterations, self.g2, self.closure = [], 0, 0.0, 0.0
         self.failed_piece = None
-        size = float(np.max(np.ptp(P, axis=0))) or 1.0
+        size = float((P.max(axis=0) - P.min(axis=0)).max()) or 1.0
         held_keys = np.fromiter(held, dtype=int, count=len(held))
         for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
             Q = P[idx]
@@ -271,9 +271,9 @@ class _Fit:
             rn = r / h
             phi = np.arctan2(D[:, 1], D[:, 0])
             p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
-            nodes = idx if pclosed else idx  # node k of the piece is input row idx[k]
-            hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys)
-            if not pclosed:
+            nodes = idx  # node k of the piece is input row idx[k]
+            hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys) if held else np.zeros(0, bool)
+            if not pclosed and hold.size:
                 # a piece's end nodes are free ends (or the open curve's given tangents)
                 hold[0] = hold[-1] = False
             for k in np.flatnonzero(hold):
@@ -291,7 +291,7 @@ class _Fit:
             self.iterations += res.iterations
             st, d, A = res.st, res.d, res.A
             nseg = r.size
-            nxt = np.r_[1 : d.size, 0] if pclosed else np.arange(1, d.size)
+            nxt = np.arange(1, d.size + 1) % d.size if pclosed else np.arange(1, d.size)
             p0 = p0i + d[:nseg]
             p1 = p1i + d[nxt]
             L = st["L"] * h
@@ -302,13 +302,16 @@ class _Fit:
             # range of theta(tau) - phi = p0 + (delta - A) tau + A tau^2 on [0, 1]
             delta = p1 - p0
             with np.errstate(divide="ignore", invalid="ignore"):
-                tv = np.clip(np.where(A != 0, (A - delta) / (2 * A), 0.0), 0.0, 1.0)
+                tv = np.minimum(np.maximum(np.where(A != 0, (A - delta) / (2 * A), 0.0), 0.0), 1.0)
             th_v = (delta - A) * tv + A * tv * tv
             hi = np.maximum(np.maximum(0.0, delta), th_v)
             lo = np.minimum(np.minimum(0.0, delta), th_v)
             segs.append(dict(start=idx[:nseg], x=Q[:nseg], theta0=phi + p0, k0=st["k0"] / h,
                              dk=(st["k1"] - st["k0"]) / st["L"] / h**2, L=L, turn=hi - lo,
                              chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo))))
+        if len(segs) == 1 and pclosed:
+            self.seg = segs[0]
+            return
         start = np.concatenate([s["start"] for s in segs])
         # pieces of a closed curve with corners start at the first corner: put
         # the segments back in order from the first point
@@ -411,10 +414,10 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
 
     Notes
     -----
-    Scale invariant: each piece is scaled by its mean chord length before
-    solving. Each Newton iteration costs O(N) (a tridiagonal, cyclic for
-    closed curves, solve by LAPACK ``dgtsv`` and Sherman-Morrison); the
-    robust rule adds a crossing test per round (GEOS, through shapely).
+    Scale invariant: each piece is scaled by its mean chord length. Newton
+    starts from the small-angle G2 spline (:mod:`stimuli.curves.qic_newton`)
+    and costs O(N) per iteration (a cyclic tridiagonal solve, LAPACK
+    ``dgtsv``); the robust rule adds a crossing test per round (GEOS).
 
     References
     ----------

@@ -10,8 +10,10 @@ its closure equation are solved by damped Newton; eliminating A segment by
 segment (implicit function theorem) leaves a tridiagonal system in the node
 angles, cyclic for closed curves. A node may instead be *held*: its tangent
 stays at its initial value and its curvature equation is dropped (a G1 node,
-where curvature may jump). Everything is vectorised over segments; the work
-per iteration is O(N).
+where curvature may jump). Newton starts from the solution of the
+small-angle (cubic) approximation of the same equations, a linear
+tridiagonal system (:func:`small_angle_start`). Everything is vectorised
+over segments; the work per iteration is O(N).
 
 References
 ----------
@@ -28,9 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg.lapack import dgtsv as _dgtsv
 
-from stimuli.curves.euler import guess_A, segment_state
+from stimuli.curves.euler import add_derivatives, guess_A, segment_state
 
-__all__ = ["NewtonResult", "solve_nodes", "solve_tridiagonal"]
+__all__ = ["NewtonResult", "small_angle_start", "solve_nodes", "solve_tridiagonal"]
 
 
 def _residual(st, closed, free_start, free_end, prev, held):
@@ -116,6 +118,65 @@ def solve_tridiagonal(sub, diag, sup, rhs, cyclic):
     return y - (vy / (1.0 + vz)) * z
 
 
+def small_angle_start(p0i, p1i, r, closed, free_start=True, free_end=True, held=None):
+    """Node-angle increments that make the spline G2 to first order in the
+    angles: the starting point of :func:`solve_nodes`.
+
+    For small end angles (relative to the chord) a clothoid segment is close
+    to the cubic whose tangent angle is ``phi0 + (delta - A) tau + A tau**2``
+    with ``A = 3 (phi0 + phi1)``, so its end curvatures are
+    ``k0 = -(4 phi0 + 2 phi1) / r`` and ``k1 = (2 phi0 + 4 phi1) / r``.
+    Curvature continuity at every free node (and zero curvature at free
+    ends) is then a linear tridiagonal system, cyclic for closed curves,
+    diagonally dominant. Held nodes and given end tangents keep a zero
+    increment. Its error is third order in the angles, so Newton starts
+    far closer than from the circle tangents (on smooth curves through 30
+    points, a relative curvature jump of about 2e-3 instead of 0.6: two
+    iterations instead of three).
+
+    Parameters
+    ----------
+    p0i, p1i, r, closed, free_start, free_end, held
+        As in :func:`solve_nodes`.
+
+    Returns
+    -------
+    ndarray, shape (N,)
+
+    Examples
+    --------
+    A regular polygon's circle tangents are already G2: nothing moves.
+
+    >>> import numpy as np
+    >>> p = np.full(6, -np.pi / 6)
+    >>> bool(np.allclose(small_angle_start(p, -p, np.ones(6), True), 0))
+    True
+    """
+    w = 2.0 / r
+    c0 = -(2.0 * p0i + p1i) * w  # 2 phi0 + phi1 and its weight, start of segment
+    c1 = -(p0i + 2.0 * p1i) * w  # phi0 + 2 phi1, end of segment
+    if closed:
+        wp = np.concatenate((w[-1:], w[:-1]))
+        sub, diag, sup = wp, 2.0 * (wp + w), w
+        rhs = np.concatenate((c1[-1:], c1[:-1])) + c0
+    else:
+        n = p0i.size + 1
+        sub, diag, sup, rhs = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
+        sub[1:], sup[:-1] = w, w
+        diag[:-1] += 2.0 * w
+        diag[1:] += 2.0 * w
+        rhs[:-1] += c0
+        rhs[1:] += c1
+        if not free_start:
+            sup[0], diag[0], rhs[0] = 0.0, 1.0, 0.0
+        if not free_end:
+            sub[-1], diag[-1], rhs[-1] = 0.0, 1.0, 0.0
+    if held is not None:
+        sub, diag, sup, rhs = sub.copy(), diag.copy(), sup.copy(), rhs.copy()
+        sub[held], diag[held], sup[held], rhs[held] = 0.0, 1.0, 0.0, 0.0
+    return solve_tridiagonal(sub, diag, sup, rhs, closed)
+
+
 @dataclass
 class NewtonResult:
     """What :func:`solve_nodes` found: node-angle increments ``d``, segment
@@ -161,15 +222,15 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         None when the initial guess already gives a degenerate segment.
     """
     n = p0i.size if closed else p0i.size + 1
-    A = guess_A(p0i, p1i)
-    d = np.zeros(n)
     idx = np.arange(n)
-    nxt = np.r_[idx[1:], 0] if closed else idx[1:]
-    prev = np.r_[n - 1, idx[:-1]]
+    nxt = (idx + 1) % n if closed else idx[1:]
+    prev = idx - 1  # index -1 is the last node
     m = p0i.size
 
     def state(d, A):
-        st = segment_state(p0i + d[:m], p1i + d[nxt], A, r)
+        # derivatives only for a state Newton steps from (most trials are
+        # rejected or final)
+        st = segment_state(p0i + d[:m], p1i + d[nxt], A, r, derivatives="later")
         if not (st["X0"].min() > 0 and np.isfinite(st["L"]).all()):
             return None, None, np.inf
         F = _residual(st, closed, free_start, free_end, prev, held)
@@ -179,7 +240,17 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         kmax = max(np.abs(st["k0"]).max(), np.abs(st["k1"]).max())
         return float(kmax), float(np.abs(F).max()), float(np.abs(st["G"]).max())
 
+    d = small_angle_start(p0i, p1i, r, closed, free_start, free_end, held)
+    # beyond a radian the linearisation means nothing (as for Newton's
+    # steps): start from the circle tangents instead
+    if not np.all(np.abs(d) <= 1.0):
+        d = np.zeros(n)
+    A = guess_A(p0i + d[:m], p1i + d[nxt])
     st, F, merit = state(d, A)
+    if st is None and d.any():
+        d = np.zeros(n)
+        A = guess_A(p0i, p1i)
+        st, F, merit = state(d, A)
     if st is None:
         return None
     it = 0
@@ -187,6 +258,7 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         kmax, fres, gres = residuals(st, F)
         if (fres <= tol * kmax and gres <= 1e-14) or it >= max_iter:
             break
+        add_derivatives(st)
         sub, diag, sup, rhs = _linear_system(st, F, closed, free_start, free_end, prev, held)
         dd = solve_tridiagonal(sub, diag, sup, rhs, closed)
         if not np.all(np.isfinite(dd)):
