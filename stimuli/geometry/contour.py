@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.geometry.polyline import edges, gaussian_curvature, shoelace, turning_angles
+from stimuli.geometry.polyline import bounds, edges, gaussian_curvature, shoelace, turning_angles
 from stimuli.validate import as_points
 
 __all__ = ["Contour", "MAX_COORDINATE", "MIN_EXTENT"]
@@ -178,8 +178,7 @@ class Contour:
     @property
     def bbox(self):
         """``(xmin, ymin, xmax, ymax)`` in pixels."""
-        p = self._points
-        return (*p.min(axis=0), *p.max(axis=0))
+        return bounds(self._points)
 
     # ------------------------------------------------------------- arc length
     def arclength(self):
@@ -446,13 +445,14 @@ def _check_scale(p, where):
     """Refuse coordinates whose geometry would overflow or be only rounding noise."""
     if not len(p):
         return
-    big = float(np.abs(p).max())
+    x0, y0, x1, y1 = bounds(p)
+    big = max(-x0, -y0, x1, y1)
     if big > MAX_COORDINATE:
         row = int(np.argmax(np.abs(p).max(axis=1)))
         raise InputError(f"{where}point {row}: coordinates must lie within +-{MAX_COORDINATE:g} px, "
                          f"got {p[row].tolist()}; rescale the contour")
-    # the larger side of the bounding box (ptp of all-equal points is 0, caught below as too few points)
-    extent = float(np.ptp(p, axis=0).max())
+    # the larger side of the bounding box (that of all-equal points is 0, caught below as too few points)
+    extent = max(x1 - x0, y1 - y0)
     if 0 < extent < max(MIN_EXTENT, _MIN_RELATIVE_EXTENT * big):
         raise InputError(f"{where}the contour spans only {extent:.3g} px (at coordinates up to {big:.3g}); "
                          f"a contour must span at least {MIN_EXTENT:g} px and 1e-10 of its distance from "
