@@ -39,11 +39,10 @@ import datetime
 import json
 import os
 import shutil
-import tempfile
 from pathlib import Path
 
 from stimuli.errors import InputError
-from stimuli.io import replace_directory
+from stimuli.io import replace_directory, temporary_directory
 
 __all__ = ["check_output_dir", "write_analysis"]
 
@@ -92,11 +91,7 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
 
     out = Path(out)
     check_output_dir(out, force)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
-    except OSError as exc:
-        raise InputError(f"{out}: cannot be created ({exc.strerror or exc})") from None
+    tmp = temporary_directory(out)
     try:
         write_table(analysis.clicks, tmp / "clicks.csv")
         write_table(analysis.per_stimulus, tmp / "per_stimulus.csv")

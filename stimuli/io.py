@@ -23,6 +23,7 @@ from stimuli.errors import InputError
 
 __all__ = [
     "MAX_TEXT_BYTES",
+    "temporary_directory",
     "replace_directory",
     "atomic_write",
     "check_regular_file",
@@ -232,6 +233,27 @@ def check_regular_file(path, what="a file", max_bytes=None):
     if not os.access(path, os.R_OK):
         raise InputError(f"{path}: cannot read (permission denied)")
     return path
+
+
+def temporary_directory(out):
+    """Make an empty directory beside `out` in which to build it, and return its path.
+
+    Its name follows the temporaries' rule (``.attneave-tmp-<pid>-<random>-<name>``),
+    so that no user file is ever taken for it; :func:`replace_directory` then
+    puts it in place. The parent of `out` is created if needed.
+
+    Raises
+    ------
+    InputError
+        If the directory cannot be made (naming `out` and the reason).
+    """
+    out = Path(out)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        return Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{out.name[:80]}",
+                                     dir=out.parent))
+    except OSError as exc:
+        raise InputError(f"{out}: cannot be created ({exc.strerror or exc})") from None
 
 
 def replace_directory(tmp, out):

@@ -19,14 +19,13 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import tempfile
 from collections import Counter
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
 from stimuli.errors import InputError
-from stimuli.io import replace_directory
+from stimuli.io import replace_directory, temporary_directory
 
 from .options import ExperimentOptions
 from .order import latin_square_lists
@@ -397,11 +396,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
         conditions_rows(options, practice, main)  # its units' checks, before anything is written
     action = check_output(out, force)
 
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", suffix=".tmp", dir=out.parent))
-    except OSError as exc:
-        raise InputError(f"{out}: cannot be created ({exc.strerror or exc})") from None
+    tmp = temporary_directory(out)
     try:
         (tmp / "images").mkdir()
         for s in every:
