@@ -1,0 +1,451 @@
+"""G2 log-aesthetic splines through points: log-aesthetic arcs of one slope
+alpha, joined with curvature continuity, each with monotone curvature.
+
+Every segment between consecutive points is an arc of a log-aesthetic curve
+(LAC, the seed paper's eq. 9) of the given alpha, fixed by its end
+curvatures and length (:mod:`stimuli.curves.lac_arc`). The unknowns are, at
+every node, the tangent angle theta_i and the curvature kappa_i, shared by
+the two segments that meet there (so the spline is G2 by construction), and
+every segment's length L_j. Each segment gives three equations: its tangent
+turns by ``L_j Theta_j(1)`` from theta_i to theta_{i+1}, and its chord
+``L_j int_0^1 exp(i theta(t)) dt`` equals the vector between its points.
+A closed curve has as many equations as unknowns (3N); an open one has two
+end conditions: zero end curvature (natural ends) for alpha < 0, and for
+alpha >= 0, whose arcs cannot reach zero curvature, a circular first and
+last segment (``kappa_0 = kappa_1``, ``kappa_{N-1} = kappa_{N-2}``). The
+system is solved by damped Newton with a sparse Jacobian (block-banded:
+each segment involves only its two nodes), starting from the G2 clothoid
+spline (:func:`stimuli.curves.qic.qic_spline` with ``robust=False``), which
+is the solution for alpha = -1; when Newton does not converge directly, the
+solution is continued in alpha from -1 with adaptive steps.
+
+This construction -- node angles and curvatures as unknowns, a LAC arc of
+fixed alpha per segment, Newton on curvature continuity -- is the G2
+"two-parameter spline" scheme of Levien & Sequin (the Euler-spiral spline
+is its alpha = -1 case) carried over to LAC arcs in the form of
+:mod:`stimuli.curves.lac_arc`; it is derived here rather than taken from
+one paper (Miura and co-workers' G2 LAC constructions fit one or a few
+segments to G2 Hermite data; no formula for a whole interpolating spline
+through N points was found).
+
+Existence. For alpha >= 0 a LAC arc has no inflection (curvature cannot
+reach 0), so a closed G2 LAC spline has curvature of one sign: its points
+must form a convex polygon (turning one way at every point); otherwise
+:func:`lac_spline` says so (an :class:`~stimuli.errors.InputError` naming
+the rows). For alpha < 0 arcs pass through inflections and any points the
+clothoid spline takes are usually taken too; a system Newton cannot solve
+is a :class:`~stimuli.curves.qic.ConvergenceError`, never a silent curve.
+
+Coordinates: points ``(x, y)`` in image pixels (y down) unless
+``y_down=False``; node tangent angles are in the input coordinates;
+reported curvature has the project's geometric sign.
+
+References
+----------
+.. [1] R. Levien and C. H. Sequin, "Interpolating splines: which is the
+       fairest of them all?", Computer-Aided Design and Applications 6(1),
+       91-102, 2009; R. Levien, "From spiral to spline", PhD thesis, UC
+       Berkeley, 2009 (two-parameter G2 splines, the Euler-spiral spline).
+.. [2] K. T. Miura, S. Usuki and R. U. Gobithaasan, "Variational
+       formulation of the log-aesthetic curve", and R. U. Gobithaasan,
+       S. W. Yip and K. T. Miura, "Log-aesthetic curves for shape
+       completion problem", J. Applied Mathematics 2014, 960302.
+.. [3] N. Yoshida and T. Saito, "Interactive aesthetic curve segments",
+       The Visual Computer 22(9-11), 896-905, 2006.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csc_matrix
+from scipy.sparse.linalg import spsolve
+
+from stimuli.curves.euler import wrap_angle
+from stimuli.curves.lac_arc import arc_curvature, arc_integrals, arc_singular_point, arc_turn, graded_rule
+from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
+from stimuli.curves.qic import ConvergenceError, qic_spline
+from stimuli.errors import InputError
+from stimuli.validate import as_number
+
+__all__ = ["LACG2Spline", "lac_spline"]
+
+# smallest continuation step in alpha before giving up
+_MIN_STEP = 1e-3
+
+
+@dataclass(frozen=True)
+class LACG2Spline:
+    """A G2 spline of log-aesthetic arcs through points (see :func:`lac_spline`).
+
+    Attributes
+    ----------
+    points : ndarray, shape (N, 2)
+    closed : bool
+    alpha : float
+        Slope of every segment's log curvature graph.
+    theta : ndarray, shape (n,)
+        Tangent angle at every node (input coordinates, unwrapped along the
+        curve); n = N.
+    kappa : ndarray, shape (n,)
+        Curvature at every node, ``d theta / ds`` in the input coordinates
+        (1/px), shared by the segments that meet there.
+    length : ndarray, shape (M,)
+        Length of every segment (px).
+    sign : float
+        Factor from input-coordinate to geometric curvature.
+    iterations : int
+        Newton iterations, summed over the continuation.
+    alphas : tuple of float
+        The alphas solved for on the way (the last is `alpha`).
+    closure_error : float
+        Largest miss of a segment's end point, relative to the curve's size.
+    g2_error : float
+        Largest relative curvature jump at a node as evaluated from both
+        segments' formulas (rounding only: the curvature is shared).
+    seconds : float
+    method : str
+        'lac'.
+    corners, corner_kinds : tuple
+        Always empty: every node is G2.
+    """
+
+    points: np.ndarray
+    closed: bool
+    alpha: float
+    theta: np.ndarray
+    kappa: np.ndarray
+    length: np.ndarray
+    sign: float
+    iterations: int
+    alphas: tuple
+    closure_error: float
+    g2_error: float
+    seconds: float = 0.0
+    method: str = "lac"
+    corners: tuple = ()
+    corner_kinds: tuple = ()
+
+    @property
+    def n_points(self):
+        return len(self.points)
+
+    @property
+    def node_curvature(self):
+        """Geometric curvature at every node (1/px)."""
+        return self.sign * self.kappa
+
+    def _ends(self):
+        a = np.arange(self.length.size)
+        b = (a + 1) % len(self.points) if self.closed else a + 1
+        return a, b
+
+    def sample(self, samples=32):
+        """Sample every segment at `samples` points equally spaced in arc
+        length, both ends included.
+
+        Returns
+        -------
+        SampledCurve
+        """
+        samples = int(samples)
+        if samples < 2:
+            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        a, b = self._ends()
+        M = a.size
+        t = np.linspace(0.0, 1.0, samples)
+        k0, k1, L, th0 = self.kappa[a], self.kappa[b], self.length, self.theta[a]
+        # the position: each stretch between samples by the graded rule, summed
+        lo = np.broadcast_to(t[:-1], (M, samples - 1)).ravel()
+        hi = np.broadcast_to(t[1:], (M, samples - 1)).ravel()
+        row = np.repeat(np.arange(M), samples - 1)
+        x, w = graded_rule(lo, hi, arc_singular_point(k0, k1, self.alpha)[row])
+        th = th0[row, None] + L[row, None] * arc_turn(x, k0[row, None], k1[row, None], self.alpha)
+        dz = (L[row] * (np.exp(1j * th) * w).sum(axis=1)).reshape(M, samples - 1)
+        z = self.points[a, 0] + 1j * self.points[a, 1]
+        Z = np.concatenate((z[:, None], z[:, None] + np.cumsum(dz, axis=1)), axis=1)
+        # each segment ends on the next point: put it there exactly
+        Z[:, -1] = self.points[b, 0] + 1j * self.points[b, 1]
+        theta = th0[:, None] + L[:, None] * arc_turn(t[None, :], k0[:, None], k1[:, None], self.alpha)
+        kappa = arc_curvature(t[None, :], k0[:, None], k1[:, None], self.alpha)
+        s = (np.r_[0.0, np.cumsum(L)[:-1]][:, None] + L[:, None] * t[None, :]).ravel()
+        return SampledCurve(s=s, x=Z.real.ravel(), y=Z.imag.ravel(), curvature=self.sign * kappa.ravel(),
+                            segment=np.repeat(a, samples), theta=theta.ravel(), closed=self.closed)
+
+    def metrics(self, samples=32):
+        """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`
+        with the solver's figures."""
+        out = curve_metrics(self.sample(samples))
+        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
+        return out
+
+
+class _System:
+    """The spline's equations in a frame where the mean chord is 1."""
+
+    def __init__(self, P, closed, wind):
+        self.closed = closed
+        self.h = float(np.mean(np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)))
+        Q = (P - P[0]) / self.h
+        self.n = len(P)
+        self.M = self.n if closed else self.n - 1
+        self.a = np.arange(self.M)
+        self.b = (self.a + 1) % self.n if closed else self.a + 1
+        zq = Q[:, 0] + 1j * Q[:, 1]
+        self.D = zq[self.b] - zq[self.a]
+        # the tangent after the last segment of a closed curve is theta_0 + 2 pi wind
+        self.wrap = np.where(self.b == 0, 2 * np.pi * wind, 0.0) if closed else np.zeros(self.M)
+
+    def split(self, x):
+        n = self.n
+        return x[:n], x[n:2 * n], x[2 * n:]
+
+    def residual(self, x, alpha, derivatives=False):
+        th, k, L = self.split(x)
+        a, b = self.a, self.b
+        if not (np.all(np.isfinite(x)) and np.all(L > 0)):
+            return None, None
+        if alpha >= 0 and not (np.all(k > 0) or np.all(k < 0)):
+            return None, None
+        with np.errstate(all="ignore"):
+            arc = arc_integrals(th[a], k[a], k[b], L, alpha, derivatives)
+        F = np.empty(3 * self.M + (0 if self.closed else 2))
+        F[0:3 * self.M:3] = th[b] + self.wrap - th[a] - arc["turn"]
+        F[1:3 * self.M:3] = arc["z"].real - self.D.real
+        F[2:3 * self.M:3] = arc["z"].imag - self.D.imag
+        if not self.closed:
+            n = self.n
+            F[-2], F[-1] = (k[0], k[-1]) if alpha < 0 else (k[0] - k[1], k[n - 1] - k[n - 2])
+        if not np.all(np.isfinite(F)):
+            return None, None
+        return F, arc
+
+    def jacobian(self, arc, alpha):
+        n, M, a, b = self.n, self.M, self.a, self.b
+        r = 3 * np.arange(M)
+        ka, kb, Lc = n + a, n + b, 2 * n + np.arange(M)
+        zt = 1j * arc["z"]
+        rows, cols, vals = [], [], []
+
+        def put(rr, cc, vv):
+            rows.append(rr)
+            cols.append(cc)
+            vals.append(vv)
+
+        # turn equation
+        put(r, b, np.ones(M))
+        put(r, a, -np.ones(M))
+        put(r, ka, -arc["turn_k0"])
+        put(r, kb, -arc["turn_k1"])
+        put(r, Lc, -arc["Theta1"])
+        # chord equations (real and imaginary parts)
+        for off, part in ((1, np.real), (2, np.imag)):
+            put(r + off, a, part(zt))
+            put(r + off, ka, part(arc["z_k0"]))
+            put(r + off, kb, part(arc["z_k1"]))
+            put(r + off, Lc, part(arc["z_L"]))
+        size = 3 * M
+        if not self.closed:
+            i0, i1 = size, size + 1
+            if alpha < 0:
+                put(np.array([i0, i1]), np.array([n, 2 * n - 1]), np.ones(2))
+            else:
+                put(np.array([i0, i0, i1, i1]), np.array([n, n + 1, 2 * n - 1, 2 * n - 2]),
+                    np.array([1.0, -1.0, 1.0, -1.0]))
+            size += 2
+        return csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
+
+    def newton(self, x, alpha, tol, max_iter):
+        """Damped Newton from x. Returns (x, iterations, converged, residual)."""
+        F, arc = self.residual(x, alpha, derivatives=True)
+        if F is None:
+            return x, 0, False, np.inf
+        merit = float(F @ F)
+        n = self.n
+        for it in range(max_iter + 1):
+            res = float(np.max(np.abs(F)))
+            if res <= tol or it == max_iter:
+                return x, it, res <= tol, res
+            dx = spsolve(self.jacobian(arc, alpha), -F)
+            if not np.all(np.isfinite(dx)):
+                return x, it, False, res
+            th, k, L = self.split(x)
+            dth, dk, dL = self.split(dx)
+            # keep within the linearisation: angles by at most 1 rad, lengths
+            # and (alpha >= 0) curvatures shrink by at most a factor 5
+            step = min(1.0, 1.0 / max(float(np.max(np.abs(dth))), 1e-300))
+            shrink = np.concatenate((dL / L, dk / k if alpha >= 0 else []))
+            if shrink.size and shrink.min() < -0.8:
+                step = min(step, 0.8 / -shrink.min())
+            for _ in range(40):
+                xt = x + step * dx
+                Ft, arct = self.residual(xt, alpha, derivatives=True)
+                if Ft is not None and float(Ft @ Ft) <= (1.0 - 1e-4 * step) * merit:
+                    break
+                step *= 0.5
+            else:
+                # no decrease: the rounding floor, or a failure
+                return x, it, res <= 1e3 * tol, res
+            x, F, arc, merit = xt, Ft, arct, float(Ft @ Ft)
+        return x, max_iter, False, float(np.max(np.abs(F)))  # pragma: no cover
+
+
+def _guess(P, closed, y_down):
+    """(theta, kappa, length, winding) at the nodes: the G2 clothoid spline,
+    or circle tangents and curvatures where that fails."""
+    try:
+        q = qic_spline(P, closed, robust=False, y_down=y_down)
+        turns = q.k0 * q.length + 0.5 * q.dk * q.length ** 2
+        theta = q.theta0[0] + np.r_[0.0, np.cumsum(turns)]
+        kappa = np.r_[q.k0, q.k0[-1] + q.dk[-1] * q.length[-1]]
+        length = q.length
+    except InputError:
+        th = circle_tangents(P, closed)
+        theta = th[0] + np.r_[0.0, np.cumsum(wrap_angle(np.diff(np.r_[th, th[:1]] if closed else th)))]
+        nxt, prv = np.roll(P, -1, axis=0), np.roll(P, 1, axis=0)
+        u, v = P - prv, nxt - P
+        cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+        kappa = 2 * cross / (np.hypot(*u.T) * np.hypot(*v.T) * np.hypot(*(nxt - prv).T))
+        if not closed:
+            kappa[0] = kappa[-1] = 0.0
+        kappa = np.r_[kappa, kappa[:1]]
+        length = np.hypot(*(np.diff(np.vstack([P, P[:1]]), axis=0) if closed else np.diff(P, axis=0)).T)
+    wind = int(np.round((theta[-1] - theta[0]) / (2 * np.pi))) if closed else 0
+    n = len(P)
+    return theta[:n], kappa[:n], length, wind
+
+
+def _check_one_way(P, closed, alpha):
+    """alpha >= 0: LAC arcs have no inflection, so the points must turn one
+    way (a curve of one-signed curvature through points in order)."""
+    nxt, prv = np.roll(P, -1, axis=0), np.roll(P, 1, axis=0)
+    u, v = P - prv, nxt - P
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    if not closed:
+        cross = cross[1:-1]
+        rows = np.arange(1, len(P) - 1)
+    else:
+        rows = np.arange(len(P))
+    if cross.size == 0:
+        return
+    major = 1.0 if np.count_nonzero(cross > 0) >= np.count_nonzero(cross < 0) else -1.0
+    bad = rows[~(cross * major > 0)]
+    if bad.size:
+        shown = ", ".join(map(str, bad[:10])) + (" ..." if bad.size > 10 else "")
+        raise InputError(
+            f"no G2 log-aesthetic spline with alpha={alpha:g} exists through these points: arcs with alpha >= 0 "
+            f"have no inflection, so the points must turn one way, but rows {shown} turn the other way or "
+            "not at all (use alpha < 0)"
+        )
+
+
+def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter=40):
+    """G2 spline of log-aesthetic arcs through points, with monotone
+    curvature on every segment.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        Points ``(x, y)`` in image pixels (y down); a closed curve does not
+        repeat its first point.
+    alpha : float
+        Slope of every segment's log curvature graph: -1 the clothoid (the
+        pure G2 QIC spline), 0 Nielsen's spiral, 1 the logarithmic spiral,
+        2 the circle involute. Default -1.
+    closed : bool
+    y_down : bool
+        Only the sign of reported curvature for open curves depends on it.
+    tol : float
+        Newton stops when every equation's residual is below `tol` (angles
+        in radians, positions in mean chord lengths).
+    max_iter : int
+        Newton iterations per solve.
+
+    Returns
+    -------
+    LACG2Spline
+
+    Raises
+    ------
+    InputError
+        Invalid points or alpha; alpha >= 0 with points that do not turn
+        one way (no G2 LAC spline exists).
+    ConvergenceError
+        Newton (with continuation in alpha) finds no solution.
+
+    Notes
+    -----
+    The curvature is shared by the two segments at every node (G2 by
+    construction), and monotone on every segment: the graph variable
+    ``g(kappa)`` is linear in arc length and g is monotone. See the module
+    notes for the equations and :mod:`stimuli.curves.lac_arc` for the arcs.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0, 2 * np.pi, 10, endpoint=False)
+    >>> sp = lac_spline(np.c_[50 + 20 * np.cos(t), 50 - 20 * np.sin(t)], alpha=1.0)
+    >>> bool(np.allclose(sp.node_curvature, 0.05))      # a circle of radius 20
+    True
+    """
+    t_start = time.perf_counter()
+    P = spline_points(points, closed)
+    alpha = as_number(alpha, "alpha")
+    if alpha >= 0:
+        _check_one_way(P, closed, alpha)
+    theta, kappa, length, wind = _guess(P, closed, y_down)
+    system = _System(P, closed, wind)
+    h = system.h
+    if alpha >= 0:
+        # the clothoid spline may inflect near flat stretches: start from one-signed curvature
+        sg = 1.0 if np.sum(kappa) >= 0 else -1.0
+        kappa = sg * np.maximum(sg * kappa, 0.1 * np.mean(np.abs(kappa)))
+    x0 = np.concatenate((theta, kappa * h, length / h))
+    x, iters, ok, res = system.newton(x0, alpha, tol, max_iter)
+    alphas = [alpha]
+    if not ok:
+        x, iters, ok, res, alphas = _continue(system, x0, alpha, tol, max_iter)
+    if not ok:
+        raise ConvergenceError(
+            f"lac spline: no G2 log-aesthetic spline with alpha={alpha:g} found (Newton, continued in alpha "
+            f"from -1, reached alpha={alphas[-1]:g}; residual {res:.2g}); the points may be jagged or too "
+            "sparse for this alpha"
+        )
+    th, k, L = system.split(x)
+    arc = arc_integrals(th[system.a], k[system.a], k[system.b], L, alpha)
+    size = float(np.max(np.ptp(P, axis=0))) or 1.0
+    closure = float(np.max(np.abs(arc["z"] - system.D))) * h / size
+    kend = arc_curvature(1.0, k[system.a], k[system.b], alpha)
+    kmax = float(np.max(np.abs(k))) or 1.0
+    g2 = float(np.max(np.abs(kend - k[system.b]))) / kmax
+    return LACG2Spline(
+        points=P, closed=closed, alpha=alpha, theta=th.copy(), kappa=k / h, length=L * h,
+        sign=geometric_sign(P, closed, y_down), iterations=int(iters), alphas=tuple(alphas),
+        closure_error=closure, g2_error=g2, seconds=time.perf_counter() - t_start,
+    )
+
+
+def _continue(system, x0, alpha, tol, max_iter):
+    """Solve at alpha = -1 from the guess, then step towards alpha, halving
+    the step where Newton fails and growing it where it succeeds."""
+    x, total, ok, res = system.newton(x0, -1.0, tol, max_iter)
+    alphas = [-1.0]
+    if not ok:
+        return x, total, False, res, alphas
+    a, step = -1.0, 0.5
+    while a != alpha:
+        nxt = min(a + step, alpha) if alpha > a else max(a - step, alpha)
+        xt, it, ok, res = system.newton(x, nxt, tol, max_iter)
+        total += it
+        if ok:
+            x, a = xt, nxt
+            alphas.append(a)
+            step *= 1.5
+        else:
+            step *= 0.5
+            if step < _MIN_STEP:
+                return x, total, False, res, alphas
+    return x, total, True, res, alphas
