@@ -3,7 +3,7 @@ its curvature and a summary of what it adds between the points."""
 
 from __future__ import annotations
 
-METHOD_CHOICES = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1")
+METHOD_CHOICES = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1", "lac")
 
 
 def add_parser(sub):
@@ -27,7 +27,10 @@ def add_parser(sub):
             "cubic: periodic cubic (not-a-knot with --open); cubic-natural: natural cubic (--open); "
             "poly2..poly5: interpolating splines of that degree (periodic, or not-a-knot open); "
             "all polynomial splines use chord-length parameters. lac-g1: G1 log-aesthetic spline "
-            "(Yoshida-Saito segments, clothoid fallback where no segment exists). A curve that crosses itself "
+            "(Yoshida-Saito segments, clothoid fallback where no segment exists). lac: G2 log-aesthetic "
+            "spline (every segment a log-aesthetic arc of slope --alpha, monotone curvature, G2 at every "
+            "point; alpha -1 is the pure G2 clothoid spline; alpha >= 0 has no inflection and needs points "
+            "turning one way). A curve that crosses itself "
             "or has a segment turning by more than pi gets a warning on stderr naming the "
             "segments (--strict: exit 1, nothing written)."
         ),
@@ -46,8 +49,8 @@ def add_parser(sub):
     p.add_argument("--strict", action="store_true",
                    help="exit 1 and write nothing when the curve crosses itself or a segment turns "
                         "by more than pi")
-    p.add_argument("--alpha", type=float, default=0.0,
-                   help="lac-g1 only: log-aesthetic slope alpha (default 0)")
+    p.add_argument("--alpha", type=float, default=None,
+                   help="lac-g1 and lac only: log-aesthetic slope alpha (default 0 for lac-g1, -1 for lac)")
     return p
 
 
@@ -133,6 +136,8 @@ def _summary(args, P, sp, unit, span, closed, crossings):
     }
     if hasattr(sp, "closure_error"):
         summary["closure_error"] = float(sp.closure_error)
+    if hasattr(sp, "alpha"):
+        summary["alpha"] = float(sp.alpha)
     if hasattr(sp, "fallback_segments"):
         summary["fallback_segments"] = [int(i) for i in sp.fallback_segments]
     return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in summary.items()}
@@ -177,7 +182,7 @@ def run(args):
             f"at most {MAX_ROWS} rows"
         )
     centre, span = _frame(P, args.points)
-    kwargs = {"alpha": args.alpha} if args.method == "lac-g1" else {}
+    kwargs = {"alpha": args.alpha} if args.method in ("lac-g1", "lac") and args.alpha is not None else {}
     with warnings.catch_warnings():
         # an overflow would show as non-finite output, refused below with one line
         warnings.simplefilter("ignore", RuntimeWarning)

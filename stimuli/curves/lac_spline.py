@@ -272,6 +272,13 @@ class _System:
             dx = spsolve(self.jacobian(arc, alpha), -F)
             if not np.all(np.isfinite(dx)):
                 return x, it, False, res
+            if not self.closed:
+                # the end conditions are linear and hold at the start: keep
+                # them exactly (the sparse solve leaves rounding in them)
+                if alpha < 0:
+                    dx[n] = dx[2 * n - 1] = 0.0
+                else:
+                    dx[n], dx[2 * n - 1] = dx[n + 1], dx[2 * n - 2]
             th, k, L = self.split(x)
             dth, dk, dL = self.split(dx)
             # keep within the linearisation: angles by at most 1 rad, lengths
@@ -403,6 +410,9 @@ def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter
         # the clothoid spline may inflect near flat stretches: start from one-signed curvature
         sg = 1.0 if np.sum(kappa) >= 0 else -1.0
         kappa = sg * np.maximum(sg * kappa, 0.1 * np.mean(np.abs(kappa)))
+    if not closed:
+        # the end conditions, exactly (Newton keeps them)
+        kappa[[0, -1]] = (0.0, 0.0) if alpha < 0 else (kappa[1], kappa[-2])
     x0 = np.concatenate((theta, kappa * h, length / h))
     x, iters, ok, res = system.newton(x0, alpha, tol, max_iter)
     alphas = [alpha]

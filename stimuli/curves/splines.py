@@ -1,6 +1,6 @@
 """Splines through points by name: the QIC spline (:mod:`stimuli.curves.qic`),
 polynomial baselines (:mod:`stimuli.curves.polynomial`) and log-aesthetic
-splines (:mod:`stimuli.curves.lac`), behind one entry point,
+splines (G1: :mod:`stimuli.curves.lac`; G2: :mod:`stimuli.curves.lac_spline`), behind one entry point,
 :func:`fit_spline`, used by ``attneave spline``.
 """
 
@@ -22,7 +22,7 @@ __all__ = [
     "METHODS",
 ]
 
-METHODS = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1")
+METHODS = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "poly4", "poly5", "lac-g1", "lac")
 
 
 def fit_spline(points, method="qic", closed=True, **kwargs):
@@ -38,14 +38,15 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         not-a-knot when open), ``'cubic-natural'`` (open only),
         ``'poly2'`` .. ``'poly5'`` (:func:`~stimuli.curves.polynomial.polynomial_spline`; ``'poly3'``
         is the same curve as ``'cubic'``), ``'lac-g1'``
-        (:func:`stimuli.curves.lac.lac_g1_spline`).
+        (:func:`stimuli.curves.lac.lac_g1_spline`), ``'lac'`` (the G2
+        log-aesthetic spline, :func:`stimuli.curves.lac_spline.lac_spline`).
     closed : bool
     **kwargs
         Passed to the fitting function.
 
     Returns
     -------
-    QICSpline, PolynomialSpline or LACSpline
+    QICSpline, PolynomialSpline, LACSpline or LACG2Spline
         Each has ``sample(k)``, ``metrics(k)``, ``iterations``, ``seconds``
         and ``method``.
     """
@@ -64,4 +65,8 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         from stimuli.curves.lac import lac_g1_spline
 
         return lac_g1_spline(points, closed, **kwargs)
+    if method == "lac":
+        from stimuli.curves.lac_spline import lac_spline
+
+        return lac_spline(points, closed=closed, **kwargs)
     raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")
