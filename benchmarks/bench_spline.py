@@ -98,6 +98,28 @@ def load_spiro():
     return fit
 
 
+def lac_row(rng, shapes, repeat, n=30, alpha=-0.5):
+    """One row: the G2 log-aesthetic spline (``lac_spline``, a genuine LAC
+    solve at alpha = -0.5) against its anchor, the pure G2 QIC spline, on
+    the same points, interleaved; medians of all repeats."""
+    from stimuli.curves.lac_spline import lac_spline
+
+    t_lac, t_qic, iters = [], [], []
+    for _ in range(shapes):
+        P = smooth_closed(rng, n)
+        iters.append(lac_spline(P, alpha).iterations)
+        for _ in range(max(10, repeat // 10)):
+            t0 = time.perf_counter()
+            lac_spline(P, alpha)
+            t1 = time.perf_counter()
+            qic_spline(P, robust=False)
+            t_lac.append(t1 - t0)
+            t_qic.append(time.perf_counter() - t1)
+    lac, qic = 1e3 * np.median(t_lac), 1e3 * np.median(t_qic)
+    print(f"lac (G2 log-aesthetic, alpha={alpha:g}) N={n}: {lac:.3f} ms vs pure QIC {qic:.3f} ms, "
+          f"ratio {lac / qic:.1f}; Newton iterations <= {max(iters)}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=200, help="timed repeats per shape and method")
@@ -143,6 +165,7 @@ def main():
               f"{med['pure'] / med['spiro']:>10.2f} {med['robust'] / med['pure']:>11.2f} "
               f"{med['pure'] / med['cubic']:>10.2f} {max(iters):>6} {max(g2):>9.1e} {relaxed:>8}")
     print("targets (issue 9): pure/spiro <= 2 at N = 30 and <= 1 at N = 1000; robust/pure <= 3")
+    lac_row(rng, args.shapes, args.repeat)
 
 
 if __name__ == "__main__":

@@ -57,6 +57,7 @@ __all__ = ["is_zero_alpha", "arc_curvature", "arc_turn", "arc_singular_point", "
 # towards t*: panel edges at t* + (end - t*) * SIGMA**k, k = 0..LEVELS
 # (finer far from t*, where a long panel meets the arc's whole oscillation)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
+_GL_X_WIDE, _GL_W_WIDE = np.polynomial.legendre.leggauss(24)  # arcs far from t*, on [-1, 1]
 _EDGES = np.r_[1.0, 0.7, 0.45, 0.25, 0.25 * 0.2 ** np.arange(1, 9), 0.0]  # 1 .. 0, far end towards t*
 
 
@@ -137,6 +138,8 @@ def arc_turn(t, k0, k1, alpha):
             ts = a * np.where(b == 0, t, core)
         if v0 is None:
             return np.where(same, ts, np.nan)
+        if np.all(same):
+            return ts
         p1 = 1.0 - 1.0 / alpha  # p + 1
         dv = v1 - v0
         v = v0 + t * dv
@@ -213,8 +216,31 @@ def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
         The derivatives in k are central differences of the closed-form
         Theta (relative step 1e-6), enough for Newton.
     """
-    M = k0.size
-    x, w = graded_rule(np.zeros(M), np.ones(M), arc_singular_point(k0, k1, alpha))
+    tstar = arc_singular_point(k0, k1, alpha)
+    # arcs whose g(kappa) = 0 lies a unit or more beyond their ends are
+    # analytic on a wide ellipse: one Gauss rule does; the rest get the graded rule
+    easy = ~((tstar > -1.0) & (tstar < 2.0))
+    out = {}
+    for plain in (True, False):
+        rows = np.flatnonzero(easy == plain)
+        if rows.size == 0:
+            continue
+        if plain:
+            x = np.broadcast_to(0.5 + 0.5 * _GL_X_WIDE, (rows.size, _GL_X_WIDE.size))
+            w = np.broadcast_to(0.5 * _GL_W_WIDE, x.shape)
+        else:
+            x, w = graded_rule(np.zeros(rows.size), np.ones(rows.size), tstar[rows])
+        part = _integrals_on(x, w, theta0[rows], k0[rows], k1[rows], L[rows], alpha, derivatives)
+        for key, val in part.items():
+            if key not in out:
+                out[key] = np.empty(k0.size, dtype=val.dtype)
+            out[key][rows] = val
+    return out
+
+
+def _integrals_on(x, w, theta0, k0, k1, L, alpha, derivatives):
+    """:func:`arc_integrals` with the quadrature nodes `x` and weights `w`
+    (one row per arc) on [0, 1]."""
     Th = arc_turn(x, k0[:, None], k1[:, None], alpha)
     e = np.exp(1j * (theta0[:, None] + L[:, None] * Th)) * w
     z = L * e.sum(axis=1)

@@ -260,7 +260,7 @@ class _System:
 
     def newton(self, x, alpha, tol, max_iter):
         """Damped Newton from x. Returns (x, iterations, converged, residual)."""
-        F, arc = self.residual(x, alpha, derivatives=True)
+        F, _ = self.residual(x, alpha)
         if F is None:
             return x, 0, False, np.inf
         merit = float(F @ F)
@@ -269,6 +269,8 @@ class _System:
             res = float(np.max(np.abs(F)))
             if res <= tol or it == max_iter:
                 return x, it, res <= tol, res
+            # derivatives only where Newton steps from (trials are most evaluations)
+            _, arc = self.residual(x, alpha, derivatives=True)
             dx = spsolve(self.jacobian(arc, alpha), -F)
             if not np.all(np.isfinite(dx)):
                 return x, it, False, res
@@ -289,14 +291,14 @@ class _System:
                 step = min(step, 0.8 / -shrink.min())
             for _ in range(40):
                 xt = x + step * dx
-                Ft, arct = self.residual(xt, alpha, derivatives=True)
+                Ft, _ = self.residual(xt, alpha)
                 if Ft is not None and float(Ft @ Ft) <= (1.0 - 1e-4 * step) * merit:
                     break
                 step *= 0.5
             else:
                 # no decrease: the rounding floor, or a failure
                 return x, it, res <= 1e3 * tol, res
-            x, F, arc, merit = xt, Ft, arct, float(Ft @ Ft)
+            x, F, merit = xt, Ft, float(Ft @ Ft)
         return x, max_iter, False, float(np.max(np.abs(F)))  # pragma: no cover
 
 
