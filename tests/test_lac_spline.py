@@ -149,6 +149,9 @@ def test_no_solution_with_alpha_at_least_zero_is_a_clear_error():
         lac_spline(P, 1.0)
     with pytest.raises(InputError, match="alpha"):
         lac_spline(P, float("nan"))
+    # open, alpha >= 0: circular end arcs; through 2 points any circular arc would do
+    with pytest.raises(InputError, match="at least 3 points"):
+        lac_spline(P[:2], 0.5, closed=False)
 
 
 def test_cli_method_lac(tmp_path, capsys):

@@ -129,7 +129,9 @@ def arc_turn(t, k0, k1, alpha):
     """
     t, same, a, b, v0, v1 = _params(t, k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if is_zero_alpha(alpha):
+        if not np.any(same):
+            ts = 0.0
+        elif is_zero_alpha(alpha):
             ts = a * np.where(b == 0, t, np.expm1(b * t) / b)
         else:
             A = np.log1p(t * b)

@@ -32,9 +32,15 @@ Existence. For alpha >= 0 a LAC arc has no inflection (curvature cannot
 reach 0), so a closed G2 LAC spline has curvature of one sign: its points
 must form a convex polygon (turning one way at every point); otherwise
 :func:`lac_spline` says so (an :class:`~stimuli.errors.InputError` naming
-the rows). For alpha < 0 arcs pass through inflections and any points the
-clothoid spline takes are usually taken too; a system Newton cannot solve
-is a :class:`~stimuli.curves.qic.ConvergenceError`, never a silent curve.
+the rows). Even through a convex polygon a solution may not exist: an arc
+with alpha >= 1 turns little between very different curvatures (alpha = 1:
+by ``L log(rho0/rho1) / (rho0 - rho1)``), so long flat sides next to sharp
+turns drive a node's curvature towards 0 or infinity as alpha grows (seen
+as the continuation's curvature spread in the error). For alpha < 0 arcs
+pass through inflections, and the points the clothoid spline takes are
+usually taken too (every simple 12- and 20-gon of the MPEG-7 outlines at
+alpha = -2, -1 and -0.5). A system Newton cannot solve is a
+:class:`~stimuli.curves.qic.ConvergenceError`, never a silent curve.
 
 Coordinates: points ``(x, y)`` in image pixels (y down) unless
 ``y_down=False``; node tangent angles are in the input coordinates;
@@ -57,11 +63,12 @@ References
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.sparse import csc_matrix
-from scipy.sparse.linalg import spsolve
+from scipy.sparse.linalg import MatrixRankWarning, spsolve
 
 from stimuli.curves.euler import wrap_angle
 from stimuli.curves.lac_arc import arc_curvature, arc_integrals, arc_singular_point, arc_turn, graded_rule
@@ -73,8 +80,11 @@ from stimuli.validate import as_number
 
 __all__ = ["LACG2Spline", "lac_spline"]
 
-# smallest continuation step in alpha before giving up
+# continuation in alpha: smallest step, most Newton solves, and the largest
+# ratio of node curvatures before the branch counts as diverging
 _MIN_STEP = 1e-3
+_MAX_SOLVES = 40
+_MAX_SPREAD = 1e12
 
 
 @dataclass(frozen=True)
@@ -271,7 +281,10 @@ class _System:
                 return x, it, res <= tol, res
             # derivatives only where Newton steps from (trials are most evaluations)
             _, arc = self.residual(x, alpha, derivatives=True)
-            dx = spsolve(self.jacobian(arc, alpha), -F)
+            with warnings.catch_warnings():
+                # a singular Jacobian gives NaNs, handled below
+                warnings.simplefilter("ignore", MatrixRankWarning)
+                dx = spsolve(self.jacobian(arc, alpha), -F)
             if not np.all(np.isfinite(dx)):
                 return x, it, False, res
             if not self.closed:
@@ -404,6 +417,11 @@ def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter
     P = spline_points(points, closed)
     alpha = as_number(alpha, "alpha")
     if alpha >= 0:
+        if not closed and len(P) < 3:
+            raise InputError(
+                f"an open G2 log-aesthetic spline with alpha={alpha:g} >= 0 needs at least 3 points: its end "
+                "segments are circular arcs, and through 2 points every circular arc is one"
+            )
         _check_one_way(P, closed, alpha)
     theta, kappa, length, wind = _guess(P, closed, y_down)
     system = _System(P, closed, wind)
@@ -421,10 +439,13 @@ def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter
     if not ok:
         x, iters, ok, res, alphas = _continue(system, x0, alpha, tol, max_iter)
     if not ok:
+        kabs = np.abs(system.split(x)[1])
+        spread = float(kabs.max() / kabs.min()) if kabs.min() > 0 else np.inf
         raise ConvergenceError(
             f"lac spline: no G2 log-aesthetic spline with alpha={alpha:g} found (Newton, continued in alpha "
-            f"from -1, reached alpha={alphas[-1]:g}; residual {res:.2g}); the points may be jagged or too "
-            "sparse for this alpha"
+            f"from {alphas[0]:g}, reached alpha={alphas[-1]:g}, where the node curvatures span a factor "
+            f"{spread:.2g}; residual {res:.2g}); the points may be jagged or too sparse for this alpha (a "
+            "spread growing without bound on the way means a node's curvature diverges: try a smaller alpha)"
         )
     th, k, L = system.split(x)
     arc = arc_integrals(th[system.a], k[system.a], k[system.b], L, alpha)
@@ -441,23 +462,37 @@ def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter
 
 
 def _continue(system, x0, alpha, tol, max_iter):
-    """Solve at alpha = -1 from the guess, then step towards alpha, halving
-    the step where Newton fails and growing it where it succeeds."""
-    x, total, ok, res = system.newton(x0, -1.0, tol, max_iter)
-    alphas = [-1.0]
+    """Solve at a start alpha from the guess (-1, where the clothoid spline
+    is the solution, or 0 for alpha >= 0: arcs of alpha < 0 may inflect and
+    the way through alpha = 0 is closed to them), then step towards alpha,
+    halving the step where Newton fails and growing it where it succeeds."""
+    a = 0.0 if alpha >= 0 else -1.0
+    x, total, ok, res = system.newton(x0, a, tol, max_iter)
+    alphas = [a]
     if not ok:
         return x, total, False, res, alphas
-    a, step = -1.0, 0.5
-    while a != alpha:
+    step = 0.5
+    n = system.n
+    for _ in range(_MAX_SOLVES):
+        if a == alpha:
+            break
         nxt = min(a + step, alpha) if alpha > a else max(a - step, alpha)
-        xt, it, ok, res = system.newton(x, nxt, tol, max_iter)
+        # a step that converges does so in a few iterations: fail fast otherwise
+        xt, it, ok, res = system.newton(x, nxt, tol, min(max_iter, 12))
         total += it
         if ok:
             x, a = xt, nxt
             alphas.append(a)
             step *= 1.5
+            kabs = np.abs(x[n:2 * n])
+            if kabs.min() < _MAX_SPREAD ** -1 * kabs.max():
+                # a node's curvature diverging (or vanishing) on the way: the
+                # solution branch ends before alpha
+                return x, total, False, res, alphas
         else:
             step *= 0.5
             if step < _MIN_STEP:
                 return x, total, False, res, alphas
+    else:
+        return x, total, False, res, alphas
     return x, total, True, res, alphas
