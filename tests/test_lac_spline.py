@@ -173,3 +173,17 @@ def test_cli_method_lac(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "wavy.csv" in err[0] and "alpha < 0" in err[0]
     assert not (tmp_path / "w.csv").exists()
+
+
+@pytest.mark.parametrize("alpha, k0, k1, L", [(-2.0, -1.0, 2.0, 1.3), (-2.0, 5.0, 0.01, 3.0), (-0.5, 0.0, 1.5, 2.0),
+                                              (0.0, 0.2, 5.0, 1.3), (1.0, 5.0, 0.01, 3.0), (2.0, 0.2, 5.0, 1.3)])
+def test_arc_chord_against_the_natural_equation(alpha, k0, k1, L):
+    # the chord of one arc (curvature ratios up to 500, an inflection with a
+    # square-root curvature) by its graded Gauss rule, against the natural
+    # equation solved at rtol 1e-13 (the curvature of the definition)
+    from stimuli.curves.lac_arc import arc_integrals
+
+    x, y, th = integrate_segment(alpha, 0.0, 0.0, 0.4, k0, k1, L)
+    out = arc_integrals(np.array([0.4]), np.array([k0]), np.array([k1]), np.array([L]), alpha)
+    assert abs(out["z"][0] - (x + 1j * y)) <= 5e-12 * L
+    assert out["turn"][0] == pytest.approx(th - 0.4, abs=1e-11)  # closed form vs the ODE's 1e-12

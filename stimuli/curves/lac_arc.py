@@ -51,7 +51,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["is_zero_alpha", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "arc_integrals"]
+__all__ = [
+    "is_zero_alpha", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
+    "arc_integrals",
+]
 
 # Gauss-Legendre nodes per panel, and the geometric grading of the panels
 # towards t*: panel edges at t* + (end - t*) * SIGMA**k, k = 0..LEVELS
@@ -199,6 +202,35 @@ def graded_rule(a, b, tstar):
     return nodes, weights
 
 
+def quadrature_groups(lo, hi, tstar):
+    """Quadrature rules for the intervals ``[lo, hi]`` (one per row) of arcs
+    whose graph variable vanishes at `tstar`.
+
+    Intervals whose `tstar` lies at least their own length beyond them see
+    an integrand analytic on a wide ellipse: one 24-point Gauss rule does.
+    The rest get :func:`graded_rule`.
+
+    Returns
+    -------
+    list of (rows, nodes, weights)
+        Row indices and their nodes and weights, shape (len(rows), Q).
+    """
+    lo = np.asarray(lo, dtype=float)
+    hi = np.asarray(hi, dtype=float)
+    tstar = np.asarray(tstar, dtype=float)
+    span = hi - lo
+    easy = ~((tstar > lo - span) & (tstar < hi + span))
+    out = []
+    rows = np.flatnonzero(easy)
+    if rows.size:
+        half = 0.5 * span[rows, None]
+        out.append((rows, lo[rows, None] + half * (1.0 + _GL_X_WIDE), half * _GL_W_WIDE))
+    rows = np.flatnonzero(~easy)
+    if rows.size:
+        out.append((rows, *graded_rule(lo[rows], hi[rows], tstar[rows])))
+    return out
+
+
 def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
     """Chord of each arc, its turn and (optionally) their derivatives.
 
@@ -218,24 +250,13 @@ def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
         The derivatives in k are central differences of the closed-form
         Theta (relative step 1e-6), enough for Newton.
     """
-    tstar = arc_singular_point(k0, k1, alpha)
-    # arcs whose g(kappa) = 0 lies a unit or more beyond their ends are
-    # analytic on a wide ellipse: one Gauss rule does; the rest get the graded rule
-    easy = ~((tstar > -1.0) & (tstar < 2.0))
+    M = k0.size
     out = {}
-    for plain in (True, False):
-        rows = np.flatnonzero(easy == plain)
-        if rows.size == 0:
-            continue
-        if plain:
-            x = np.broadcast_to(0.5 + 0.5 * _GL_X_WIDE, (rows.size, _GL_X_WIDE.size))
-            w = np.broadcast_to(0.5 * _GL_W_WIDE, x.shape)
-        else:
-            x, w = graded_rule(np.zeros(rows.size), np.ones(rows.size), tstar[rows])
+    for rows, x, w in quadrature_groups(np.zeros(M), np.ones(M), arc_singular_point(k0, k1, alpha)):
         part = _integrals_on(x, w, theta0[rows], k0[rows], k1[rows], L[rows], alpha, derivatives)
         for key, val in part.items():
             if key not in out:
-                out[key] = np.empty(k0.size, dtype=val.dtype)
+                out[key] = np.empty(M, dtype=val.dtype)
             out[key][rows] = val
     return out
 

@@ -71,7 +71,7 @@ from scipy.sparse import csc_matrix
 from scipy.sparse.linalg import MatrixRankWarning, spsolve
 
 from stimuli.curves.euler import wrap_angle
-from stimuli.curves.lac_arc import arc_curvature, arc_integrals, arc_singular_point, arc_turn, graded_rule
+from stimuli.curves.lac_arc import arc_curvature, arc_integrals, arc_singular_point, arc_turn, quadrature_groups
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
 from stimuli.curves.qic import ConvergenceError, qic_spline
@@ -171,10 +171,13 @@ class LACG2Spline:
         # the position: each stretch between samples by the graded rule, summed
         lo = np.broadcast_to(t[:-1], (M, samples - 1)).ravel()
         hi = np.broadcast_to(t[1:], (M, samples - 1)).ravel()
-        row = np.repeat(np.arange(M), samples - 1)
-        x, w = graded_rule(lo, hi, arc_singular_point(k0, k1, self.alpha)[row])
-        th = th0[row, None] + L[row, None] * arc_turn(x, k0[row, None], k1[row, None], self.alpha)
-        dz = (L[row] * (np.exp(1j * th) * w).sum(axis=1)).reshape(M, samples - 1)
+        seg = np.repeat(np.arange(M), samples - 1)
+        dz = np.empty(seg.size, dtype=complex)
+        for rows, x, w in quadrature_groups(lo, hi, arc_singular_point(k0, k1, self.alpha)[seg]):
+            r = seg[rows]
+            th = th0[r, None] + L[r, None] * arc_turn(x, k0[r, None], k1[r, None], self.alpha)
+            dz[rows] = L[r] * (np.exp(1j * th) * w).sum(axis=1)
+        dz = dz.reshape(M, samples - 1)
         z = self.points[a, 0] + 1j * self.points[a, 1]
         Z = np.concatenate((z[:, None], z[:, None] + np.cumsum(dz, axis=1)), axis=1)
         # each segment ends on the next point: put it there exactly
