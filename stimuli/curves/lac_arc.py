@@ -52,7 +52,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
-    "is_zero_alpha", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
+    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
     "arc_integrals",
 ]
 
@@ -72,6 +72,36 @@ def is_zero_alpha(alpha):
 def _v(k, alpha):
     """The graph variable ``g(k) = sign(k)|k|**(-alpha)`` (alpha < 0)."""
     return np.sign(k) * np.abs(k) ** (-alpha)
+
+
+def graph_value(k, alpha):
+    """The graph variable ``u = g(k)`` in which a LAC arc is linear:
+    ``sign(k)|k|**(-alpha)`` for alpha < 0, ``|k|**(-alpha)`` for alpha > 0
+    and ``log|k|`` for alpha = 0 (the sign of k is then kept apart).
+
+    Examples
+    --------
+    >>> float(graph_value(-2.0, -1.0)), float(graph_value(4.0, 0.5))
+    (-2.0, 0.5)
+    """
+    k = np.asarray(k, dtype=float)
+    if is_zero_alpha(alpha):
+        return np.log(np.abs(k))
+    if alpha > 0:
+        return np.abs(k) ** (-alpha)
+    return _v(k, alpha)
+
+
+def graph_inverse(u, alpha, sign=1.0):
+    """Curvature from the graph variable (inverse of :func:`graph_value`);
+    `sign` is the curvature's sign for alpha >= 0."""
+    u = np.asarray(u, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        if is_zero_alpha(alpha):
+            return sign * np.exp(u)
+        if alpha > 0:
+            return sign * u ** (-1.0 / alpha)
+        return np.sign(u) * np.abs(u) ** (-1.0 / alpha)
 
 
 def _same_sign_params(k0, k1, alpha):
@@ -245,9 +275,10 @@ def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
     -------
     dict
         ``z`` (complex chord: end minus start point), ``turn`` (``L Theta(1)``)
-        and with `derivatives` ``z_L``, ``z_k0``, ``z_k1`` (``z_theta0`` is
-        ``1j * z``), ``turn_k0``, ``turn_k1`` (``turn_L`` is ``Theta(1)``).
-        The derivatives in k are central differences of the closed-form
+        and with `derivatives` ``z_L``, ``z_u0``, ``z_u1`` (``z_theta0`` is
+        ``1j * z``), ``turn_u0``, ``turn_u1`` (``turn_L`` is ``Theta(1)``),
+        the derivatives in the end curvatures' graph variables
+        (:func:`graph_value`) being central differences of the closed-form
         Theta (relative step 1e-6), enough for Newton.
     """
     M = k0.size
@@ -272,10 +303,15 @@ def _integrals_on(x, w, theta0, k0, k1, L, alpha, derivatives):
     if not derivatives:
         return out
     out["z_L"] = z / L + 1j * L * (Th * e).sum(axis=1)
-    scale = np.maximum(np.abs(k0), np.abs(k1))
-    for name, k, other, first in (("k0", k0, k1, True), ("k1", k1, k0, False)):
-        h = 1e-6 * (np.abs(k) if alpha >= 0 else np.maximum(np.maximum(np.abs(k), 1e-3 * scale), 1e-6))
-        kp, km = k + h, k - h
+    # central differences in the graph variables u = g(k), in which the
+    # equations stay smooth where a node's curvature passes through 0
+    u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
+    scale = np.maximum(np.abs(u0), np.abs(u1))
+    positive = alpha > 0 and not is_zero_alpha(alpha)  # u > 0: relative steps
+    for name, k, u, other, first in (("u0", k0, u0, k1, True), ("u1", k1, u1, k0, False)):
+        h = 1e-6 * (u if positive else np.maximum(np.maximum(np.abs(u), 1e-3 * scale), 1e-6))
+        sg = np.where(k < 0, -1.0, 1.0)
+        kp, km = graph_inverse(u + h, alpha, sg), graph_inverse(u - h, alpha, sg)
         args_p = (kp, other) if first else (other, kp)
         args_m = (km, other) if first else (other, km)
         dTh = (arc_turn(x, args_p[0][:, None], args_p[1][:, None], alpha)

@@ -71,7 +71,16 @@ from scipy.sparse import csc_matrix
 from scipy.sparse.linalg import MatrixRankWarning, spsolve
 
 from stimuli.curves.euler import wrap_angle
-from stimuli.curves.lac_arc import arc_curvature, arc_integrals, arc_singular_point, arc_turn, quadrature_groups
+from stimuli.curves.lac_arc import (
+    arc_curvature,
+    arc_integrals,
+    arc_singular_point,
+    arc_turn,
+    graph_inverse,
+    graph_value,
+    is_zero_alpha,
+    quadrature_groups,
+)
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
 from stimuli.curves.qic import ConvergenceError, qic_spline
@@ -211,18 +220,23 @@ class _System:
         self.D = zq[self.b] - zq[self.a]
         # the tangent after the last segment of a closed curve is theta_0 + 2 pi wind
         self.wrap = np.where(self.b == 0, 2 * np.pi * wind, 0.0) if closed else np.zeros(self.M)
+        self.sign = 1.0  # the curvature's sign for alpha >= 0 (set by newton)
 
     def split(self, x):
         n = self.n
         return x[:n], x[n:2 * n], x[2 * n:]
 
     def residual(self, x, alpha, derivatives=False):
-        th, k, L = self.split(x)
+        """Residuals at x = (theta, u, L), u the node curvatures' graph
+        variables (:func:`~stimuli.curves.lac_arc.graph_value`), and the arcs'
+        integrals."""
+        th, u, L = self.split(x)
         a, b = self.a, self.b
         if not (np.all(np.isfinite(x)) and np.all(L > 0)):
             return None, None
-        if alpha >= 0 and not (np.all(k > 0) or np.all(k < 0)):
+        if alpha > 0 and not is_zero_alpha(alpha) and not np.all(u > 0):
             return None, None
+        k = graph_inverse(u, alpha, self.sign)
         with np.errstate(all="ignore"):
             arc = arc_integrals(th[a], k[a], k[b], L, alpha, derivatives)
         F = np.empty(3 * self.M + (0 if self.closed else 2))
@@ -231,7 +245,7 @@ class _System:
         F[2:3 * self.M:3] = arc["z"].imag - self.D.imag
         if not self.closed:
             n = self.n
-            F[-2], F[-1] = (k[0], k[-1]) if alpha < 0 else (k[0] - k[1], k[n - 1] - k[n - 2])
+            F[-2], F[-1] = (u[0], u[-1]) if alpha < 0 else (u[0] - u[1], u[n - 1] - u[n - 2])
         if not np.all(np.isfinite(F)):
             return None, None
         return F, arc
@@ -251,14 +265,14 @@ class _System:
         # turn equation
         put(r, b, np.ones(M))
         put(r, a, -np.ones(M))
-        put(r, ka, -arc["turn_k0"])
-        put(r, kb, -arc["turn_k1"])
+        put(r, ka, -arc["turn_u0"])
+        put(r, kb, -arc["turn_u1"])
         put(r, Lc, -arc["Theta1"])
         # chord equations (real and imaginary parts)
         for off, part in ((1, np.real), (2, np.imag)):
             put(r + off, a, part(zt))
-            put(r + off, ka, part(arc["z_k0"]))
-            put(r + off, kb, part(arc["z_k1"]))
+            put(r + off, ka, part(arc["z_u0"]))
+            put(r + off, kb, part(arc["z_u1"]))
             put(r + off, Lc, part(arc["z_L"]))
         size = 3 * M
         if not self.closed:
@@ -271,8 +285,17 @@ class _System:
             size += 2
         return csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
 
-    def newton(self, x, alpha, tol, max_iter):
-        """Damped Newton from x. Returns (x, iterations, converged, residual)."""
+    def newton(self, xk, alpha, tol, max_iter):
+        """Damped Newton from xk = (theta, kappa, L), in the graph variables
+        of this alpha. Returns (xk, iterations, converged, residual)."""
+        n = self.n
+        if alpha >= 0:
+            self.sign = 1.0 if np.sum(xk[n:2 * n]) >= 0 else -1.0
+        x = np.concatenate((xk[:n], graph_value(xk[n:2 * n], alpha), xk[2 * n:]))
+        x, it, ok, res = self._newton(x, alpha, tol, max_iter)
+        return np.concatenate((x[:n], graph_inverse(x[n:2 * n], alpha, self.sign), x[2 * n:])), it, ok, res
+
+    def _newton(self, x, alpha, tol, max_iter):
         F, _ = self.residual(x, alpha)
         if F is None:
             return x, 0, False, np.inf
@@ -297,12 +320,14 @@ class _System:
                     dx[n] = dx[2 * n - 1] = 0.0
                 else:
                     dx[n], dx[2 * n - 1] = dx[n + 1], dx[2 * n - 2]
-            th, k, L = self.split(x)
-            dth, dk, dL = self.split(dx)
-            # keep within the linearisation: angles by at most 1 rad, lengths
-            # and (alpha >= 0) curvatures shrink by at most a factor 5
-            step = min(1.0, 1.0 / max(float(np.max(np.abs(dth))), 1e-300))
-            shrink = np.concatenate((dL / L, dk / k if alpha >= 0 else []))
+            th, u, L = self.split(x)
+            dth, du, dL = self.split(dx)
+            # keep within the linearisation: angles (and alpha = 0's log
+            # curvatures) by at most 1, lengths (and alpha > 0's u > 0) shrink
+            # by at most a factor 5
+            big = float(np.max(np.abs(np.concatenate((dth, du if is_zero_alpha(alpha) else [])))))
+            step = min(1.0, 1.0 / max(big, 1e-300))
+            shrink = np.concatenate((dL / L, du / u if alpha > 0 and not is_zero_alpha(alpha) else []))
             if shrink.size and shrink.min() < -0.8:
                 step = min(step, 0.8 / -shrink.min())
             for _ in range(40):
