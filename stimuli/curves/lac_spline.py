@@ -38,8 +38,10 @@ by ``L log(rho0/rho1) / (rho0 - rho1)``), so long flat sides next to sharp
 turns drive a node's curvature towards 0 or infinity as alpha grows (seen
 as the continuation's curvature spread in the error). For alpha < 0 arcs
 pass through inflections, and the points the clothoid spline takes are
-usually taken too (every simple 12- and 20-gon of the MPEG-7 outlines at
-alpha = -2, -1 and -0.5). A system Newton cannot solve is a
+usually taken too (every simple 12-, 20-, 40- and 80-gon of the 350 MPEG-7
+outlines at alpha = -1 and -0.5; at alpha = -2 all but 4 of the 336
+20-gons, where the branch of solutions continued from alpha = -1 turns back
+before -2 while other alphas have solutions on other branches). A system Newton cannot solve is a
 :class:`~stimuli.curves.qic.ConvergenceError`, never a silent curve.
 
 Coordinates: points ``(x, y)`` in image pixels (y down) unless
@@ -387,8 +389,8 @@ def _check_one_way(P, closed, alpha):
         shown = ", ".join(map(str, bad[:10])) + (" ..." if bad.size > 10 else "")
         raise InputError(
             f"no G2 log-aesthetic spline with alpha={alpha:g} exists through these points: arcs with alpha >= 0 "
-            f"have no inflection, so the points must turn one way, but rows {shown} turn the other way or "
-            "not at all (use alpha < 0)"
+            f"have no inflection, so the points must turn one way, but {'rows' if bad.size > 1 else 'row'} "
+            f"{shown} (0-based) {'turn' if bad.size > 1 else 'turns'} the other way or not at all (use alpha < 0)"
         )
 
 
