@@ -278,8 +278,8 @@ def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
         and with `derivatives` ``z_L``, ``z_u0``, ``z_u1`` (``z_theta0`` is
         ``1j * z``), ``turn_u0``, ``turn_u1`` (``turn_L`` is ``Theta(1)``),
         the derivatives in the end curvatures' graph variables
-        (:func:`graph_value`) being central differences of the closed-form
-        Theta (relative step 1e-6), enough for Newton.
+        (:func:`graph_value`), in closed form (central differences for
+        nearly circular arcs).
     """
     M = k0.size
     out = {}
@@ -303,11 +303,44 @@ def _integrals_on(x, w, theta0, k0, k1, L, alpha, derivatives):
     if not derivatives:
         return out
     out["z_L"] = z / L + 1j * L * (Th * e).sum(axis=1)
-    # central differences in the graph variables u = g(k), in which the
-    # equations stay smooth where a node's curvature passes through 0
+    # derivatives in the graph variables u = g(k) (in which the equations
+    # stay smooth where a node's curvature passes through 0): with u linear
+    # in t and kappa = g^-1(u), d kappa/d u0 = (1 - t) kappa'(t) / du, and
+    # integrating by parts (derived here)
+    #   d Theta(t)/d u0 = ((1 - t) kappa(t) - k0 + Theta(t)) / du,
+    #   d Theta(t)/d u1 = (t kappa(t) - Theta(t)) / du,   du = u1 - u0;
+    # nearly circular arcs (|du| small: the quotient cancels) take central
+    # differences instead
+    u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
+    du = u1 - u0
+    scale = np.maximum(np.abs(u0), np.abs(u1))
+    far = np.abs(du) > 1e-5 * np.maximum(scale, 1e-6)
+    for key in ("z_u0", "z_u1", "turn_u0", "turn_u1"):
+        out[key] = np.empty(k0.size, dtype=complex if key[0] == "z" else float)
+    if far.any():
+        f = np.flatnonzero(far)
+        kap = arc_curvature(x[f], k0[f, None], k1[f, None], alpha)
+        d = du[f, None]
+        for name, dTh, dT1 in (
+            ("u0", ((1.0 - x[f]) * kap - k0[f, None] + Th[f]) / d, (T1[f] - k0[f]) / du[f]),
+            ("u1", (x[f] * kap - Th[f]) / d, (k1[f] - T1[f]) / du[f]),
+        ):
+            out["z_" + name][f] = 1j * L[f] * L[f] * (dTh * e[f]).sum(axis=1)
+            out["turn_" + name][f] = L[f] * dT1
+    if not far.all():
+        c = np.flatnonzero(~far)
+        for key, val in _central_differences(x[c], e[c], k0[c], k1[c], L[c], alpha).items():
+            out[key][c] = val
+    return out
+
+
+def _central_differences(x, e, k0, k1, L, alpha):
+    """The derivatives of :func:`_integrals_on` in u0, u1 by central
+    differences of the closed-form Theta (relative step 1e-6)."""
     u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
     scale = np.maximum(np.abs(u0), np.abs(u1))
     positive = alpha > 0 and not is_zero_alpha(alpha)  # u > 0: relative steps
+    out = {}
     for name, k, u, other, first in (("u0", k0, u0, k1, True), ("u1", k1, u1, k0, False)):
         h = 1e-6 * (u if positive else np.maximum(np.maximum(np.abs(u), 1e-3 * scale), 1e-6))
         sg = np.where(k < 0, -1.0, 1.0)
