@@ -187,3 +187,18 @@ def test_arc_chord_against_the_natural_equation(alpha, k0, k1, L):
     out = arc_integrals(np.array([0.4]), np.array([k0]), np.array([k1]), np.array([L]), alpha)
     assert abs(out["z"][0] - (x + 1j * y)) <= 5e-12 * L
     assert out["turn"][0] == pytest.approx(th - 0.4, abs=1e-11)  # closed form vs the ODE's 1e-12
+
+
+@pytest.mark.parametrize("alpha", [-0.5, 1.0])
+def test_similarity_and_orientation(alpha):
+    # a LAC of slope alpha scaled by s is a LAC of the same slope: curvature
+    # / s, lengths * s; traversed backwards, the curvature keeps its
+    # geometric sign (positive on a convex curve)
+    sp = lac_spline(CONVEX, alpha)
+    big = lac_spline(CONVEX * 1000.0 + 1e6, alpha)
+    assert np.allclose(big.kappa * 1000.0, sp.kappa, rtol=1e-9)
+    assert np.allclose(big.length / 1000.0, sp.length, rtol=1e-9)
+    back = lac_spline(CONVEX[::-1], alpha)
+    assert np.all(sp.node_curvature > 0) and np.all(back.node_curvature > 0)
+    # the same curve: node curvatures in reverse order (node i of the reversed points is node n-1-i)
+    assert np.allclose(back.node_curvature, sp.node_curvature[::-1], rtol=1e-9)
