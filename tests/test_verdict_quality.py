@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from stimuli.extraction.quality import box_contact, colour_error, edge_support
+from stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_support
 from stimuli.extraction.verdict import frame_contact, judge
 from stimuli.geometry.contour import Contour
 from stimuli.render import coverage
@@ -38,6 +38,19 @@ def test_box_contact_counts_the_sides_shared_with_the_box():
     assert box_contact(sq, (10, 5, 40, 40)) == pytest.approx((20 + 2) / 80)
     # the frame is the box of the whole image
     assert frame_contact(sq, (60, 30)) == box_contact(sq, (0, 0, 30, 60)) == pytest.approx((20 + 2) / 80)
+
+
+def test_box_gap_of_a_box_drawn_with_a_margin_and_of_a_missing_part():
+    disk = _circle(49.5, 49.5, 20)  # extent 29.5 .. 69.5 on both axes (samples at 0, 90, 180, 270 degrees)
+    box = (26, 26, 48, 48)  # sides at 25.5 and 73.5: a margin of 4 px on every side
+    assert box_gap(disk, box) == pytest.approx(4 / 48)
+    # a 5 % margin of the object's size on every side gives m / (1 + 2 m)
+    assert box_gap(disk, (28, 28, 44, 44)) == pytest.approx(0.05 / 1.1)
+    # the disk without its bottom below y = 60 (a missing part): the bottom gap is 13.5 px of 48
+    p = disk.points
+    cut = Contour(np.c_[p[:, 0], np.minimum(p[:, 1], 60.0)])
+    assert box_gap(cut, box) == pytest.approx(13.5 / 48)
+    assert box_gap(disk, (32, 32, 36, 36)) < 0  # the outline leaves the box
 
 
 def _two_colour(shape=(80, 100)):
@@ -103,7 +116,10 @@ def test_verdict_names_a_leaked_outline_and_a_box_that_cuts():
     assert "colours inside and outside the outline overlap" in v.reason
     assert "runs along its box over 100%" in v.reason
     assert "of the outline lies on an image edge" in v.reason  # two of its four sides are on no edge
-
+    # a box reaching far below the object: 36 of its 80 rows are below the outline
+    v = judge(img, _photo_extraction(truth, box=(16, 16, 48, 80)))
+    assert v.measures["box_gap"] == pytest.approx(36 / 80)
+    assert "falls short of its box by 45%" in v.reason
 
 def test_silhouettes_get_no_photo_measures():
     from stimuli.extraction import extract

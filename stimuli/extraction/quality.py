@@ -18,6 +18,10 @@ alike:
     the box, an object cut by the frame; with the box a person drew around
     the object (with some margin), an outline that the box cut or that
     leaked to it.
+:func:`box_gap`
+    How far the outline falls short of a box's sides: a box drawn tight
+    around its object (with a small margin) that the outline does not
+    reach on some side suggests a missing part (a horse's legs).
 
 Points are ``(x, y)`` image pixels (x = column, y = row, y down, pixel
 centres at integer coordinates); boxes ``(x, y, width, height)`` cover the
@@ -37,7 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["box_contact", "edge_support", "colour_error", "lab_image"]
+__all__ = ["box_contact", "box_gap", "edge_support", "colour_error", "lab_image"]
 
 #: Quantisation of each Lab channel for the colour models (levels).
 COLOUR_BINS = 16
@@ -80,6 +84,41 @@ def box_contact(contour, box, within=1.0):
     seg = contour.segment_lengths()
     total = float(seg.sum())
     return float(seg[both].sum() / total) if total > 0 else 0.0
+
+
+def box_gap(contour, box):
+    """The largest gap between a contour's extent and a box's sides, over the box's size.
+
+    Parameters
+    ----------
+    contour : Contour
+        ``(x, y)`` image pixels (y down, pixel centres at integers).
+    box : (x, y, width, height)
+        Image pixels; sides half a pixel outside its outer pixels' centres.
+
+    Returns
+    -------
+    float
+        The largest of the four gaps (left and right over the box's width,
+        top and bottom over its height): 0 for a contour that reaches every
+        side; about ``m / (1 + 2 m)`` for a box drawn around the object with
+        a margin of `m` of its size on every side; negative where the
+        contour leaves the box.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from stimuli.geometry.contour import Contour
+    >>> sq = Contour(np.array([[9.5, 9.5], [29.5, 9.5], [29.5, 29.5], [9.5, 29.5]]))
+    >>> box_gap(sq, (10, 10, 40, 20))  # the square fills the box's height, half its width
+    0.5
+    """
+    x, y, bw, bh = box
+    p = contour.points
+    lo, hi = p.min(axis=0), p.max(axis=0)
+    left, top = lo[0] - (x - 0.5), lo[1] - (y - 0.5)
+    right, bottom = (x + bw - 0.5) - hi[0], (y + bh - 0.5) - hi[1]
+    return float(max(left / bw, right / bw, top / bh, bottom / bh))
 
 
 def lab_image(image, sigma=1.0):

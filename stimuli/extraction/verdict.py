@@ -40,6 +40,9 @@ Outlines found in photographs are also measured by
     With a box: share of the outline along the box's sides (the box cut
     the object, or the outline leaked to the box; a box is drawn with
     some margin around its object).
+``box_gap``
+    With a box: how far the outline falls short of the box's sides, over
+    the box's size (a part of the object may be missing).
 
 ``unverifiable``
     Outlines found in photographs (methods ``photo``, ``grabcut``,
@@ -76,9 +79,9 @@ __all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "b
 UNVERIFIABLE = ("photo", "grabcut", "model")
 #: Thresholds of the verdict's measures (see the module notes).
 THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=2.0, competing=0.5, agreement=0.95,
-                  box=0.05, colour_error=0.15, edge_support=0.8)
+                  box=0.05, box_gap=0.2, colour_error=0.15, edge_support=0.8)
 #: The measures of :mod:`stimuli.extraction.quality` (None for outlines not from photographs).
-PHOTO_MEASURES = ("colour_error", "edge_support", "box_contact")
+PHOTO_MEASURES = ("colour_error", "edge_support", "box_contact", "box_gap")
 
 
 @dataclass
@@ -226,6 +229,9 @@ def judge(image, extraction, decoder=(), thresholds=None):
     if photo["box_contact"] is not None and photo["box_contact"] > th["box"]:
         reasons.append(f"runs along its box over {100 * photo['box_contact']:.0f}% of its outline "
                        "(the box cuts the object, or background was taken)")
+    if photo["box_gap"] is not None and photo["box_gap"] > th["box_gap"]:
+        reasons.append(f"falls short of its box by {100 * photo['box_gap']:.0f}% of the box's size on one side "
+                       "(a part may be missing)")
     if photo["colour_error"] is not None and photo["colour_error"] > th["colour_error"]:
         reasons.append(f"colours inside and outside the outline overlap (colour models misclass "
                        f"{100 * photo['colour_error']:.0f}% of the pixels near it)")
@@ -253,16 +259,17 @@ def photo_measures(image, extraction):
     -------
     dict
         ``colour_error`` (of the whole mask), ``edge_support`` (the lowest
-        over the contours) and ``box_contact`` (the highest over the
-        contours and their boxes; None without a box). Floats are rounded
-        to 4 decimals: they are reported, not computed with.
+        over the contours), ``box_contact`` and ``box_gap`` (the highest
+        over the contours and their boxes; None without a box). Floats are
+        rounded to 4 decimals: they are reported, not computed with.
     """
-    from stimuli.extraction.quality import box_contact, colour_error, edge_support
+    from stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_support
 
     p = extraction.params
     boxes = p.get("boxes") or ([p["box"]] if p.get("box") else [])
-    along = [box_contact(c, b) for c, b in zip(extraction.contours, boxes) if b is not None]
+    boxed = [(c, b) for c, b in zip(extraction.contours, boxes) if b is not None]
     values = dict(colour_error=colour_error(image, extraction.mask),
                   edge_support=min(edge_support(image, c) for c in extraction.contours),
-                  box_contact=max(along) if along else None)
+                  box_contact=max(box_contact(c, b) for c, b in boxed) if boxed else None,
+                  box_gap=max(box_gap(c, b) for c, b in boxed) if boxed else None)
     return {k: None if v is None or not np.isfinite(v) else round(float(v), 4) for k, v in values.items()}
