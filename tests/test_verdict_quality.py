@@ -128,3 +128,25 @@ def test_silhouettes_get_no_photo_measures():
     v = judge(img, extract(img, method="auto"))
     assert v.status == "ok"
     assert v.measures["colour_error"] is None and v.measures["box_contact"] is None
+
+
+@pytest.mark.parametrize("width", [40, 70, 120])
+def test_suspect_banner_on_a_narrow_image(width):
+    # the reason is cut to the image's width; cutting once looped for ever on
+    # narrow images (a silhouette of 70 px touching the frame)
+    import faulthandler
+
+    from stimuli.extraction import describe
+    from stimuli.extraction.overlays import overlay
+    from stimuli.extraction.verdict import Verdict
+
+    img = (255 * coverage(_circle(width / 2, 30.2, 12).points, (60, width))).round().astype(np.uint8)
+    c = _circle(width / 2, 30.2, 12)
+    v = Verdict("suspect", ["touches the image frame over 5% of its outline", "a long second reason " * 5])
+    faulthandler.dump_traceback_later(60, exit=True)  # a hang fails the run instead of stalling it
+    try:
+        out = overlay(img, [c], [describe(c, n=40)], verdict=v)
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+    assert out.shape == (60, width, 3)
+    assert np.all(out[-1, 1:-1] == (255, 140, 0))  # the orange band across the bottom
