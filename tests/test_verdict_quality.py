@@ -73,7 +73,7 @@ def test_colour_error_of_a_leaked_outline_is_the_share_of_background_inside():
     # the outline takes 20 columns of background beside the object: 3 px inside
     # it (the core) are 37 columns of object and 17 of background, the ring
     # outside it is all background, so the background's colour is classed
-    # background and 17 of the core's 54 columns are misclassed: error 17/108.
+    # background and 17 of the core's 54 columns are misclassified: error 17/108.
     # The 1 px blur mixes the two columns on either side of the colour boundary.
     img = _two_colour()
     leaked = np.zeros(img.shape[:2], bool)

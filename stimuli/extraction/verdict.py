@@ -239,7 +239,7 @@ def judge(image, extraction, decoder=(), thresholds=None):
         reasons.append(f"falls short of its box by {100 * photo['box_gap']:.0f}% of the box's size on one side "
                        "(a part may be missing)")
     if photo["colour_error"] is not None and photo["colour_error"] > th["colour_error"]:
-        reasons.append(f"colours inside and outside the outline overlap (colour models misclass "
+        reasons.append(f"colours inside and outside the outline overlap (colour models misclassify "
                        f"{100 * photo['colour_error']:.0f}% of the pixels near it)")
     if photo["edge_support"] is not None and photo["edge_support"] < th["edge_support"]:
         reasons.append(f"only {100 * photo['edge_support']:.0f}% of the outline lies on an image edge")
