@@ -21,9 +21,12 @@ of every outline is recorded: the share of outlines marked ``ok`` with IoU
 >= 0.8 and the smallest IoU among them say whether ``ok`` can be trusted.
 
 Prints per group and mode: n, median and mean IoU, share >= 0.8 and
-< 0.5, mean boundary distance, ok share and its precision; with ``--csv``
-writes one row per photo and mode (the verdict's measures included, for
-calibrating thresholds on one group and checking them on the other).
+< 0.5, mean boundary distance, ok share and its precision; then per
+group, mode and half (``A``/``B``: alternate photos of each group in name
+order, one half to tune the verdict on and the other to check it) the ok
+share, the ok precision (IoU >= 0.8) and the smallest IoU among ok. With
+``--csv`` writes one row per photo and mode (the verdict's measures and
+the half included), for ``benchmarks/calibrate_verdict.py``.
 
 Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.csv] [--modes auto,box,grabcut]
        [--workers N] [--progress]
@@ -42,6 +45,28 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import header  # noqa: E402
 
 DEFAULT_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "photos"
+#: The verdict's measures recorded per photo and mode.
+MEASURES = ("frame", "fill", "contrast", "competing", "agreement", "colour_error", "edge_support", "box_contact",
+            "box_gap")
+
+
+def halves(names):
+    """'A' or 'B' for each photo name: alternate photos of each group (prefix before '_') in name order."""
+    seen = {}
+    out = {}
+    for n in sorted(names):
+        group = n.split("_")[0]
+        out[n] = "AB"[seen.get(group, 0) % 2]
+        seen[group] = seen.get(group, 0) + 1
+    return out
+
+
+def ok_figures(g):
+    """(ok share, ok precision (IoU >= 0.8), smallest IoU among ok) of a table's rows, '-' where undefined."""
+    ok = g[g.status == "ok"]
+    if not len(ok):
+        return f"{0:.2f}", "-", "-"
+    return f"{len(ok) / len(g):.2f}", f"{(ok.iou >= 0.8).mean():.2f}", f"{ok.iou.min():.2f}"
 
 
 def iou(a, b):
@@ -113,7 +138,7 @@ def measure_photo(path, modes):
             pred = coverage(ex.contour, truth.shape) >= 0.5
             v = judge(rgb, ex)
             row.update(status=v.status, reason=v.reason, resolved=ex.params.get("resolved"),
-                       **{k: v.measures[k] for k in ("frame", "fill", "contrast", "competing", "agreement")})
+                       **{k: v.measures[k] for k in MEASURES})
         row.update(iou=iou(pred, truth), distance=boundary_distance(pred, truth), seconds=time.perf_counter() - t0)
         rows.append(row)
     return rows
@@ -157,17 +182,20 @@ def main(argv=None):
             rows += got
             _progress(args, got)
     df = pd.DataFrame(rows)
+    df["half"] = df.image.map(halves(df.image.unique()))
     print(f"{len(photos)} photos, {time.perf_counter() - t_start:.0f} s in all")
     print(f"{'group':10s} {'mode':8s} {'n':>3s} {'medIoU':>7s} {'meanIoU':>7s} {'>=0.8':>6s} {'<0.5':>6s} "
           f"{'dist px':>7s} {'ok':>5s} {'ok>=0.8':>7s} {'ok min':>6s}")
     for (group, mode), g in df.groupby(["group", "mode"], sort=True):
-        ok = g[g.status == "ok"]
-        prec = f"{(ok.iou >= 0.8).mean():.2f}" if len(ok) else "-"
-        okmin = f"{ok.iou.min():.2f}" if len(ok) else "-"
-        okshare = f"{len(ok) / len(g):.2f}" if mode != "grabcut" else "-"
+        okshare, prec, okmin = ok_figures(g) if mode != "grabcut" else ("-", "-", "-")
         print(f"{group:10s} {mode:8s} {len(g):3d} {g.iou.median():7.3f} {g.iou.mean():7.3f} "
               f"{(g.iou >= 0.8).mean():6.2f} {(g.iou < 0.5).mean():6.2f} {g.distance.median():7.2f} "
               f"{okshare:>5s} {prec:>7s} {okmin:>6s}")
+    print(f"\nthe verdict per half\n{'group':10s} {'mode':8s} {'half':4s} {'n':>3s} {'ok':>5s} {'ok>=0.8':>7s} "
+          f"{'ok min':>6s}")
+    for (group, mode, half), g in df[df["mode"] != "grabcut"].groupby(["group", "mode", "half"], sort=True):
+        okshare, prec, okmin = ok_figures(g)
+        print(f"{group:10s} {mode:8s} {half:4s} {len(g):3d} {okshare:>5s} {prec:>7s} {okmin:>6s}")
     if args.csv:
         df.to_csv(args.csv, index=False)
     return 0

@@ -3,7 +3,7 @@
 (:mod:`.trace`), figure-ground for photographs (:mod:`.photo`,
 :mod:`.grabcut`, :mod:`.model`, with the boxes and scribbles of
 :mod:`.assists`), the outline of each object (:mod:`.outlines`), its
-verdict (:mod:`.verdict`), the
+verdict (:mod:`.verdict`, photo measures in :mod:`.quality`), the
 scale-space description (:mod:`.scalespace`), the overlay drawing
 (:mod:`.overlays`) and the per-image pipeline of ``attneave extract``
 (:mod:`.pipeline`)."""

@@ -133,7 +133,8 @@ def _banner(rgb, text, colour=(255, 140, 0)):
     fs = float(np.clip(min(h, w) / 900, 0.3, 0.8))
     (_, th), _ = cv2.getTextSize("Ag", font, fs, 1)
     while len(text) > 8 and cv2.getTextSize(text, font, fs, 1)[0][0] > w - 8:
-        text = text[: int(len(text) * 0.9) - 1].rstrip() + "..."
+        # at least 4 characters shorter each time ("..." included), or a short text never ends
+        text = text[: min(int(len(text) * 0.9), len(text) - 4) - 3].rstrip() + "..."
     y0 = max(0, h - th - 10)
     rgb[y0:h] = colour
     cv2.putText(rgb, text, (4, h - 5), font, fs, (0, 0, 0), 1, cv2.LINE_AA)

@@ -26,7 +26,8 @@ its verdict (:mod:`stimuli.extraction.verdict`): ``status`` ``ok``,
 wrong: frame contact, low contrast, fill, competing regions, disagreeing
 hypotheses, decoder warnings; the overlay says so too) or ``failed`` (no
 outline: unreadable, too large, no object, everything object), and the
-measures behind it (``frame``, ``fill``, ``contrast``, ``agreement``), and
+measures behind it (``frame``, ``fill``, ``contrast``, ``agreement``; for
+photographs ``colour_error``, ``edge_support``, ``box_contact``), and
 ``resolved``, the method ``auto`` chose. Reasons are always one line. A
 failed file does not stop the others.
 Outputs that an earlier run wrote for an input that now fails
@@ -43,6 +44,7 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.extraction.verdict import PHOTO_MEASURES
 
 __all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "output_stems", "extract_images", "process_one"]
 
@@ -50,7 +52,7 @@ OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "sil
 SUMMARY_COLUMNS = (
     "image", "status", "reason", "n_points", "perimeter", "area",
     "n_objects", "method", "polarity", "level", "sigma", "n",
-    "resolved", "frame", "fill", "contrast", "agreement",
+    "resolved", "frame", "fill", "contrast", "agreement", *PHOTO_MEASURES,
 )
 #: Options of :func:`extract_images` and their defaults.
 DEFAULTS = dict(
@@ -179,7 +181,7 @@ def _summary_frame(rows):
 
     df = pd.DataFrame([{c: r[c] for c in SUMMARY_COLUMNS} for r in rows], columns=list(SUMMARY_COLUMNS))
     for c in ("n_points", "perimeter", "area", "n_objects", "level", "sigma", "n", "frame", "fill", "contrast",
-              "agreement"):
+              "agreement", *PHOTO_MEASURES):
         df[c] = pd.to_numeric(df[c].replace("", np.nan), errors="coerce")
         if c in ("n_points", "n_objects", "n"):
             df[c] = df[c].astype("Int64")
@@ -284,6 +286,7 @@ def _analyse(image, stem, opts):
         n_objects=len(ex.contours), polarity=ex.params["polarity"], level=ex.params.get("level"), sigma=i0.sigma,
         n=i0.params["n"], resolved=ex.params.get("resolved", ex.params["method"]), frame=m["frame"],
         fill=m["fill"], contrast=m["contrast"], agreement=m["agreement"],
+        **{k: "" if m[k] is None else m[k] for k in PHOTO_MEASURES},
     )
     return files, summary
 
