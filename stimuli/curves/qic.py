@@ -49,6 +49,7 @@ from stimuli.curves.qic_rule import (
     hold_straying_nodes,
     polygon_is_simple,
     polygon_turns,
+    reference_deviation,
     relax_bad_runs,
     segment_bulge,
     straying_nodes,
@@ -469,11 +470,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     tangents = bisector_tangents(P, closed)
     turns = polygon_turns(P, closed)
     check_crossings = polygon_is_simple(P, closed)
-    # the tangent's largest angle to the chord were the points' circle
-    # tangents held at both ends: what no smooth curve can avoid
-    D = (np.roll(P, -1, axis=0) - P)
-    phi = np.arctan2(D[:, 1], D[:, 0])
-    ref_dev = np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
+    ref_dev = reference_deviation(P, tangents)
     corner_turn = CORNER_TURN if corner_turn is None else float(corner_turn)
     given = set(g0)
 
@@ -513,10 +510,10 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     if sp is None:
         _raise_failure(fit)
     if not bad.size:
-        # step 5 of the rule: give back G2 where a later relaxation made a node's useless
-        g0 = {c for c, k in zip(sp.corners, sp.corner_kinds) if k == "G0"}
-        held = {c: tangents[c] for c, k in zip(sp.corners, sp.corner_kinds) if k == "G1"}
-        for e in sorted(set(sp.corners) - given, key=lambda i: turns[i]):
+        # step 5 of the rule: give G2 back where a later relaxation made a node's useless
+        kinds = dict(zip(sp.corners, sp.corner_kinds))
+        g0, held = {c for c in kinds if kinds[c] == "G0"}, {c: tangents[c] for c in kinds if kinds[c] == "G1"}
+        for e in sorted(set(kinds) - given, key=lambda i: turns[i]):
             g, h = g0 - {e}, {k: v for k, v in held.items() if k != e}
             fit, new, new_bad = attempt(g, h)
             iterations += fit.iterations

@@ -59,13 +59,16 @@ Steps 3d-e and 5 were tuned on every third MPEG-7 outline
 (``benchmarks/validate_spline.py --every 3``).
 
 On the 350 MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally
-spaced by arc length this relaxes 9.8 / 8.8 / 4.5 / 1.2 % of the nodes (the
-rule before steps 3c-e and 5: 8.0 / 7.4 / 4.9 / 0.7), leaves 0.6 / 0 / 0 / 0
-% of the curves crossing themselves and no segment turning by more than pi,
-and the 90th percentile of the largest distance to the outline is 1.09 /
-1.06 / 1.10 / 1.07 times that of scipy's periodic cubic spline (before: 1.18
-/ 1.13 / 1.15 / 1.09; the pure G2 spline: 1.49 / 1.43 / 1.31 / 1.20;
-``benchmarks/validate_spline.py``).
+spaced by arc length this relaxes 9.4 / 8.6 / 4.5 / 1.1 % of the nodes (the
+rule before steps 3c-e and 5 and with G1 nodes only: 8.0 / 7.4 / 4.9 / 0.7),
+leaves 0.6 / 0.3 / 0 / 0 % of the curves crossing themselves and no segment
+turning by more than pi, and the 90th percentile of the largest distance to
+the outline is 1.10 / 1.05 / 1.10 / 1.07 times that of scipy's periodic
+cubic spline (before: 1.18 / 1.13 / 1.15 / 1.09; the pure G2 spline: 1.49 /
+1.43 / 1.31 / 1.20; ``benchmarks/validate_spline.py``). On the outlines the
+constants were not tuned on (the other 233): 1.12 / 1.05 / 1.11 / 1.08 with
+9.2 / 8.6 / 4.7 / 1.2 % of the nodes relaxed; the 90th percentile of ~230
+shapes moves by several per cent between subsets.
 
 References
 ----------
@@ -92,6 +95,7 @@ __all__ = [
     "EXCESS_BULGE",
     "MAX_EXCESS",
     "FOLD_MARGIN",
+    "reference_deviation",
     "segment_bulge",
     "folded_corners",
     "bad_segments",
@@ -143,6 +147,16 @@ def polygon_is_simple(P, closed):
     import shapely
 
     return bool(shapely.is_simple(shapely.LinearRing(P) if closed else shapely.LineString(P)))
+
+
+def reference_deviation(P, tangents):
+    """Per node of a closed polygon (or of an open one, its last value
+    unused): the larger angle between the chord from it to the next point
+    and the bisector tangents at the chord's ends, the deviation from the
+    chord that no smooth curve with those tangents can avoid (step 3b)."""
+    D = np.roll(P, -1, axis=0) - P
+    phi = np.arctan2(D[:, 1], D[:, 0])
+    return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
 
 
 def segment_bulge(curve, P, closed=True):
