@@ -474,23 +474,30 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     corner_turn = CORNER_TURN if corner_turn is None else float(corner_turn)
     given = set(g0)
 
-    def attempt(g0, held):
-        # one fit under the rule: (fit, spline or None where Newton failed, bad segments)
-        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
-        if fit.failed_piece is not None:
-            return fit, None, None
-        sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-        samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
-        bad = bad_segments(fit.seg, samples if check_crossings else None, ref_dev, segment_bulge(samples, P, closed),
-                           folded_corners(fit.seg, g0, P, closed), turns, corner_turn, g0)
-        return fit, sp, bad
+    tried = {}
 
-    iterations = failures = 0
+    def attempt(g0, held):
+        # one fit under the rule: (fit, spline or None where Newton failed, bad
+        # segments); held tangents are the bisector's, so the relaxed nodes
+        # name a fit (step 5 often returns to one already made)
+        key = (frozenset(g0), frozenset(held))
+        if key not in tried:
+            fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
+            sp = bad = None
+            if fit.failed_piece is None:
+                sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
+                samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
+                bad = bad_segments(fit.seg, samples if check_crossings else None, ref_dev,
+                                   segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
+                                   turns, corner_turn, g0)
+            tried[key] = (fit, sp, bad)
+        return tried[key]
+
+    failures = 0
     sp = fit = bad = None
     for _ in range(N + 1):
         # a fit that stalls is abandoned early: relaxing a node is cheaper
         fit, new, new_bad = attempt(g0, held)
-        iterations += fit.iterations
         if new is None:
             free = [i for i in range(N) if i not in held and i not in g0 and (closed or 0 < i < N - 1)]
             if not free:
@@ -516,8 +523,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         for e in sorted(set(kinds) - given, key=lambda i: turns[i]):
             g, h = g0 - {e}, {k: v for k, v in held.items() if k != e}
             fit, new, new_bad = attempt(g, h)
-            iterations += fit.iterations
             if new is not None and not new_bad.size and not straying_nodes(
                     fit.seg, N, closed, list(g) + list(h), tangents, max_dev).size:
                 g0, held, sp = g, h, new
+    iterations = sum(f.iterations for f, _, _ in tried.values())
     return replace(sp, iterations=iterations, seconds=time.perf_counter() - t_start)

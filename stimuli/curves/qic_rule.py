@@ -153,7 +153,17 @@ def reference_deviation(P, tangents):
     """Per node of a closed polygon (or of an open one, its last value
     unused): the larger angle between the chord from it to the next point
     and the bisector tangents at the chord's ends, the deviation from the
-    chord that no smooth curve with those tangents can avoid (step 3b)."""
+    chord that no smooth curve with those tangents can avoid (step 3b).
+
+    Examples
+    --------
+    On a square the bisector tangents make pi/4 with every side:
+
+    >>> from stimuli.curves.points import bisector_tangents
+    >>> P = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
+    >>> reference_deviation(P, bisector_tangents(P, True)).round(4).tolist()
+    [0.7854, 0.7854, 0.7854, 0.7854]
+    """
     D = np.roll(P, -1, axis=0) - P
     phi = np.arctan2(D[:, 1], D[:, 0])
     return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
@@ -319,8 +329,9 @@ def _runs(bad, m, closed):
 
 
 def relax_bad_runs(bad, seg, N, closed, turns, g0, held, tangents, corner_turn):
-    """Step 3 of the module notes: one node per run of bad segments becomes
-    G1 (or G0 where all its candidates already are G1). Updates `g0` and
+    """Step 3 of the module notes: one node per run of bad segments is
+    relaxed (G1, or G0 where the polygon turns by more than `corner_turn`;
+    G1 becomes G0 where all its candidates already are G1). Updates `g0` and
     `held` in place; returns False when nothing is left to relax."""
     changed = False
     for run in _runs(bad, len(seg["start"]), closed):
