@@ -29,7 +29,7 @@ polygon's box grown by 10%) whose ``qic`` curve is accepted too (target:
 Usage::
 
     python benchmarks/validate_spline.py [--data DIR] [--n 12 20 40 80] [--limit K]
-        [--methods qic qic-g2 cubic]
+        [--every K [--rest]] [--methods qic qic-g2 cubic]
     python benchmarks/validate_spline.py --curved 600 [--seed 11]
 """
 
@@ -55,10 +55,13 @@ from stimuli.extraction import extract  # noqa: E402
 SAMPLES = 32
 
 
-def outlines(folder, limit=None, every=1):
+def outlines(folder, limit=None, every=1, rest=False):
     """(name, dense Contour) of every PNG mask in `folder`, sorted by name
-    (every `every`-th file, the first `limit` of those)."""
-    files = sorted(Path(folder).glob("*.png"))[::every][:limit]
+    (every `every`-th file, or with `rest` all the others; the first `limit`
+    of those)."""
+    files = sorted(Path(folder).glob("*.png"))
+    files = [f for i, f in enumerate(files) if i % every] if rest else files[::every]
+    files = files[:limit]
     for f in files:
         try:
             yield f.name, extract(str(f), method="mask").contour
@@ -129,6 +132,7 @@ def main(argv=None):
     ap.add_argument("--n", type=int, nargs="+", default=[12, 20, 40, 80])
     ap.add_argument("--limit", type=int, default=None, help="first K files only")
     ap.add_argument("--every", type=int, default=1, help="every K-th file only")
+    ap.add_argument("--rest", action="store_true", help="with --every K: the files --every K leaves out")
     ap.add_argument("--methods", nargs="+", default=["qic", "qic-g2", "cubic"])
     ap.add_argument("--curved", type=int, default=None, metavar="K",
                     help="measure attneave_curved's qic acceptance on K polygons instead")
@@ -141,7 +145,7 @@ def main(argv=None):
     header("validate_spline: splines through real outlines reduced to N points")
     t0 = time.perf_counter()
     shapes = []
-    for name, c in outlines(args.data, args.limit, args.every):
+    for name, c in outlines(args.data, args.limit, args.every, args.rest):
         dense = c.resample(spacing=0.25).points
         shapes.append((name, c, cKDTree(dense), c.perimeter))
     print(f"{len(shapes)} outlines from {args.data} ({time.perf_counter() - t0:.1f} s)")

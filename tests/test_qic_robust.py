@@ -11,6 +11,7 @@ from stimuli.curves.metrics import interior_extrema, segment_slices, segment_tur
 from stimuli.curves.points import bisector_tangents
 from stimuli.curves.polynomial import polynomial_spline
 from stimuli.curves.qic import qic_spline
+from stimuli.curves.qic_rule import segment_bulge
 from stimuli.geometry.contour import Contour
 
 
@@ -60,21 +61,72 @@ def test_robust_qic_on_jagged_outlines(n):
         for node, kind in zip(sp.corners, sp.corner_kinds):
             if kind == "G1":
                 assert abs(np.angle(np.exp(1j * (sp.theta0[node] - th[node])))) < 1e-12
+            else:
+                # a G0 corner turns by less than pi: the pieces meeting there
+                # do not fold back onto each other (tangents from the samples)
+                sl = segment_slices(c.segment)
+                t_in, t_out = c.theta[sl[node - 1].stop - 1], c.theta[sl[node].start]
+                assert abs(np.angle(np.exp(1j * (t_out - t_in)))) < np.pi - 0.01
         corners += len(sp.corners)
         nodes += n
         tree = cKDTree(outline.resample(spacing=0.5).points)
         dist.append(tree.query(np.c_[c.x, c.y])[0].max())
         cc = polynomial_spline(P, 3).sample(16)
         dist_cubic.append(tree.query(np.c_[cc.x, cc.y])[0].max())
-    assert corners <= 0.1 * nodes
-    # as faithful to the outline as the periodic cubic within 1.5x (on these
-    # synthetic outlines 1.22 / 1.15 / 1.05 at N = 12 / 20 / 40 with 40 shapes)
-    assert np.percentile(dist, 90) <= 1.5 * np.percentile(dist_cubic, 90)
+    # issue 9's limits are 10 / 10 / 5 % of the nodes on MPEG-7 outlines at
+    # N = 12 / 20 / 40 (benchmarks/validate_spline.py: 9.4 / 8.6 / 4.5 %).
+    # These synthetic outlines are more jagged than MPEG-7's at the same N
+    # (polygon turns over 90 degrees: 31 % of the nodes at N = 20 against
+    # 18 %, 25 % at N = 40 against 10 %), and the rule relaxes more of them:
+    # 7.5 / 12.0 / 6.0 % here (7.2 / 10.8 / 6.9 % with 30 shapes)
+    assert corners <= {12: 0.1, 20: 0.125, 40: 0.075}[n] * nodes
+    # as faithful to the outline as the periodic cubic within 1.25x (on these
+    # synthetic outlines 1.12 / 1.11 / 1.06 at N = 12 / 20 / 40 with 40
+    # shapes; 1.22 / 1.16 / 1.08 with these 10)
+    assert np.percentile(dist, 90) <= 1.25 * np.percentile(dist_cubic, 90)
+
+
+def test_sharp_apex_becomes_a_corner_the_sides_run_into():
+    # a thin triangle (apex 20 degrees: the polygon turns by 160 there) with
+    # equally spaced points on its sides: G2 makes the segments beside the
+    # apex share its large curvature and bulge out; the robust spline makes
+    # the apex a G0 corner, and its curve keeps close to the triangle
+    a = np.radians(10)
+    V = np.array([[200, 50], [200 - 300 * np.tan(a), 350], [200 + 300 * np.tan(a), 350]])
+    P = np.concatenate([V[i] + np.linspace(0, 1, 4, endpoint=False)[:, None] * (V[(i + 1) % 3] - V[i])
+                        for i in range(3)])
+    tree = cKDTree(Contour(V).resample(spacing=0.25).points)
+    pure, robust = qic_spline(P, robust=False), qic_spline(P)
+    far = {name: tree.query(np.c_[c.x, c.y])[0].max() for name, c in (("pure", pure.sample(32)),
+                                                                     ("robust", robust.sample(32)))}
+    assert dict(zip(robust.corners, robust.corner_kinds))[0] == "G0"
+    assert far["robust"] < 0.7 * far["pure"]
+    # beside the corner the curve bulges less than 0.3 mean chords (rule 3d)
+    c = robust.sample(64)
+    bulge = segment_bulge(c, P)
+    assert bulge[[0, len(P) - 1]].max() <= 0.3
+
+
+def test_segment_bulge_of_a_circular_arc():
+    # an arc turning by 2b over a chord c lies c tan(b / 2) / 2 from the chord
+    # at most; divided by the mean chord of the closed polygon of its points
+    b = np.radians(50)
+    t = np.linspace(-b, b, 2001)
+    x, y = np.sin(t), np.cos(t)
+    P = np.array([[x[0], y[0]], [x[-1], y[-1]], [0.0, -2.0]])
+    from types import SimpleNamespace
+
+    c = SimpleNamespace(x=x, y=y, segment=np.zeros(t.size, int))
+    sides = np.hypot(*(np.roll(P, -1, axis=0) - P).T)
+    expected = (1 - np.cos(b)) / sides.mean()
+    assert segment_bulge(c, P)[0] == pytest.approx(expected, rel=1e-6)
+    chord = 2 * np.sin(b)
+    assert 1 - np.cos(b) == pytest.approx(chord * np.tan(b / 2) / 2)
 
 
 def test_pure_g2_loops_where_robust_does_not():
     # 12 points of a jagged outline (rounded to 0.1 px): the pure G2 spline
-    # has a segment turning by more than pi; the robust one relaxes 3 nodes
+    # has a segment turning by more than pi; the robust one does not
     P = np.array([[221.3, 200.0], [326.0, 128.1], [232.9, 83.6], [184.9, 153.4], [97.0, 130.0],
                   [121.8, 203.1], [73.8, 281.9], [136.3, 301.9], [206.3, 258.6], [280.0, 361.8],
                   [239.9, 245.9], [328.4, 266.2]])
@@ -83,7 +135,10 @@ def test_pure_g2_loops_where_robust_does_not():
     assert pure.corners == () and pure.g2_error <= 1e-10
     assert pure.max_segment_turn > np.pi and pure.loops == 1
     assert robust.max_segment_turn <= np.pi and robust.loops == 0 and self_intersections(*_xy(robust)) == 0
-    assert 0 < len(robust.corners) <= 3
+    # 6 of the 12 nodes: G0 corners at the two spikes (the polygon turns by
+    # 161 and 163 degrees there) and beside them, where the segments bulge
+    # (before the bulge rules of issue 9's second round: 3 G1 nodes)
+    assert 0 < len(robust.corners) <= 6
 
 
 def _xy(sp):
@@ -111,7 +166,7 @@ def test_attneave_curved_qic_accepts_what_cubic_accepts():
     # issue 9: smooth_method 'qic' accepts >= 95% of the Attneave polygons that
     # 'cubic' accepts (simple, near the polygon). A small seeded version: of 12
     # polygons cubic accepts, qic accepts at least 11 (the full measure,
-    # benchmarks/validate_spline.py --curved 600: 97.5%)
+    # benchmarks/validate_spline.py --curved 600: 98.0%, one qic curve of 600 crossing itself)
     from stimuli.shapes.generators import attneave_polygon, smooth_closed
 
     rng = np.random.default_rng(7)

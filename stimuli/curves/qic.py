@@ -42,12 +42,17 @@ from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import bisector_tangents, chord_end_angles, geometric_sign, spline_points
 from stimuli.curves.qic_newton import solve_nodes
 from stimuli.curves.qic_rule import (
+    CORNER_TURN,
     MAX_TANGENT_DEVIATION,
     bad_segments,
+    folded_corners,
     hold_straying_nodes,
     polygon_is_simple,
     polygon_turns,
+    reference_deviation,
     relax_bad_runs,
+    segment_bulge,
+    straying_nodes,
 )
 from stimuli.errors import InputError
 
@@ -353,7 +358,7 @@ def _raise_failure(fit):
     )
 
 
-def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tangent_deviation=None,
+def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangent_deviation=None,
                end_tangents=(None, None), corners=(), tol=1e-12, max_iter=50, y_down=True):
     """Fit the QIC spline: clothoid segments through points, G2 except at the
     few nodes the robust rule relaxes.
@@ -369,10 +374,11 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
         True (default): relax continuity where the G2 spline loops, swings
         out or crosses itself (the rule in the module notes). False: the
         pure G2 spline (``'qic-g2'``), which raises where Newton fails.
-    corner_turn : float
-        Robust rule: a node it relaxes becomes a G0 corner at once, instead
-        of a G1 node, where the polygon turns there by more than this
-        (radians; default pi: never).
+    corner_turn : float, optional
+        Robust rule: a node it relaxes becomes a G0 corner, instead of a G1
+        node, where the polygon turns there by more than this (radians;
+        default :data:`stimuli.curves.qic_rule.CORNER_TURN`, 0.7 pi; pi:
+        never).
     max_tangent_deviation : float, optional
         Robust rule: the largest difference between a G2 node's tangent and
         its bisector tangent (radians; default
@@ -464,18 +470,35 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
     tangents = bisector_tangents(P, closed)
     turns = polygon_turns(P, closed)
     check_crossings = polygon_is_simple(P, closed)
-    # the tangent's largest angle to the chord were the points' circle
-    # tangents held at both ends: what no smooth curve can avoid
-    D = (np.roll(P, -1, axis=0) - P)
-    phi = np.arctan2(D[:, 1], D[:, 0])
-    ref_dev = np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
-    iterations = failures = 0
-    sp = fit = None
+    ref_dev = reference_deviation(P, tangents)
+    corner_turn = CORNER_TURN if corner_turn is None else float(corner_turn)
+    given = set(g0)
+
+    tried = {}
+
+    def attempt(g0, held):
+        # one fit under the rule: (fit, spline or None where Newton failed, bad
+        # segments); held tangents are the bisector's, so the relaxed nodes
+        # name a fit (step 5 often returns to one already made)
+        key = (frozenset(g0), frozenset(held))
+        if key not in tried:
+            fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
+            sp = bad = None
+            if fit.failed_piece is None:
+                sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
+                samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
+                bad = bad_segments(fit.seg, samples if check_crossings else None, ref_dev,
+                                   segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
+                                   turns, corner_turn, g0)
+            tried[key] = (fit, sp, bad)
+        return tried[key]
+
+    failures = 0
+    sp = fit = bad = None
     for _ in range(N + 1):
         # a fit that stalls is abandoned early: relaxing a node is cheaper
-        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
-        iterations += fit.iterations
-        if fit.failed_piece is not None:
+        fit, new, new_bad = attempt(g0, held)
+        if new is None:
             free = [i for i in range(N) if i not in held and i not in g0 and (closed or 0 < i < N - 1)]
             if not free:
                 break
@@ -485,9 +508,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
             for e in sorted(free, key=lambda i: -turns[i])[: 2 ** (failures - 1)]:
                 held[e] = tangents[e]
             continue
-        sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-        bad = bad_segments(fit.seg, sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES) if check_crossings else None,
-                           ref_dev)
+        sp, bad = new, new_bad
         changed = hold_straying_nodes(fit.seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev)
         if bad.size:
             changed |= relax_bad_runs(bad, fit.seg, N, closed, turns, g0, held, tangents, corner_turn)
@@ -495,4 +516,15 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=np.pi, max_tange
             break
     if sp is None:
         _raise_failure(fit)
+    if not bad.size:
+        # step 5 of the rule: give G2 back where a later relaxation made a node's useless
+        kinds = dict(zip(sp.corners, sp.corner_kinds))
+        g0, held = {c for c in kinds if kinds[c] == "G0"}, {c: tangents[c] for c in kinds if kinds[c] == "G1"}
+        for e in sorted(set(kinds) - given, key=lambda i: turns[i]):
+            g, h = g0 - {e}, {k: v for k, v in held.items() if k != e}
+            fit, new, new_bad = attempt(g, h)
+            if new is not None and not new_bad.size and not straying_nodes(
+                    fit.seg, N, closed, list(g) + list(h), tangents, max_dev).size:
+                g0, held, sp = g, h, new
+    iterations = sum(f.iterations for f, _, _ in tried.values())
     return replace(sp, iterations=iterations, seconds=time.perf_counter() - t_start)

@@ -5,33 +5,70 @@ On jagged points the pure G2 spline can loop or swing far from the polygon
 have). The robust form (the default) then relaxes continuity at a few nodes.
 The *bisector tangent* of a node is the direction of the sum of the unit
 vectors along the two polygon sides that meet there
-(:func:`stimuli.curves.points.bisector_tangents`). The rule, repeated until
-nothing changes (at most N + 1 rounds):
+(:func:`stimuli.curves.points.bisector_tangents`); the *turn* of a node is
+the polygon's exterior angle there; the *bulge* of a segment is its largest
+distance from its chord divided by the mean chord length
+(:func:`segment_bulge`). A node the rule relaxes becomes a **G0 corner**
+(the curve is cut there into open pieces with natural ends; corners carry
+information, the seed's eq. 6) where its turn exceeds :data:`CORNER_TURN`
+(0.7 pi, 126 degrees), else a **G1 node** (tangent held at the bisector
+tangent, curvature free to jump). The rule, repeated until nothing changes
+(at most N + 1 rounds):
 
 1. Fit the spline (G2 at every node not yet relaxed).
 2. *Straying nodes*: a G2 node whose tangent differs from its bisector
    tangent by more than :data:`MAX_TANGENT_DEVIATION` (pi/4), and by at least
-   as much as at both neighbours, becomes a **G1 node**: its tangent is held
-   at the bisector tangent and its curvature may jump.
-3. *Bad segments*: a segment whose tangent turns by more than pi, whose
-   tangent leaves its chord's direction by more than
-   ``max(pi/2, a + pi/10)`` (``a`` the larger angle between the chord and the
-   bisector tangents at its ends: what a smooth curve cannot avoid), or that
-   crosses another segment although the polygon of the points is simple. In
-   every run of consecutive bad segments, the G2 node with the sharpest
-   polygon turn among the run's nodes becomes a G1 node; where all of them
-   already are G1 nodes, the sharpest becomes a **G0 corner** (the curve is
-   cut there into open pieces with natural ends; corners carry
-   information, the seed's eq. 6).
+   as much as at both neighbours, is relaxed.
+3. *Bad segments*: a segment
+
+   a. whose tangent turns by more than pi;
+   b. whose tangent leaves its chord's direction by more than
+      ``max(pi/2, a + pi/10)`` (``a`` the larger angle between the chord and
+      the bisector tangents at its ends: what a smooth curve cannot avoid);
+   c. that crosses another segment although the polygon of the points is
+      simple, or that leaves a G0 corner folded back onto its neighbour (the
+      curve turns there by more than ``pi -`` :data:`FOLD_MARGIN`);
+   d. that bulges by more than :data:`SHARP_BULGE` (0.3) and ends at a node
+      turning by more than :data:`CORNER_TURN` that is not yet a G0 corner;
+   e. that bulges by more than :data:`EXCESS_BULGE` (0.25) and whose tangent
+      turns by more than the mean of its end nodes' turns plus
+      :data:`MAX_EXCESS` (0.75 rad, 43 degrees).
+
+   In every run of consecutive bad segments, the G2 node with the sharpest
+   turn among the run's nodes is relaxed; where all of them already are G1
+   nodes, the sharpest becomes a G0 corner.
 4. Where Newton does not converge, the G2 node with the sharpest polygon
    turn becomes a G1 node (two nodes at the next failure, then four, ...).
+5. Once nothing is bad, every relaxed node is tried back as a G2 node, the
+   gentlest turn first, and stays G2 where steps 2-3 then find nothing:
+   a round of step 3 may relax nodes that a later relaxation made useless.
 
-On MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally spaced by arc
-length this relaxes 8.0 / 7.4 / 4.9 / 0.7 % of the nodes, leaves 0.6 / 0 / 0 / 0
-% of the curves crossing themselves and no segment turning by more than pi,
-and the 90th percentile of the largest distance to the outline is 1.18 /
-1.13 / 1.15 / 1.09 times that of scipy's periodic cubic spline (the pure G2
-spline: 1.49 / 1.43 / 1.31 / 1.20; ``benchmarks/validate_spline.py``).
+Why d and e: on real outlines reduced to few points, the pure spline's worst
+distances to the outline come from segments next to a sharp polygon turn
+(a shape's corner sampled by few points) or between two of them. A clothoid's
+curvature is linear in arc length and G2 makes every segment share its
+end curvatures with its neighbours, so a segment beside a node of large
+curvature turns much more than the polygon does there and bulges out; the
+periodic cubic concentrates that curvature near the node instead. A G0 corner
+at a sharp turn lets the neighbouring pieces run straight into it (what the
+outline does), and a G1 node lets a segment between two sharp turns keep the
+polygon's own turn. Measuring the bulge in mean chords, not the segment's
+own chord, makes it a share of the distance the validation measures (the
+largest distance divided by the perimeter, i.e. by N mean chords).
+Steps 3d-e and 5 were tuned on every third MPEG-7 outline
+(``benchmarks/validate_spline.py --every 3``).
+
+On the 350 MPEG-7 outlines reduced to 12 / 20 / 40 / 80 points equally
+spaced by arc length this relaxes 9.4 / 8.6 / 4.5 / 1.1 % of the nodes (the
+rule before steps 3c-e and 5 and with G1 nodes only: 8.0 / 7.4 / 4.9 / 0.7),
+leaves 0.6 / 0.3 / 0 / 0 % of the curves crossing themselves and no segment
+turning by more than pi, and the 90th percentile of the largest distance to
+the outline is 1.10 / 1.05 / 1.10 / 1.07 times that of scipy's periodic
+cubic spline (before: 1.18 / 1.13 / 1.15 / 1.09; the pure G2 spline: 1.49 /
+1.43 / 1.31 / 1.20; ``benchmarks/validate_spline.py``). On the outlines the
+constants were not tuned on (the other 233): 1.12 / 1.05 / 1.11 / 1.08 with
+9.2 / 8.6 / 4.7 / 1.2 % of the nodes relaxed; the 90th percentile of ~230
+shapes moves by several per cent between subsets.
 
 References
 ----------
@@ -53,7 +90,16 @@ __all__ = [
     "MAX_TANGENT_DEVIATION",
     "polygon_turns",
     "polygon_is_simple",
+    "CORNER_TURN",
+    "SHARP_BULGE",
+    "EXCESS_BULGE",
+    "MAX_EXCESS",
+    "FOLD_MARGIN",
+    "reference_deviation",
+    "segment_bulge",
+    "folded_corners",
     "bad_segments",
+    "straying_nodes",
     "hold_straying_nodes",
     "relax_bad_runs",
 ]
@@ -66,6 +112,18 @@ CHORD_MARGIN = 0.1 * np.pi
 #: A G2 node whose tangent differs from the bisector tangent by more than
 #: this (radians) strays: the robust rule holds it at the bisector (G1).
 MAX_TANGENT_DEVIATION = 0.25 * np.pi
+#: A node the rule relaxes becomes a G0 corner where the polygon turns by
+#: more than this (radians; 126 degrees), else a G1 node.
+CORNER_TURN = 0.7 * np.pi
+#: Largest bulge (distance from the chord / mean chord) of a segment that
+#: ends at a node turning by more than CORNER_TURN.
+SHARP_BULGE = 0.3
+#: Largest bulge of a segment whose tangent turns by more than the mean of
+#: its end nodes' turns plus MAX_EXCESS (radians).
+EXCESS_BULGE = 0.25
+MAX_EXCESS = 0.75
+#: At a G0 corner the curve may turn by at most pi - FOLD_MARGIN (radians).
+FOLD_MARGIN = 0.05
 
 
 def polygon_turns(P, closed):
@@ -91,7 +149,93 @@ def polygon_is_simple(P, closed):
     return bool(shapely.is_simple(shapely.LinearRing(P) if closed else shapely.LineString(P)))
 
 
-def bad_segments(seg, curve, ref_dev):
+def reference_deviation(P, tangents):
+    """Per node of a closed polygon (or of an open one, its last value
+    unused): the larger angle between the chord from it to the next point
+    and the bisector tangents at the chord's ends, the deviation from the
+    chord that no smooth curve with those tangents can avoid (step 3b).
+
+    Examples
+    --------
+    On a square the bisector tangents make pi/4 with every side:
+
+    >>> from stimuli.curves.points import bisector_tangents
+    >>> P = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
+    >>> reference_deviation(P, bisector_tangents(P, True)).round(4).tolist()
+    [0.7854, 0.7854, 0.7854, 0.7854]
+    """
+    D = np.roll(P, -1, axis=0) - P
+    phi = np.arctan2(D[:, 1], D[:, 0])
+    return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
+
+
+def segment_bulge(curve, P, closed=True):
+    """Largest distance of each segment's samples from the straight line
+    through its end points (its chord), divided by the mean chord length.
+
+    Parameters
+    ----------
+    curve : SampledCurve
+        Samples of a spline through `P`, segment by segment in order, each
+        labelled by the index of the point where it starts.
+    P : ndarray, shape (N, 2)
+        The points.
+    closed : bool
+        Whether the polygon of the points is closed (its mean chord then
+        includes the side from the last point to the first).
+
+    Returns
+    -------
+    ndarray
+        One value per segment, in order of appearance.
+
+    Examples
+    --------
+    A half circle over its diameter bulges by half the chord:
+
+    >>> from types import SimpleNamespace
+    >>> t = np.linspace(np.pi, 0, 101)
+    >>> c = SimpleNamespace(x=np.cos(t), y=np.sin(t), segment=np.zeros(101, int))
+    >>> segment_bulge(c, np.array([[-1.0, 0.0], [1.0, 0.0]]), closed=False).round(6).tolist()
+    [0.5]
+    """
+    seg = np.asarray(curve.segment)
+    starts = np.r_[0, np.flatnonzero(seg[1:] != seg[:-1]) + 1]
+    sides = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
+    h = float(np.mean(np.hypot(sides[:, 0], sides[:, 1])))
+    a = P[seg]
+    D = P[(seg + 1) % len(P)] - a
+    # |cross product| / |chord| is the distance from the chord's line
+    cross = np.abs((curve.x - a[:, 0]) * D[:, 1] - (curve.y - a[:, 1]) * D[:, 0])
+    return np.maximum.reduceat(cross / np.hypot(D[:, 0], D[:, 1]), starts) / h
+
+
+def folded_corners(seg, g0, P, closed):
+    """The G0 corners where the curve turns back by nearly pi (more than
+    ``pi - FOLD_MARGIN``): the pieces then overlap beside the corner, a
+    crossing too thin for the sampled crossing test."""
+    if not g0:
+        return []
+    N = len(P)
+    start = np.asarray(seg["start"])
+    L = seg["L"]
+    theta_end = seg["theta0"] + seg["k0"] * L + 0.5 * seg["dk"] * L * L
+    D = P[(start + 1) % N] - P[start]
+    phi = np.arctan2(D[:, 1], D[:, 0])
+    out = []
+    for e in g0:
+        j_out = np.flatnonzero(start == e)
+        j_in = np.flatnonzero(start == (e - 1) % N) if (closed or e > 0) else j_out[:0]
+        if not (j_in.size and j_out.size):
+            continue
+        i, o = int(j_in[0]), int(j_out[0])
+        turn = wrap_angle(phi[o] - phi[i]) + wrap_angle(seg["theta0"][o] - phi[o]) - wrap_angle(theta_end[i] - phi[i])
+        if abs(turn) > np.pi - FOLD_MARGIN:
+            out.append(int(e))
+    return sorted(out)
+
+
+def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_turn=CORNER_TURN, g0=()):
     """Indices (into the segment arrays) of the segments the rule repairs
     (step 3 of the module notes).
 
@@ -107,31 +251,57 @@ def bad_segments(seg, curve, ref_dev):
     ref_dev : ndarray
         Per node: the larger angle between its segment's chord and the
         bisector tangents at its ends.
+    bulge : ndarray, optional
+        Per segment: :func:`segment_bulge` (None: steps 3d-e are skipped).
+    folded : sequence of int
+        Nodes :func:`folded_corners` found: both their segments are bad.
+    turns : ndarray, optional
+        Per node: :func:`polygon_turns` (needed with `bulge`).
+    corner_turn : float
+        Turn (radians) above which a node is sharp (step 3d).
+    g0 : collection of int
+        The G0 corners: no longer sharp nodes for step 3d (the curve already
+        turns there as the polygon does).
     """
-    limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[seg["start"]] + CHORD_MARGIN)
+    start = seg["start"]
+    limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[start] + CHORD_MARGIN)
     bad = (seg["turn"] > np.pi) | (seg["chord_dev"] > limit)
+    if bulge is not None:
+        t0, t1 = turns[start], turns[(start + 1) % len(turns)]
+        sharp = turns > corner_turn
+        sharp[list(g0)] = False
+        bad |= (bulge > SHARP_BULGE) & (sharp[start] | sharp[(start + 1) % len(turns)])
+        bad |= (bulge > EXCESS_BULGE) & (seg["turn"] - 0.5 * (t0 + t1) > MAX_EXCESS)
+    for e in folded:
+        bad[(start == e) | ((start + 1) % len(ref_dev) == e)] = True
     if curve is not None:
         for s in self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed):
-            bad[np.flatnonzero(seg["start"] == s)] = True
+            bad[np.flatnonzero(start == s)] = True
     return np.flatnonzero(bad)
 
 
-def hold_straying_nodes(seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev):
-    """Step 2 of the module notes: relax the nodes whose G2 tangent strays
-    from the bisector tangent by more than `max_dev` (and by at least as much
-    as at both neighbours). `g0` (set) and `held` (dict node -> tangent) are
-    updated in place; returns whether any node changed."""
+def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
+    """Step 2 of the module notes: the G2 nodes whose tangent strays from
+    the bisector tangent by more than `max_dev` (radians) and by at least as
+    much as at both neighbours (`relaxed`: nodes already relaxed)."""
     theta = np.full(N, np.nan)
     theta[seg["start"]] = seg["theta0"]
     dev = np.abs(wrap_angle(theta - tangents))
-    dev[list(g0) + list(held)] = 0.0
+    dev[list(relaxed)] = 0.0
     if not closed:
         dev[0] = dev[-1] = 0.0
     dev = np.nan_to_num(dev)
     peak = (dev > max_dev) & (dev >= np.roll(dev, 1)) & (dev >= np.roll(dev, -1))
-    for e in np.flatnonzero(peak):
+    return np.flatnonzero(peak)
+
+
+def hold_straying_nodes(seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev):
+    """Relax the :func:`straying_nodes`. `g0` (set) and `held` (dict node ->
+    tangent) are updated in place; returns whether any node changed."""
+    nodes = straying_nodes(seg, N, closed, list(g0) + list(held), tangents, max_dev)
+    for e in nodes:
         _relax_node(int(e), g0, held, tangents, turns, corner_turn)
-    return bool(peak.any())
+    return bool(nodes.size)
 
 
 def _relax_node(e, g0, held, tangents, turns, corner_turn):
@@ -159,8 +329,9 @@ def _runs(bad, m, closed):
 
 
 def relax_bad_runs(bad, seg, N, closed, turns, g0, held, tangents, corner_turn):
-    """Step 3 of the module notes: one node per run of bad segments becomes
-    G1 (or G0 where all its candidates already are G1). Updates `g0` and
+    """Step 3 of the module notes: one node per run of bad segments is
+    relaxed (G1, or G0 where the polygon turns by more than `corner_turn`;
+    G1 becomes G0 where all its candidates already are G1). Updates `g0` and
     `held` in place; returns False when nothing is left to relax."""
     changed = False
     for run in _runs(bad, len(seg["start"]), closed):

@@ -336,7 +336,7 @@ class _NoCurve(InputError):
 # Robust QIC settings tried in turn, (corner_turn, max_tangent_deviation): the
 # default rule first; where its curve still leaves the polygon's box or crosses itself, G0
 # corners at turns over 90 degrees and tangents held closer to the bisector.
-_QIC_STEPS = ((np.pi, None), (0.5 * np.pi, 0.125 * np.pi), (0.5 * np.pi, 0.0))
+_QIC_STEPS = ((None, None), (0.5 * np.pi, 0.125 * np.pi), (0.5 * np.pi, 0.0))
 
 
 def _qic(p, m):
