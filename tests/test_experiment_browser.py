@@ -38,7 +38,7 @@ def _missing():
 def _with_timeout(make):
     def wrapped(*args, **kwargs):
         obj = make(*args, **kwargs)
-        obj.set_default_timeout(8000)
+        obj.set_default_timeout(20000)
         return obj
     return wrapped
 
@@ -286,7 +286,7 @@ def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setu
         if len(seen) == 1:
             page.wait_for_selector("#screen:not([hidden])[data-screen=practice-end]")
             page.click("#next")
-    page.wait_for_selector("#submit-status[data-state=ok]", timeout=8000)
+    page.wait_for_selector("#submit-status[data-state=ok]", timeout=20000)
     practice = page.evaluate("window.attneavePractice")
     data = page.evaluate("window.attneaveData")
     page.close()
