@@ -290,7 +290,7 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
     """
     delta = phi1 - phi0
     # N0 = delta - A and N1 = delta + A, stacked: k0 and k1 in one division
-    NN = delta + _K_BASE[:2] * A
+    NN = delta + _MINUS_PLUS * A
     I = _moments(2.0 * A, NN[0], 3 if derivatives else 1, phi0)
     X0, Y0 = I[0].real, I[0].imag
     L = r / X0
@@ -307,14 +307,19 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
 # derivatives gain Xr * (_K_BASE -+ dA), dA the change of A along G
 _K_BASE = np.array([-1.0, 1.0, 0.0])[:, None]
 _K_SIGN = np.array([-1.0, 1.0])[:, None, None]
+_MINUS_PLUS = _K_SIGN[:, 0]
 
 
-def add_derivatives(st, lengths=True):
+def add_derivatives(st, full=True):
     """Add the derivatives of :func:`segment_state` to a state computed with
-    ``derivatives='later'`` (in place; returns `st`). Without `lengths`,
-    those of ``L`` are left out (Newton on the nodes does not need them).
-    The derivatives of k0 and k1 are also stacked as ``dK``, shape
-    (2, 3, M): curvature (start, end) by (theta0, theta1, r)."""
+    ``derivatives='later'`` (in place; returns `st`).
+
+    Always adds ``dK``, shape (2, 3, M): the derivatives of (k0, k1) by
+    (theta0, theta1, r), and ``dA``, shape (3, M): those of A along the
+    closure constraint. With `full`, also the named ``G_*``, ``k0_*``,
+    ``k1_*`` and ``L_*`` of :func:`segment_state` (Newton on the nodes needs
+    only the stacked ones).
+    """
     pending = st.pop("pending", None)
     if pending is None:
         return st
@@ -325,24 +330,26 @@ def add_derivatives(st, lengths=True):
     # (0, -1, 1) per unit of theta0 and (0, 1, 0) per unit of theta1;
     # dX0/d(a, b, c) = -(Y2/2, Y1, Y0) and dY0/d(a, b, c) = (X2/2, X1, X0)
     gA = X2 - X1
-    # rows: dG per unit of theta0, theta1 and G itself (dA brings it to 0)
+    # rows: dG per unit of theta0, theta1 and G itself; divided by -dG/dA,
+    # the change of A that keeps G (or brings it to 0)
     dA = np.empty((3, X0.size))
     np.subtract(X0, X1, out=dA[0])
     dA[1], dA[2] = X1, Y0
-    st["G_A"], st["G_0"], st["G_1"] = gA, dA[0].copy(), X1
+    if full:
+        st["G_A"], st["G_0"], st["G_1"] = gA, dA[0].copy(), X1
     dA *= -1.0 / gA
+    st["dA"] = dA
     # dX0 along G = const per unit of theta0, theta1 and to G = 0
     dX = (Y1 - Y2) * dA
     dX[0] += Y1 - Y0
     dX[1] -= Y1
-    Xr = X0 / r
     # k0 = N0 X0 / r and k1 = N1 X0 / r with N0 = delta - A, N1 = delta + A
     dK = (NN / r)[:, None] * dX
-    dK += (_K_BASE + _K_SIGN * dA) * Xr
+    dK += (_K_BASE + _K_SIGN * dA) * (X0 / r)
     st["dK"] = dK
-    st["k0_t0"], st["k0_t1"], st["k0_r"] = dK[0]
-    st["k1_t0"], st["k1_t1"], st["k1_r"] = dK[1]
-    if lengths:
+    if full:
+        st["k0_t0"], st["k0_t1"], st["k0_r"] = dK[0]
+        st["k1_t0"], st["k1_t1"], st["k1_r"] = dK[1]
         st["L_t0"], st["L_t1"], st["L_r"] = (-st["L"] / X0) * dX
     return st
 

@@ -251,9 +251,16 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
     d = small_angle_start(p0i, p1i, r, closed, free_start, free_end, held)
     # beyond a radian the linearisation means nothing (as for Newton's
     # steps): start from the circle tangents instead
-    if not np.maximum.reduce(np.abs(d)) <= 1.0:
+    if np.maximum.reduce(np.abs(d)) <= 1.0:
+        # the small-angle segment's A (as good as guess_A's polynomial from
+        # here: the same Newton iterations on smooth curves)
+        A = p0i + d[:m]
+        A += p1i
+        A += d[nxt]
+        A *= 3.0
+    else:
         d = np.zeros(n)
-    A = guess_A(p0i + d[:m], p1i + d[nxt])
+        A = guess_A(p0i, p1i)
     st, F, merit = state(d, A)
     if st is None and d.any():
         d = np.zeros(n)
@@ -266,22 +273,24 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         kmax, fres, gres, done = converged(st, F)
         if done or it >= max_iter:
             break
-        add_derivatives(st, lengths=False)
+        add_derivatives(st, full=False)
         sub, diag, sup, rhs = _linear_system(st, F, closed, free_start, free_end, prev, held)
         dd = solve_tridiagonal(sub, diag, sup, rhs, closed)
         big = float(np.maximum.reduce(np.abs(dd)))
         if not big < np.inf:  # NaN or infinite: a singular system
             break
-        dA = st["G_0"] * dd[:m]
-        dA += st["G"]
-        dA += st["G_1"] * dd[nxt]
-        dA /= -st["G_A"]
+        # the change of A that keeps each segment closed to first order
+        rows = st["dA"]
+        dA = rows[0] * dd[:m]
+        dA += rows[2]
+        dA += rows[1] * dd[nxt]
         # a step of more than one radian in any angle leaves the region where
         # the linearisation means anything
         step = min(1.0, 1.0 / max(big, 1e-300))
         accepted = False
         for _ in range(max_halvings):
-            st_t, F_t, m_t = state(d + step * dd, A + step * dA)
+            d_t, A_t = (d + dd, A + dA) if step == 1.0 else (d + step * dd, A + step * dA)
+            st_t, F_t, m_t = state(d_t, A_t)
             if st_t is not None and m_t <= (1.0 - 1e-4 * step) * merit:
                 accepted = True
                 break
@@ -289,7 +298,7 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         it += 1
         if not accepted:
             break
-        d, A, st, F, merit = d + step * dd, A + step * dA, st_t, F_t, m_t
+        d, A, st, F, merit = d_t, A_t, st_t, F_t, m_t
     # the rounding floor can stop the last halving short of tol: accept what
     # is still far inside the documented guarantee
     ok = (fres <= max(tol, 1e-11) * kmax or fres <= 1e-14) and gres <= 1e-13
