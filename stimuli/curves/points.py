@@ -47,7 +47,8 @@ def spline_points(points, closed, what="points"):
     if len(P) < need:
         raise InputError(f"{what}: a {'closed' if closed else 'open'} spline needs at least {need} points, got {len(P)}")
     nxt = np.concatenate((P[1:], P[:1])) if closed else P[1:]
-    same = (nxt == P[: len(nxt)]).all(axis=1)
+    eq = nxt == P[: len(nxt)]
+    same = eq[:, 0] & eq[:, 1]
     if same.any():
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % len(P)

@@ -316,7 +316,13 @@ class _Fit:
                 seg.update(turn=hi - lo, chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo)))
             segs.append(seg)
         # the miss relative to the curve's size
-        self.closure = miss / (float((P.max(axis=0) - P.min(axis=0)).max()) or 1.0) if miss else 0.0
+        if miss:
+            # (1-D reductions: along axis 0 of an (N, 2) array they are slow)
+            x, y = P[:, 0], P[:, 1]
+            size = max(float(np.maximum.reduce(x) - np.minimum.reduce(x)),
+                       float(np.maximum.reduce(y) - np.minimum.reduce(y)))
+            miss /= size or 1.0
+        self.closure = miss
         if len(segs) == 1 and pclosed:
             self.seg = segs[0]
             return
