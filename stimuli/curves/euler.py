@@ -152,9 +152,11 @@ def _moments_gauss(a, b, nk, c, p):
     # and the weighted sums as a real product over (real, imaginary) pairs:
     # a few numpy calls whatever the number of segments
     z = np.zeros((t3.shape[0], a.size), dtype=complex)
-    z.imag = _narrow_matmul(t3, abc)
+    small = 2 * a.size * tw.size <= _MATMUL_WORK  # both products in one block
+    z.imag = t3 @ abc if small else _narrow_matmul(t3, abc)
     np.exp(z, out=z)
-    return _narrow_matmul(tw[:nk], z.view(float)).view(complex)
+    w = tw[:nk]
+    return (w @ z.view(float) if small else _narrow_matmul(w, z.view(float))).view(complex)
 
 
 _A_COEF = np.array([(0.5j) ** n / factorial(n) for n in range(_NA_MAX)])
