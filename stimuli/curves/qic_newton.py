@@ -157,20 +157,25 @@ def small_angle_start(p0i, p1i, r, closed, free_start=True, free_end=True, held=
     True
     """
     w = 2.0 / r
-    c0 = -(2.0 * p0i + p1i) * w  # 2 phi0 + phi1 and its weight, start of segment
-    c1 = -(p0i + 2.0 * p1i) * w  # phi0 + 2 phi1, end of segment
+    s = p0i + p1i
+    c0 = (s + p0i) * w  # 2 phi0 + phi1 and its weight, start of segment
+    c1 = (s + p1i) * w  # phi0 + 2 phi1, end of segment
     if closed:
-        wp = np.concatenate((w[-1:], w[:-1]))
-        sub, diag, sup = wp, 2.0 * (wp + w), w
-        rhs = np.concatenate((c1[-1:], c1[:-1])) + c0
+        prev = np.arange(-1, w.size - 1)
+        sub, sup = w[prev], w
+        diag = sub + w
+        diag *= 2.0
+        rhs = c1[prev]
+        rhs += c0
+        np.negative(rhs, out=rhs)
     else:
         n = p0i.size + 1
         sub, diag, sup, rhs = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
         sub[1:], sup[:-1] = w, w
         diag[:-1] += 2.0 * w
         diag[1:] += 2.0 * w
-        rhs[:-1] += c0
-        rhs[1:] += c1
+        rhs[:-1] -= c0
+        rhs[1:] -= c1
         if not free_start:
             sup[0], diag[0], rhs[0] = 0.0, 1.0, 0.0
         if not free_end:
