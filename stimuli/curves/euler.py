@@ -89,9 +89,10 @@ def _gauss_rule(q):
     return np.column_stack((0.5 * t * t, t, np.ones(q))), np.stack([0.5 * w * t**k for k in range(3)])
 
 
-# a threaded BLAS (OpenBLAS) wakes its threads for products beyond about
-# 2.6e5 multiply-adds, which costs milliseconds on a loaded machine: the
-# quadrature's products are cut into column blocks below that
+# a threaded BLAS (OpenBLAS) wakes its threads for products of a few 1e5
+# multiply-adds and more (here 3.6e5 still ran on the calling thread, 6e5 took
+# milliseconds on the loaded machine): the quadrature's products are cut into
+# column blocks below that
 _MATMUL_WORK = 1 << 17
 
 
@@ -143,7 +144,7 @@ def _moments_fresnel(a, b, nk):
 def _moments_gauss(a, b, nk, c, p):
     """I_k(a, b) exp(i c) for small |a| and |b|: Gauss-Legendre quadrature
     of an integrand that is entire and turns by at most a few radians (one
-    complex exponential per node and segment, one small matrix product).
+    complex exponential per node and segment, two small matrix products).
     `p` bounds the range of the phase, |a|/2 + |b|."""
     t3, tw = _GAUSS_RULES[bisect.bisect_left(_GAUSS_BOUNDS, p)]
     abc = np.empty((3, a.size))
