@@ -135,11 +135,9 @@ class QICSpline:
 
     @cached_property
     def segment_turn(self):
-        """Range of the tangent angle on each segment (radians; computed when
-        first asked)."""
-        b = self.k0 * self.length  # theta(s) - theta0 = b tau + A tau**2, tau = s / L
-        A = 0.5 * self.dk * self.length**2
-        lo, hi = tangent_range(b + A, A)
+        """Range of the tangent angle on each segment (radians; computed when first asked)."""
+        A = 0.5 * self.dk * self.length**2  # theta(s) - theta0 = k0 L tau + A tau**2, tau = s / L
+        lo, hi = tangent_range(self.k0 * self.length + A, A)
         return hi - lo
 
     @property
@@ -263,9 +261,8 @@ def _pieces(N, closed, g0, ts, te):
 
 
 class _Fit:
-    """Segments of one fit, in order from the first point, before packing.
-    With `ranges` (the robust rule) each segment also gets its tangent's
-    range (``turn``) and largest angle to its chord (``chord_dev``)."""
+    """Segments of one fit, in order from the first point, before packing; with `ranges` (the robust
+    rule) also each segment's tangent range (``turn``) and largest angle to its chord (``chord_dev``)."""
 
     def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30, ranges=True):
         N = len(P)
@@ -315,14 +312,10 @@ class _Fit:
                 lo, hi = tangent_range(st["delta"], A)
                 seg.update(turn=hi - lo, chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo)))
             segs.append(seg)
-        # the miss relative to the curve's size
-        if miss:
-            # (1-D reductions: along axis 0 of an (N, 2) array they are slow)
-            x, y = P[:, 0], P[:, 1]
-            size = max(float(np.maximum.reduce(x) - np.minimum.reduce(x)),
-                       float(np.maximum.reduce(y) - np.minimum.reduce(y)))
-            miss /= size or 1.0
-        self.closure = miss
+        # the miss relative to the curve's size (by 1-D reductions: along axis 0 of (N, 2) they are slow)
+        span = [float(np.maximum.reduce(v) - np.minimum.reduce(v)) for v in (P[:, 0], P[:, 1])]
+        size = max(span)
+        self.closure = miss / (size or 1.0)
         if len(segs) == 1 and pclosed:
             self.seg = segs[0]
             return
