@@ -20,16 +20,41 @@ libspiro (targets, issue 9: <= 2 at N = 30, <= 1 at N = 1000), robust / pure
 (target <= 3) and pure / CubicSpline. The machine and its load average are
 printed first (``benchmarks/_machine.py``).
 
-Measured (load average 1.6, AMD EPYC, 2 cpus; the commit before and after
-issue 9's speed work, in the same minute): pure 0.457 -> 0.298 ms at N = 30
-(6.48 -> 4.31 x libspiro's 0.07 ms) and 1.02 -> 0.72 ms at N = 1000 (0.77 ->
-0.54 x libspiro); robust / pure 1.76 -> 2.12 at N = 1000. Newton now takes 2
-iterations at N = 30 and 1 at N = 1000 (was 3 and 2). Instruction counts
-(``valgrind --tool=callgrind``, 1000 fits minus none in fresh processes,
-``PYTHONHASHSEED=0``, N = 30): 4.43 M -> 2.79 M per pure fit against 0.97 M
-per libspiro call through this script's ctypes wrapper (4.6 -> 2.9 x). The
-2 x target at N = 30 is not reached: what is left is per-call overhead
-(cProfile: about 300 Python-level calls per fit, on arrays of 30).
+Measured (load average 9.4-10.7 on 2 shared cpus, AMD EPYC; three runs of
+this script each, alternating between commit 5436aa3, before issue 9's
+second speed pass, and commit 24d50a1, its result; every figure a median of
+its run, ranges over the three runs):
+
+=====================  ===============  ===============
+                       before           after
+=====================  ===============  ===============
+pure, N = 30           0.297-0.310 ms   0.198-0.206 ms
+libspiro, N = 30       0.069-0.072 ms   0.067-0.070 ms
+pure / libspiro        4.28-4.32        2.94-2.97
+pure, N = 1000         0.70-0.76 ms     0.47-0.52 ms
+pure / libspiro        0.54-0.58        0.37-0.40
+robust, N = 30         0.53-0.56 ms     0.43-0.45 ms
+robust, N = 1000       1.45-1.62 ms     1.19-1.32 ms
+robust / pure          1.8 / 2.1        2.2 / 2.5
+=====================  ===============  ===============
+
+Instruction counts (``valgrind --tool=callgrind``, 500 fits, 300 after,
+minus none, in fresh processes after ``gc.freeze()``,
+``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``, N = 30): 2.80 M -> 1.89 M
+per pure fit, against 0.97 M per libspiro call through this script's ctypes
+wrapper (2.9 -> 1.95 x); in time the ratio stays about 1.5 times the
+instruction ratio, as before (numpy's dispatch runs at a lower rate than
+libspiro's arithmetic).
+
+The 2 x target in time at N = 30 is not reached. Newton still takes 2
+iterations (3 segment states, 2 Jacobians, 3 cyclic tridiagonal solves);
+what is left is numpy's per-call overhead on arrays of 30: a stripped
+prototype of the same closed solve (no validation, line search or result
+object) took 117 us where ``qic_spline`` took 168 us in the same loop (at
+commit 22ac7a9), i.e. about 2.1 x libspiro at this benchmark's scale for the
+bare solve alone; 2 x needs compiled code or fewer numpy calls than this
+solve makes. (In a tight loop, without the other methods in between, the
+pure fit takes 0.17 ms, 0.25 ms before.)
 
 Usage::
 

@@ -477,3 +477,42 @@ def test_small_angle_start_is_g2_to_third_order(closed):
     assert np.allclose(np.divide(before[:-1], before[1:]), 2.0, rtol=0.1)
     assert np.all(np.divide(after[:-1], after[1:]) > 6.0)
     assert after[-1] < 1e-3 * before[-1]
+
+
+def test_quadrature_in_column_blocks_matches_an_independent_rule():
+    """The Gauss-Legendre moments of many segments at once (products cut into
+    column blocks below the threaded-BLAS threshold) against a 60-node rule
+    written here, for every segment of a batch large enough to be cut."""
+    from stimuli.curves.euler import fresnel_moments
+
+    rng = np.random.default_rng(3)
+    m = 40000  # products of 2**17 multiply-adds at most: 26 blocks with the 14-node rule
+    a, b, c = rng.uniform(-1.9, 1.9, m), rng.uniform(-2.9, 2.9, m), rng.uniform(-3, 3, m)
+    X, Y = fresnel_moments(a, b, c)
+    E = np.exp(1j * ((0.5 * a[:, None] * _T + b[:, None]) * _T + c[:, None]))
+    for k in range(3):
+        ref = E @ (_W * _T**k)
+        assert np.max(np.abs(X[k] - ref.real)) < 1e-14
+        assert np.max(np.abs(Y[k] - ref.imag)) < 1e-14
+
+
+def test_segment_turn_is_the_tangent_range_on_dense_samples():
+    """QICSpline.segment_turn (computed when asked, from the segment's
+    quadratic tangent angle) against the range of theta on 4001 samples per
+    segment, on smooth and on looping splines."""
+    from stimuli.curves.qic_newton import tangent_range
+
+    rng = np.random.default_rng(8)
+    for P in (smooth_closed(rng, 12), rng.uniform(0, 100, (9, 2))):
+        try:
+            sp = qic_spline(P, robust=False)
+        except ConvergenceError:
+            continue
+        tau = np.linspace(0, 1, 4001)
+        th = (sp.k0 * sp.length)[:, None] * tau + 0.5 * (sp.dk * sp.length**2)[:, None] * tau**2
+        np.testing.assert_allclose(sp.segment_turn, np.ptp(th, axis=1), atol=1e-6)
+        assert sp.loops == int(np.sum(np.ptp(th, axis=1) > np.pi))
+    # a segment turning out and back: its range is its vertex, not its ends
+    lo, hi = tangent_range(np.array([0.0, 1.0, -0.5]), np.array([2.0, 0.0, -0.5]))
+    np.testing.assert_allclose(lo, [-0.5, 0.0, -0.5])
+    np.testing.assert_allclose(hi, [0.0, 1.0, 0.0])

@@ -81,11 +81,31 @@ _TERM_THRESHOLDS = [(1e-17 * factorial(n)) ** (1.0 / n) for n in range(1, 80)]
 
 
 def _gauss_rule(q):
-    """Gauss-Legendre nodes on [0, 1] and the weights of the moments
-    t**k, k < 3, as a (3, q) matrix."""
+    """Gauss-Legendre nodes t on [0, 1] as the (q, 3) matrix of the phase's
+    terms (t**2 / 2, t, 1), and the weights of the moments t**k, k < 3, as a
+    (3, q) matrix."""
     x, w = np.polynomial.legendre.leggauss(q)
     t = 0.5 * (x + 1.0)
-    return t[:, None], np.stack([0.5 * w * t**k for k in range(3)])
+    return np.column_stack((0.5 * t * t, t, np.ones(q))), np.stack([0.5 * w * t**k for k in range(3)])
+
+
+# a threaded BLAS (OpenBLAS) wakes its threads for products of a few 1e5
+# multiply-adds and more (here 3.6e5 still ran on the calling thread, 6e5 took
+# milliseconds on the loaded machine): the quadrature's products are cut into
+# column blocks below that
+_MATMUL_WORK = 1 << 17
+
+
+def _narrow_matmul(A, B):
+    """``A @ B`` for a small A and a wide B, in column blocks that a threaded
+    BLAS computes on the calling thread."""
+    cols = max(1, _MATMUL_WORK // A.size)
+    if B.shape[1] <= cols:
+        return A @ B
+    out = np.empty((A.shape[0], B.shape[1]))
+    for j in range(0, B.shape[1], cols):
+        out[:, j : j + cols] = A @ B[:, j : j + cols]
+    return out
 
 
 # Gauss-Legendre nodes by the phase bound p = |a|/2 + |b| of a family: the
@@ -124,15 +144,20 @@ def _moments_fresnel(a, b, nk):
 def _moments_gauss(a, b, nk, c, p):
     """I_k(a, b) exp(i c) for small |a| and |b|: Gauss-Legendre quadrature
     of an integrand that is entire and turns by at most a few radians (one
-    complex exponential per node and segment, one small matrix product).
+    complex exponential per node and segment, two small matrix products).
     `p` bounds the range of the phase, |a|/2 + |b|."""
-    t, tw = _GAUSS_RULES[bisect.bisect_left(_GAUSS_BOUNDS, p)]
-    phase = (0.5 * a * t + b) * t
-    if c is not None:
-        phase += c
-    # einsum, not BLAS: a threaded BLAS wakes its threads for wide products,
-    # which costs milliseconds on a loaded machine
-    return np.einsum("kq,qm->km", tw[:nk], np.exp(1j * phase))
+    t3, tw = _GAUSS_RULES[bisect.bisect_left(_GAUSS_BOUNDS, p)]
+    abc = np.empty((3, a.size))
+    abc[0], abc[1], abc[2] = a, b, 0.0 if c is None else c
+    # the phase at every node as one small product, exponentiated in place,
+    # and the weighted sums as a real product over (real, imaginary) pairs:
+    # a few numpy calls whatever the number of segments
+    z = np.zeros((t3.shape[0], a.size), dtype=complex)
+    small = 2 * a.size * tw.size <= _MATMUL_WORK  # both products in one block
+    z.imag = t3 @ abc if small else _narrow_matmul(t3, abc)
+    np.exp(z, out=z)
+    w = tw[:nk]
+    return (w @ z.view(float) if small else _narrow_matmul(w, z.view(float))).view(complex)
 
 
 _A_COEF = np.array([(0.5j) ** n / factorial(n) for n in range(_NA_MAX)])
@@ -162,10 +187,14 @@ def _moments(a, b, nk=3, c=None):
     is given. Returns an (nk, M) complex array."""
     absa = np.abs(a)
     absb = np.abs(b)
+    bound = 0.5 * absa
+    bound += absb  # the phase's range on [0, 1] is at most |a|/2 + |b|
+    p = float(np.maximum.reduce(bound)) if a.size else 0.0
+    if p < 1.0:  # then |a| < 2 and |b| < 1: all in the quadrature region
+        return _moments_gauss(a, b, nk, c, p)
     smallb = absb <= _B_SERIES
     series = (absa < _A_SERIES) & smallb
     if series.all():
-        p = float((0.5 * absa + absb).max()) if a.size else 0.0
         return _moments_gauss(a, b, nk, c, p)
     recur = (absa < _A_RECUR) & ~smallb
     big = ~(series | recur)
@@ -179,7 +208,7 @@ def _moments(a, b, nk=3, c=None):
     if c is not None:
         out *= np.exp(1j * c)
     if series.any():
-        p = float((0.5 * absa + absb)[series].max())
+        p = float(bound[series].max())
         out[:, series] = _moments_gauss(a[series], b[series], nk, None if c is None else c[series], p)
     return out
 
@@ -249,28 +278,29 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
 
     ``phi0``, ``phi1``: end angles relative to the chord; ``r``: chord
     lengths. Returns a dict with ``G`` (the closure residual Y0), ``X0``,
-    ``L``, ``k0``, ``k1`` (curvature at start and end) and, with
-    `derivatives`, ``G_A``, ``G_0``, ``G_1`` (partial derivatives of G with
-    respect to A and the two end angles) and, for q in k0, k1, L, the
-    derivatives along the closure constraint (A eliminated by the implicit
-    function theorem): ``q_t0``, ``q_t1`` with respect to the start and end
-    tangent angle, and ``q_r``, the first-order change that brings G to zero
-    at fixed angles. At a solved A (G = 0) the ``q_t*`` are the derivatives
-    of the G1 Hermite solution. ``derivatives='later'`` keeps what
-    :func:`add_derivatives` needs to add them without recomputing the
-    moments (Newton's line search rejects or finishes at many states).
+    ``L``, ``k0``, ``k1`` (curvature at start and end; also stacked as
+    ``K``, shape (2, M)), the given ``phi0`` and ``delta = phi1 - phi0``
+    and, with `derivatives`, ``G_A``, ``G_0``, ``G_1``
+    (partial derivatives of G with respect to A and the two end angles) and,
+    for q in k0, k1, L, the derivatives along the closure constraint (A
+    eliminated by the implicit function theorem): ``q_t0``, ``q_t1`` with
+    respect to the start and end tangent angle, and ``q_r``, the
+    first-order change that brings G to zero at fixed angles. At a solved A
+    (G = 0) the ``q_t*`` are the derivatives of the G1 Hermite solution.
+    ``derivatives='later'`` keeps what :func:`add_derivatives` needs to add
+    them without recomputing the moments (Newton's line search rejects or
+    finishes at many states).
     """
     delta = phi1 - phi0
-    N0 = delta - A
-    N1 = delta + A
-    I = _moments(2.0 * A, N0, 3 if derivatives else 1, phi0)
+    # N0 = delta - A and N1 = delta + A, stacked: k0 and k1 in one division
+    NN = delta + _MINUS_PLUS * A
+    I = _moments(2.0 * A, NN[0], 3 if derivatives else 1, phi0)
     X0, Y0 = I[0].real, I[0].imag
     L = r / X0
-    k0 = N0 / L
-    k1 = N1 / L
-    st = {"G": Y0, "X0": X0, "L": L, "k0": k0, "k1": k1}
+    K = NN / L
+    st = {"G": Y0, "X0": X0, "L": L, "K": K, "k0": K[0], "k1": K[1], "phi0": phi0, "delta": delta}
     if derivatives:
-        st["pending"] = (I, N0, N1, r)
+        st["pending"] = (I, NN, r)
         if derivatives != "later":
             add_derivatives(st)
     return st
@@ -280,37 +310,50 @@ def segment_state(phi0, phi1, A, r, derivatives=True):
 # derivatives gain Xr * (_K_BASE -+ dA), dA the change of A along G
 _K_BASE = np.array([-1.0, 1.0, 0.0])[:, None]
 _K_SIGN = np.array([-1.0, 1.0])[:, None, None]
+_MINUS_PLUS = _K_SIGN[:, 0]
 
 
-def add_derivatives(st):
+def add_derivatives(st, full=True):
     """Add the derivatives of :func:`segment_state` to a state computed with
-    ``derivatives='later'`` (in place; returns `st`)."""
+    ``derivatives='later'`` (in place; returns `st`).
+
+    Always adds ``dK``, shape (2, 3, M): the derivatives of (k0, k1) by
+    (theta0, theta1, r), and ``dA``, shape (3, M): those of A along the
+    closure constraint. With `full`, also the named ``G_*``, ``k0_*``,
+    ``k1_*`` and ``L_*`` of :func:`segment_state` (Newton on the nodes needs
+    only the stacked ones).
+    """
     pending = st.pop("pending", None)
     if pending is None:
         return st
-    I, N0, N1, r = pending
-    X0, Y0, L = st["X0"], st["G"], st["L"]
+    I, NN, r = pending
+    X0, Y0 = st["X0"], st["G"]
     X1, Y1, X2, Y2 = I[1].real, I[1].imag, I[2].real, I[2].imag
     # (a, b, c) = (2A, delta - A, phi0) move by (2, -1, 0) per unit of A,
     # (0, -1, 1) per unit of theta0 and (0, 1, 0) per unit of theta1;
     # dX0/d(a, b, c) = -(Y2/2, Y1, Y0) and dY0/d(a, b, c) = (X2/2, X1, X0)
     gA = X2 - X1
-    g0 = X0 - X1
-    st["G_A"], st["G_0"], st["G_1"] = gA, g0, X1
-    # dA along G = const per unit of theta0, theta1 (and to G = 0): rows
-    dA = np.concatenate((g0, X1, Y0)).reshape(3, -1) * (-1.0 / gA)
-    Yd = Y1 - Y2  # dX0/dA
+    # rows: dG per unit of theta0, theta1 and G itself; divided by -dG/dA,
+    # the change of A that keeps G (or brings it to 0)
+    dA = np.empty((3, X0.size))
+    np.subtract(X0, X1, out=dA[0])
+    dA[1], dA[2] = X1, Y0
+    if full:
+        st["G_A"], st["G_0"], st["G_1"] = gA, dA[0].copy(), X1
+    dA *= -1.0 / gA
+    st["dA"] = dA
     # dX0 along G = const per unit of theta0, theta1 and to G = 0
-    dX = Yd * dA
+    dX = (Y1 - Y2) * dA
     dX[0] += Y1 - Y0
     dX[1] -= Y1
-    Xr = X0 / r
     # k0 = N0 X0 / r and k1 = N1 X0 / r with N0 = delta - A, N1 = delta + A
-    K = np.concatenate((N0, N1)).reshape(2, -1) / r
-    dK = K[:, None] * dX + (_K_BASE + _K_SIGN * dA) * Xr
-    st["k0_t0"], st["k0_t1"], st["k0_r"] = dK[0]
-    st["k1_t0"], st["k1_t1"], st["k1_r"] = dK[1]
-    st["L_t0"], st["L_t1"], st["L_r"] = (-L / X0) * dX
+    dK = (NN / r)[:, None] * dX
+    dK += (_K_BASE + _K_SIGN * dA) * (X0 / r)
+    st["dK"] = dK
+    if full:
+        st["k0_t0"], st["k0_t1"], st["k0_r"] = dK[0]
+        st["k1_t0"], st["k1_t1"], st["k1_r"] = dK[1]
+        st["L_t0"], st["L_t1"], st["L_r"] = (-st["L"] / X0) * dX
     return st
 
 

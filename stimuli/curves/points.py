@@ -47,7 +47,8 @@ def spline_points(points, closed, what="points"):
     if len(P) < need:
         raise InputError(f"{what}: a {'closed' if closed else 'open'} spline needs at least {need} points, got {len(P)}")
     nxt = np.concatenate((P[1:], P[:1])) if closed else P[1:]
-    same = (nxt == P[: len(nxt)]).all(axis=1)
+    eq = nxt == P[: len(nxt)]
+    same = eq[:, 0] & eq[:, 1]
     if same.any():
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % len(P)
@@ -108,9 +109,9 @@ def chord_end_angles(phi, r, closed, t_start=None, t_end=None):
     """
     m = phi.size
     if closed:
-        phip = np.concatenate((phi[-1:], phi[:-1]))
-        rp = np.concatenate((r[-1:], r[:-1]))
-        t = wrap_angle(phi - phip)
+        prev = np.arange(-1, m - 1)
+        rp = r[prev]
+        t = wrap_angle(phi - phi[prev])
         # inscribed angle: lies between 0 and the turn t, so no wrapping
         beta = np.arctan2(rp * np.sin(t), r + rp * np.cos(t))
         p0 = beta - t

@@ -34,13 +34,14 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
 from stimuli.curves.euler import clothoid_points, wrap_angle
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import bisector_tangents, chord_end_angles, geometric_sign, spline_points
-from stimuli.curves.qic_newton import solve_nodes
+from stimuli.curves.qic_newton import solve_nodes, tangent_range
 from stimuli.curves.qic_rule import (
     CORNER_TURN,
     MAX_TANGENT_DEVIATION,
@@ -104,15 +105,11 @@ class QICSpline:
         |curvature|, as solved.
     closure_error : float
         Largest segment end-point miss relative to the curve's size.
-    loops : int
-        Segments whose tangent turns by more than pi.
     corners : tuple of int
         Nodes where the curve is not G2 (sorted).
     corner_kinds : tuple of str
         'G1' (tangent continuous, curvature jumps) or 'G0' (tangent breaks)
         for each of `corners`.
-    segment_turn : ndarray, shape (M,)
-        Range of the tangent angle on each segment (radians).
     seconds : float
         Time taken by the fit.
     method : str
@@ -132,10 +129,8 @@ class QICSpline:
     iterations: int
     g2_error: float
     closure_error: float
-    loops: int
     corners: tuple = field(default_factory=tuple)
     corner_kinds: tuple = field(default_factory=tuple)
-    segment_turn: np.ndarray = None
     seconds: float = 0.0
     method: str = "qic"
 
@@ -143,10 +138,22 @@ class QICSpline:
     def n_points(self):
         return len(self.points)
 
+    @cached_property
+    def segment_turn(self):
+        """Range of the tangent angle on each segment (radians; computed when first asked)."""
+        A = 0.5 * self.dk * self.length**2  # theta(s) - theta0 = k0 L tau + A tau**2, tau = s / L
+        lo, hi = tangent_range(self.k0 * self.length + A, A)
+        return hi - lo
+
+    @property
+    def loops(self):
+        """Segments whose tangent turns by more than pi."""
+        return int(np.count_nonzero(self.segment_turn > np.pi))
+
     @property
     def max_segment_turn(self):
         """Largest range of the tangent angle on one segment (radians)."""
-        return float(np.max(self.segment_turn)) if self.segment_turn is not None and self.segment_turn.size else 0.0
+        return float(np.max(self.segment_turn)) if self.segment_turn.size else 0.0
 
     @property
     def interior_extrema(self):
@@ -259,61 +266,61 @@ def _pieces(N, closed, g0, ts, te):
 
 
 class _Fit:
-    """Segments of one fit, in order from the first point, before packing."""
+    """Segments of one fit, in order from the first point, before packing; with `ranges` (the robust
+    rule) also each segment's tangent range (``turn``) and largest angle to its chord (``chord_dev``)."""
 
-    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30):
+    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30, ranges=True):
         N = len(P)
-        segs, self.iterations, self.g2, self.closure = [], 0, 0.0, 0.0
+        segs, self.iterations, self.g2, miss = [], 0, 0.0, 0.0
         self.failed_piece = None
-        size = float((P.max(axis=0) - P.min(axis=0)).max()) or 1.0
         held_keys = np.fromiter(held, dtype=int, count=len(held))
         for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
-            Q = P[idx]
+            Q = P if idx.size == N and pclosed else P[idx]
             Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
             D = Qn - Q[: len(Qn)]
             r = np.hypot(D[:, 0], D[:, 1])
-            h = float(np.mean(r))
+            h = float(np.add.reduce(r)) / r.size  # the mean chord: the piece's scale
             rn = r / h
             phi = np.arctan2(D[:, 1], D[:, 0])
             p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
             nodes = idx  # node k of the piece is input row idx[k]
-            hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys) if held else np.zeros(0, bool)
-            if not pclosed and hold.size:
-                # a piece's end nodes are free ends (or the open curve's given tangents)
-                hold[0] = hold[-1] = False
-            for k in np.flatnonzero(hold):
-                th = held[int(nodes[k])]
-                if k < p0i.size:
-                    p0i[k] = wrap_angle(th - phi[k])
-                km = k - 1 if k > 0 else (p0i.size - 1 if pclosed else None)
-                if km is not None:
-                    p1i[km] = wrap_angle(th - phi[km])
-            res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold if hold.any() else None,
-                              tol, max_iter, max_halvings)
-            if res is None or not res.ok or res.st["X0"].min() < _MIN_X0:
+            hold = None
+            if held:
+                hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys)
+                if not pclosed:
+                    # a piece's end nodes are free ends (or the open curve's given tangents)
+                    hold[0] = hold[-1] = False
+                for k in np.flatnonzero(hold):
+                    th = held[int(nodes[k])]
+                    if k < p0i.size:
+                        p0i[k] = wrap_angle(th - phi[k])
+                    km = k - 1 if k > 0 else (p0i.size - 1 if pclosed else None)
+                    if km is not None:
+                        p1i[km] = wrap_angle(th - phi[km])
+                if not hold.any():
+                    hold = None
+            res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold, tol, max_iter, max_halvings)
+            if res is None or not res.ok or np.minimum.reduce(res.st["X0"]) < _MIN_X0:
                 self.failed_piece = (idx, res)
                 return
             self.iterations += res.iterations
-            st, d, A = res.st, res.d, res.A
+            st, A = res.st, res.A
             nseg = r.size
-            nxt = np.arange(1, d.size + 1) % d.size if pclosed else np.arange(1, d.size)
-            p0 = p0i + d[:nseg]
-            p1 = p1i + d[nxt]
-            L = st["L"] * h
             # each segment ends at r (1, G / X0) in its chord frame: the miss is
             # r |G| / X0 (the tests check it independently by sampling)
-            self.closure = max(self.closure, float(np.abs(r * st["G"] / st["X0"]).max()) / size)
+            miss = max(miss, float(np.maximum.reduce(np.abs(r * st["G"] / st["X0"]))))
             self.g2 = max(self.g2, res.g2)
-            # range of theta(tau) - phi = p0 + (delta - A) tau + A tau^2 on [0, 1]
-            delta = p1 - p0
-            with np.errstate(divide="ignore", invalid="ignore"):
-                tv = np.minimum(np.maximum(np.where(A != 0, (A - delta) / (2 * A), 0.0), 0.0), 1.0)
-            th_v = (delta - A) * tv + A * tv * tv
-            hi = np.maximum(np.maximum(0.0, delta), th_v)
-            lo = np.minimum(np.minimum(0.0, delta), th_v)
-            segs.append(dict(start=idx[:nseg], x=Q[:nseg], theta0=phi + p0, k0=st["k0"] / h,
-                             dk=(st["k1"] - st["k0"]) / st["L"] / h**2, L=L, turn=hi - lo,
-                             chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo))))
+            p0 = st["phi0"]  # end angles to the chord, as solved
+            seg = dict(start=idx[:nseg], x=Q[:nseg], theta0=phi + p0, k0=st["k0"] / h,
+                       dk=(st["k1"] - st["k0"]) / st["L"] / h**2, L=st["L"] * h)
+            if ranges:
+                lo, hi = tangent_range(st["delta"], A)
+                seg.update(turn=hi - lo, chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo)))
+            segs.append(seg)
+        # the miss relative to the curve's size (by 1-D reductions: along axis 0 of (N, 2) they are slow)
+        span = [float(np.maximum.reduce(v) - np.minimum.reduce(v)) for v in (P[:, 0], P[:, 1])]
+        size = max(span)
+        self.closure = miss / (size or 1.0)
         if len(segs) == 1 and pclosed:
             self.seg = segs[0]
             return
@@ -332,8 +339,7 @@ def _pack(P, closed, fit, g0, held, sign, t_start, method):
         points=P, closed=closed, x0=seg["x"][:, 0], y0=seg["x"][:, 1], theta0=seg["theta0"],
         k0=seg["k0"], dk=seg["dk"], length=seg["L"], start=seg["start"], sign=sign,
         iterations=fit.iterations, g2_error=fit.g2, closure_error=fit.closure,
-        loops=int(np.count_nonzero(seg["turn"] > np.pi)), corners=tuple(corners), corner_kinds=kinds,
-        segment_turn=seg["turn"], seconds=time.perf_counter() - t_start, method=method,
+        corners=tuple(corners), corner_kinds=kinds, seconds=time.perf_counter() - t_start, method=method,
     )
 
 
@@ -461,7 +467,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     method = "qic" if robust else "qic-g2"
     held = {}
     if not robust:
-        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, max_iter)
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, max_iter, ranges=False)
         if fit.failed_piece is not None:
             _raise_failure(fit)
         return _pack(P, closed, fit, g0, held, sign, t_start, method)

@@ -32,7 +32,7 @@ from scipy.linalg.lapack import dgtsv as _dgtsv
 
 from stimuli.curves.euler import add_derivatives, guess_A, segment_state
 
-__all__ = ["NewtonResult", "small_angle_start", "solve_nodes", "solve_tridiagonal"]
+__all__ = ["NewtonResult", "small_angle_start", "solve_nodes", "solve_tridiagonal", "tangent_range"]
 
 
 def _residual(st, closed, free_start, free_end, prev, held):
@@ -41,7 +41,7 @@ def _residual(st, closed, free_start, free_end, prev, held):
         F = k1[prev] - k0
     else:
         F = np.empty(k0.size + 1)
-        F[1:-1] = k1[:-1] - k0[1:]
+        np.subtract(k1[:-1], k0[1:], out=F[1:-1])
         F[0] = k0[0] if free_start else 0.0
         F[-1] = k1[-1] if free_end else 0.0
     if held is not None:
@@ -52,22 +52,24 @@ def _residual(st, closed, free_start, free_end, prev, held):
 def _linear_system(st, F, closed, free_start, free_end, prev, held):
     """Tridiagonal Newton system in the node-angle increments, A eliminated.
     A held node's row is the identity: its increment stays zero."""
-    k0t0, k0t1, k1t0, k1t1 = st["k0_t0"], st["k0_t1"], st["k1_t0"], st["k1_t1"]
-    k0r, k1r = st["k0_r"], st["k1_r"]
+    dK = st["dK"]  # (k0, k1) by (theta0, theta1, r)
     if closed:
-        sub = k1t0[prev]
-        diag = k1t1[prev] - k0t0
-        sup = -k0t1
-        rhs = k0r - F - k1r[prev]
+        k1p = dK[1][:, prev]  # the previous segment's end, at every node
+        sub = k1p[0]
+        diag = k1p[1] - dK[0, 0]
+        sup = -dK[0, 1]
+        rhs = dK[0, 2] - F
+        rhs -= k1p[2]
     else:
+        (k0t0, k0t1, k0r), (k1t0, k1t1, k1r) = dK
         n = k0t0.size + 1
         sub = np.zeros(n)
         diag = np.ones(n)
         sup = np.zeros(n)
         rhs = np.zeros(n)
         sub[1:-1] = k1t0[:-1]
-        diag[1:-1] = k1t1[:-1] - k0t0[1:]
-        sup[1:-1] = -k0t1[1:]
+        np.subtract(k1t1[:-1], k0t0[1:], out=diag[1:-1])
+        np.negative(k0t1[1:], out=sup[1:-1])
         rhs[1:-1] = -(F[1:-1] + k1r[:-1] - k0r[1:])
         if free_start:
             diag[0], sup[0], rhs[0] = k0t0[0], k0t1[0], -(F[0] + k0r[0])
@@ -101,20 +103,22 @@ def solve_tridiagonal(sub, diag, sup, rhs, cyclic):
             return rhs / diag
         *_, x, info = _dgtsv(sub[1:], diag, sup[:-1], rhs[:, None])
         return x[:, 0] if info == 0 else np.full(n, np.nan)
-    top, bottom = sub[0], sup[-1]  # J[0, n-1] and J[n-1, 0]
-    gamma = -diag[0] if diag[0] != 0 else 1.0
+    top, bottom, d0 = float(sub[0]), float(sup[-1]), float(diag[0])  # J[0, n-1], J[n-1, 0]
+    gamma = -d0 if d0 != 0 else 1.0
     d = diag.copy()
-    d[0] -= gamma
+    d[0] = d0 - gamma
     d[-1] -= top * bottom / gamma
-    b = np.zeros((n, 2))
-    b[:, 0] = rhs
-    b[0, 1], b[-1, 1] = gamma, bottom
-    *_, yz, info = _dgtsv(sub[1:], d, sup[:-1], b)
+    # both right-hand sides in one call: the system's and the correction's
+    b = np.zeros((2, n))
+    b[0] = rhs
+    b[1, 0], b[1, -1] = gamma, bottom
+    *_, yz, info = _dgtsv(sub[1:], d, sup[:-1], b.T, 0, 1, 0, 1)
     if info != 0:
         return np.full(n, np.nan)
-    y, z = yz[:, 0], yz[:, 1]
-    vy = y[0] + top / gamma * y[-1]
-    vz = z[0] + top / gamma * z[-1]
+    y, z = yz.T
+    f = top / gamma
+    vy = y[0] + f * y[-1]
+    vz = z[0] + f * z[-1]
     return y - (vy / (1.0 + vz)) * z
 
 
@@ -153,20 +157,25 @@ def small_angle_start(p0i, p1i, r, closed, free_start=True, free_end=True, held=
     True
     """
     w = 2.0 / r
-    c0 = -(2.0 * p0i + p1i) * w  # 2 phi0 + phi1 and its weight, start of segment
-    c1 = -(p0i + 2.0 * p1i) * w  # phi0 + 2 phi1, end of segment
+    s = p0i + p1i
+    c0 = (s + p0i) * w  # 2 phi0 + phi1 and its weight, start of segment
+    c1 = (s + p1i) * w  # phi0 + 2 phi1, end of segment
     if closed:
-        wp = np.concatenate((w[-1:], w[:-1]))
-        sub, diag, sup = wp, 2.0 * (wp + w), w
-        rhs = np.concatenate((c1[-1:], c1[:-1])) + c0
+        prev = np.arange(-1, w.size - 1)
+        sub, sup = w[prev], w
+        diag = sub + w
+        diag *= 2.0
+        rhs = c1[prev]
+        rhs += c0
+        np.negative(rhs, out=rhs)
     else:
         n = p0i.size + 1
         sub, diag, sup, rhs = np.zeros(n), np.zeros(n), np.zeros(n), np.zeros(n)
         sub[1:], sup[:-1] = w, w
         diag[:-1] += 2.0 * w
         diag[1:] += 2.0 * w
-        rhs[:-1] += c0
-        rhs[1:] += c1
+        rhs[:-1] -= c0
+        rhs[1:] -= c1
         if not free_start:
             sup[0], diag[0], rhs[0] = 0.0, 1.0, 0.0
         if not free_end:
@@ -221,31 +230,42 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
     NewtonResult or None
         None when the initial guess already gives a degenerate segment.
     """
-    n = p0i.size if closed else p0i.size + 1
-    idx = np.arange(n)
-    nxt = (idx + 1) % n if closed else idx[1:]
-    prev = idx - 1  # index -1 is the last node
     m = p0i.size
+    n = m if closed else m + 1
+    nxt = np.arange(1, m + 1) % n  # the end node of every segment
+    prev = np.arange(-1, n - 1)  # index -1 is the last node
 
     def state(d, A):
         # derivatives only for a state Newton steps from (most trials are
         # rejected or final)
         st = segment_state(p0i + d[:m], p1i + d[nxt], A, r, derivatives="later")
-        if not (st["X0"].min() > 0 and np.isfinite(st["L"]).all()):
+        # X0 > 0 keeps L = r / X0 positive (a NaN fails it); then only an
+        # overflow can make it infinite
+        if not (np.minimum.reduce(st["X0"]) > 0 and np.maximum.reduce(st["L"]) < np.inf):
             return None, None, np.inf
         F = _residual(st, closed, free_start, free_end, prev, held)
-        return st, F, float(F @ F + st["G"] @ st["G"])
+        G = st["G"]
+        return st, F, float(F @ F + G @ G)
 
-    def residuals(st, F):
-        kmax = max(np.abs(st["k0"]).max(), np.abs(st["k1"]).max())
-        return float(kmax), float(np.abs(F).max()), float(np.abs(st["G"]).max())
+    def converged(st, F):
+        kmax = float(np.maximum.reduce(np.abs(st["K"]), axis=None))
+        fres = float(np.maximum.reduce(np.abs(F)))
+        gres = float(np.maximum.reduce(np.abs(st["G"])))
+        return kmax, fres, gres, fres <= tol * kmax and gres <= 1e-14
 
     d = small_angle_start(p0i, p1i, r, closed, free_start, free_end, held)
     # beyond a radian the linearisation means nothing (as for Newton's
     # steps): start from the circle tangents instead
-    if not np.all(np.abs(d) <= 1.0):
+    if np.maximum.reduce(np.abs(d)) <= 1.0:
+        # the small-angle segment's A (as good as guess_A's polynomial from
+        # here: the same Newton iterations on smooth curves)
+        A = p0i + d[:m]
+        A += p1i
+        A += d[nxt]
+        A *= 3.0
+    else:
         d = np.zeros(n)
-    A = guess_A(p0i + d[:m], p1i + d[nxt])
+        A = guess_A(p0i, p1i)
     st, F, merit = state(d, A)
     if st is None and d.any():
         d = np.zeros(n)
@@ -255,21 +275,27 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         return None
     it = 0
     while True:
-        kmax, fres, gres = residuals(st, F)
-        if (fres <= tol * kmax and gres <= 1e-14) or it >= max_iter:
+        kmax, fres, gres, done = converged(st, F)
+        if done or it >= max_iter:
             break
-        add_derivatives(st)
+        add_derivatives(st, full=False)
         sub, diag, sup, rhs = _linear_system(st, F, closed, free_start, free_end, prev, held)
         dd = solve_tridiagonal(sub, diag, sup, rhs, closed)
-        if not np.all(np.isfinite(dd)):
+        big = float(np.maximum.reduce(np.abs(dd)))
+        if not big < np.inf:  # NaN or infinite: a singular system
             break
-        dA = -(st["G"] + st["G_0"] * dd[:m] + st["G_1"] * dd[nxt]) / st["G_A"]
+        # the change of A that keeps each segment closed to first order
+        rows = st["dA"]
+        dA = rows[0] * dd[:m]
+        dA += rows[2]
+        dA += rows[1] * dd[nxt]
         # a step of more than one radian in any angle leaves the region where
         # the linearisation means anything
-        step = min(1.0, 1.0 / max(float(np.max(np.abs(dd))), 1e-300))
+        step = min(1.0, 1.0 / max(big, 1e-300))
         accepted = False
         for _ in range(max_halvings):
-            st_t, F_t, m_t = state(d + step * dd, A + step * dA)
+            d_t, A_t = (d + dd, A + dA) if step == 1.0 else (d + step * dd, A + step * dA)
+            st_t, F_t, m_t = state(d_t, A_t)
             if st_t is not None and m_t <= (1.0 - 1e-4 * step) * merit:
                 accepted = True
                 break
@@ -277,9 +303,36 @@ def solve_nodes(p0i, p1i, r, closed, free_start=True, free_end=True, held=None, 
         it += 1
         if not accepted:
             break
-        d, A, st, F, merit = d + step * dd, A + step * dA, st_t, F_t, m_t
-    kmax, fres, gres = residuals(st, F)
+        d, A, st, F, merit = d_t, A_t, st_t, F_t, m_t
     # the rounding floor can stop the last halving short of tol: accept what
     # is still far inside the documented guarantee
     ok = (fres <= max(tol, 1e-11) * kmax or fres <= 1e-14) and gres <= 1e-13
     return NewtonResult(d, A, st, it, ok, fres / kmax if kmax > 0 else 0.0, gres)
+
+
+def tangent_range(delta, A):
+    """Lowest and highest value on [0, 1] of the tangent angle along
+    segments, ``theta(tau) - theta(0) = (delta - A) tau + A tau**2``, in the
+    normalised form of :func:`solve_nodes` (``tau = s / L``, ``A = dk L**2 / 2``,
+    ``delta`` the turn from start to end).
+
+    Returns
+    -------
+    lo, hi : ndarray
+        Both bracket 0 (the start) and `delta` (the end).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lo, hi = tangent_range(np.array([0.0]), np.array([1.0]))  # turns back to its start
+    >>> float(lo[0]), float(hi[0])
+    (-0.25, 0.0)
+    """
+    # the vertex of the parabola, clipped to the segment
+    tv = np.zeros_like(A)
+    np.divide(A - delta, 2 * A, out=tv, where=A != 0)
+    np.clip(tv, 0.0, 1.0, out=tv)
+    th_v = (delta - A) * tv + A * tv * tv
+    hi = np.maximum(np.maximum(0.0, delta), th_v)
+    lo = np.minimum(np.minimum(0.0, delta), th_v)
+    return lo, hi
