@@ -1,0 +1,181 @@
+"""The result of a QIC spline fit: :class:`QICSpline` (segments, nodes,
+corners, sampling and metrics).
+
+Built by :func:`stimuli.curves.qic.qic_spline`; see that module for the
+mathematics.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from stimuli.curves.euler import clothoid_points
+from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.curves.qic_newton import tangent_range
+from stimuli.errors import InputError
+
+__all__ = ["QICSpline"]
+
+
+@dataclass(frozen=True)
+class QICSpline:
+    """A spline of clothoid segments through points (see :func:`qic_spline`).
+
+    Attributes
+    ----------
+    points : ndarray, shape (N, 2)
+        The interpolated points (image pixels, y down unless ``y_down`` was
+        False).
+    closed : bool
+    x0, y0, theta0 : ndarray, shape (M,)
+        Start point and tangent angle (input coordinates) of each segment.
+    k0, dk, length : ndarray, shape (M,)
+        Start curvature and curvature rate, in the input coordinates'
+        sign (d theta / ds), and length of each segment (px).
+    start : ndarray of int, shape (M,)
+        Index of the point at which each segment starts.
+    sign : float
+        Factor from input-coordinate curvature to geometric curvature.
+    iterations : int
+        Newton iterations (summed over pieces and rounds).
+    g2_error : float
+        Largest curvature jump at a G2 node divided by the largest
+        |curvature|, as solved.
+    closure_error : float
+        Largest segment end-point miss relative to the curve's size.
+    corners : tuple of int
+        Nodes where the curve is not G2 (sorted).
+    corner_kinds : tuple of str
+        'G1' (tangent continuous, curvature jumps) or 'G0' (tangent breaks)
+        for each of `corners`.
+    seconds : float
+        Time taken by the fit.
+    method : str
+        'qic' (robust) or 'qic-g2' (pure).
+    """
+
+    points: np.ndarray
+    closed: bool
+    x0: np.ndarray
+    y0: np.ndarray
+    theta0: np.ndarray
+    k0: np.ndarray
+    dk: np.ndarray
+    length: np.ndarray
+    start: np.ndarray
+    sign: float
+    iterations: int
+    g2_error: float
+    closure_error: float
+    corners: tuple = field(default_factory=tuple)
+    corner_kinds: tuple = field(default_factory=tuple)
+    seconds: float = 0.0
+    method: str = "qic"
+
+    @property
+    def n_points(self):
+        return len(self.points)
+
+    @cached_property
+    def segment_turn(self):
+        """Range of the tangent angle on each segment (radians; computed when first asked)."""
+        A = 0.5 * self.dk * self.length**2  # theta(s) - theta0 = k0 L tau + A tau**2, tau = s / L
+        lo, hi = tangent_range(self.k0 * self.length + A, A)
+        return hi - lo
+
+    @property
+    def loops(self):
+        """Segments whose tangent turns by more than pi."""
+        return int(np.count_nonzero(self.segment_turn > np.pi))
+
+    @property
+    def max_segment_turn(self):
+        """Largest range of the tangent angle on one segment (radians)."""
+        return float(np.max(self.segment_turn)) if self.segment_turn.size else 0.0
+
+    @property
+    def interior_extrema(self):
+        """Curvature extrema strictly inside segments, counted on 32 samples
+        per segment (zero by construction: curvature is linear in arc length
+        on every segment)."""
+        return self.metrics(32)["interior_extrema"]
+
+    @property
+    def node_curvature(self):
+        """Geometric curvature at the start of each segment (1/px)."""
+        return self.sign * self.k0
+
+    @property
+    def end_curvature(self):
+        """Geometric curvature at the end of each segment (1/px)."""
+        return self.sign * (self.k0 + self.dk * self.length)
+
+    def sample(self, samples=32):
+        """Sample every segment at `samples` points equally spaced in arc
+        length, both end points included.
+
+        Returns
+        -------
+        SampledCurve
+        """
+        samples = int(samples)
+        if samples < 2:
+            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        u = np.linspace(0.0, 1.0, samples)
+        s_loc = self.length[:, None] * u[None, :]
+        x, y, th, k = clothoid_points(
+            self.x0[:, None], self.y0[:, None], self.theta0[:, None],
+            self.k0[:, None], self.dk[:, None], s_loc,
+        )
+        # each segment ends on the next point: put it there exactly, not to
+        # round-off, so that joins are not tiny zig-zags
+        nxt = (self.start + 1) % len(self.points)
+        x[:, -1], y[:, -1] = self.points[nxt, 0], self.points[nxt, 1]
+        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
+        s = (offs[:, None] + s_loc).ravel()
+        seg = np.repeat(self.start, samples)
+        return SampledCurve(
+            s=s, x=x.ravel(), y=y.ravel(), curvature=self.sign * k.ravel(), segment=seg,
+            theta=th.ravel(), closed=self.closed, breaks=tuple(self.corners),
+        )
+
+    def sample_by_turn(self, max_step=0.1, max_samples=32):
+        """Sample every segment at points equally spaced in arc length, as
+        few as keep the tangent's change between neighbours at most
+        `max_step` radians (at least 3, at most `max_samples`, both ends
+        included; the cap wins): cheap where the curve is smooth (used by
+        the crossing test of the robust rule).
+
+        Returns
+        -------
+        SampledCurve
+        """
+        # curvature is linear on a segment: its largest |k| is at an end, and
+        # |k| * (L / steps) bounds the tangent's change between neighbours
+        kmax = np.maximum(np.abs(self.k0), np.abs(self.k0 + self.dk * self.length))
+        steps = np.ceil(np.minimum(self.length * kmax / max_step, max_samples))
+        counts = np.clip(steps.astype(int) + 1, 3, max(int(max_samples), 3))
+        seg = np.repeat(np.arange(counts.size), counts)
+        first = np.r_[0, np.cumsum(counts)[:-1]]
+        u = (np.arange(seg.size) - first[seg]) / (counts[seg] - 1)
+        s_loc = self.length[seg] * u
+        x, y, th, k = clothoid_points(self.x0[seg], self.y0[seg], self.theta0[seg], self.k0[seg], self.dk[seg], s_loc)
+        last = first + counts - 1
+        nxt = (self.start + 1) % len(self.points)
+        x[last], y[last] = self.points[nxt, 0], self.points[nxt, 1]
+        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
+        return SampledCurve(
+            s=offs[seg] + s_loc, x=x, y=y, curvature=self.sign * k, segment=self.start[seg], theta=th,
+            closed=self.closed, breaks=tuple(self.corners),
+        )
+
+    def metrics(self, samples=32):
+        """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`,
+        with the solver's own figures (``iterations``, ``solver_g2_error``,
+        ``closure_error``)."""
+        out = curve_metrics(self.sample(samples))
+        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
+        return out
