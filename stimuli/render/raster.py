@@ -75,93 +75,102 @@ _SNAP = 1e-10
 
 
 def _stream(rings):
-    """(x, y, bridge) of closed rings, shifted by +0.5 so that pixel (i, j)
-    is the square [j, j+1] x [i, i+1]. `bridge` is None for one ring."""
+    """(p, bridge): closed rings as one stream, a (2, n) array of x and y
+    rows shifted by +0.5 so that pixel (i, j) is the square [j, j+1] x
+    [i, i+1]. `bridge` is None for one ring."""
     if len(rings) == 1:
         r = rings[0]
-        p = np.concatenate([r, r[:1]]) + 0.5
-        return np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]), None
+        n = len(r)
+        p = scratch("stream", (2, n + 1))
+        p[:, :n] = r.T
+        p[:, n] = r[0]
+        p += 0.5
+        return p, None
     parts, flags = [], []
     for r in rings:
         parts += [r, r[:1]]
         f = np.zeros(len(r) + 1, bool)
         f[-1] = True
         flags.append(f)
-    p = np.concatenate(parts) + 0.5
-    return (
-        np.ascontiguousarray(p[:, 0]),
-        np.ascontiguousarray(p[:, 1]),
-        np.concatenate(flags)[:-1],
-    )
+    p = np.concatenate(parts).T + 0.5  # C-contiguous (2, n)
+    return p, np.concatenate(flags)[:-1]
 
 
-def _refine(a, b, lo, hi, bridge, out):
-    """Insert the points where a stream crosses ``a = integer`` in [lo, hi].
+def _refine(p, axis, lo, hi, bridge, out):
+    """Insert the points where a stream crosses ``p[axis] = integer`` in [lo, hi].
 
-    Crossing points carry exactly integral `a`; `b` is interpolated from the
-    start of the piece, so original vertices are kept bit for bit. The
-    result lives in the scratch buffer named `out` (see :func:`scratch`).
+    Crossing points carry exactly integral coordinates on `axis`; the other
+    coordinate is interpolated from the start of the piece, so original
+    vertices are kept bit for bit. Returns ``(q, bridge)``: `q` is `p` when
+    nothing crosses, else a view of the scratch buffer named `out` (see
+    :func:`scratch`).
     """
-    m = len(a) - 1
-    a0, a1 = a[:-1], a[1:]
-    first, last, d, step = scratch("refine", (4, m))
-    # first and last integer strictly inside each piece, clipped to [lo, hi]
-    np.minimum(a0, a1, out=first)
-    np.floor(first, out=first)
-    first += 1.0
-    np.maximum(first, lo, out=first)
-    np.maximum(a0, a1, out=last)
-    np.ceil(last, out=last)
-    last -= 1.0
-    np.minimum(last, hi, out=last)
-    np.subtract(last, first, out=d)  # crossings - 1
-    np.maximum(d, -1.0, out=d)
+    m = p.shape[1] - 1
+    a0, a1 = p[axis, :-1], p[axis, 1:]
+    # rows: 0-1 floor of each piece's least and greatest `a`, 2 its count of
+    # new points, 3 their running total; 4-8 what every new point of the
+    # piece needs: offset, step, slope, start point (x, y)
+    w = scratch("refine", (9, m))
+    np.minimum(a0, a1, out=w[0])
+    np.maximum(a0, a1, out=w[1])
+    ext = np.floor(w[:2], out=w[:2])
+    # The crossings of a piece are the integers in (w0, w1] within [lo, hi];
+    # an end point on a grid line gives a zero-length piece, which adds 0.
+    np.clip(ext, lo - 1.0, hi, out=ext)
+    cnt = np.subtract(w[1], w[0], out=w[2])
+    cnt += 1.0  # the piece's start and its crossings
     if bridge is not None:
-        d[bridge] = -1.0
-    cnt, pos = scratch("refine_i", (2, m), np.intp)
-    np.copyto(cnt, d, casting="unsafe")
-    cnt += 2  # new points per piece: its start and its crossings
-    cnt.cumsum(out=pos)
+        cnt[bridge] = 1.0  # a piece between rings is never cut
+    pos = np.cumsum(cnt, out=w[3])
     total = int(pos[-1])
     if total == m:
-        return a, b, bridge
-    pos -= cnt  # new index of each old point
-    # k[j]: the old piece that new point j lies on (np.repeat without a new array)
-    k = scratch("refine_k", total, np.intp)
-    k.fill(0)
-    k[pos[1:]] = 1
-    k.cumsum(out=k)
-    # crossing j of piece i (j counted in the new stream) is e[i] + step[i] * j:
-    # first, first + 1, ... where `a` grows, last, last - 1, ... where it falls
-    up = np.greater(a1, a0, out=scratch("refine_up", m, np.bool_))
-    np.copyto(step, up)
-    step += step
-    step -= 1.0
-    last += 1.0
-    first -= 1.0
-    np.copyto(last, first, where=up)
-    e = np.subtract(last, np.multiply(step, pos, out=d), out=last)
-    slope = np.subtract(b[1:], b[:-1], out=d)
-    da = np.subtract(a1, a0, out=first)
-    # where da == 0 the piece has no crossing and its slope is never used
-    np.divide(slope, da, out=slope, where=da != 0.0)
-    na, nb = scratch(out, (2, total + 1))
-    tmp = scratch("refine_t", total)
-    v = step.take(k, out=na[:-1])
-    v *= ramp(total)
-    v += e.take(k, out=tmp)
-    u = np.subtract(v, a0.take(k, out=tmp), out=nb[:-1])
-    u *= slope.take(k, out=tmp)
-    u += b[:-1].take(k, out=tmp)
-    na[pos] = a0
-    na[-1] = a[-1]
-    nb[pos] = b[:-1]
-    nb[-1] = b[-1]
+        return p, bridge
+    counts = scratch("refine_n", m, np.intp)
+    np.copyto(counts, cnt, casting="unsafe")
+    d = np.subtract(p[:, 1:], p[:, :-1], out=w[7:9])
+    step = np.sign(d[axis], out=w[5])
+    # a piece with constant `a` has no crossing: its slope is only used at
+    # its start, which is overwritten below
+    with np.errstate(divide="ignore", invalid="ignore"):
+        np.divide(d[1 - axis], d[axis], out=w[6])
+    np.copyto(w[7:9], p[:, :-1])
+    pos -= cnt  # each piece's start in the new stream
+    starts = scratch("refine_s", m, np.intp)
+    np.copyto(starts, pos, casting="unsafe")
+    # Crossing j = 1, 2, ... of a piece lies at mid + step * (j - cnt / 2),
+    # mid = w0 + cnt / 2: w0 + 1, w0 + 2, ... where `a` grows, w1, w1 - 1,
+    # ... where it falls. With j = k - start for the new point k, that is
+    # offset + step * k, offset = mid - step * (start + cnt / 2); every term
+    # is an integer or a half, exact in float64.
+    half = np.multiply(cnt, 0.5, out=cnt)
+    np.add(w[0], half, out=w[0])
+    pos += half
+    pos *= step
+    np.subtract(w[0], pos, out=w[4])
+    # every new point's piece (np.repeat of an arange), then its piece's
+    # data; mode="wrap" (the indices are valid) makes take 2.5x cheaper
+    k = np.repeat(ramp(m, np.intp), counts)
+    per = scratch("refine_per", (5, total))
+    for row in range(5):
+        w[4 + row].take(k, out=per[row], mode="wrap")
+    start = per[3:]
+    q = scratch(out, (2, total + 1))
+    qa, qb = q[axis, :-1], q[1 - axis, :-1]
+    np.multiply(per[1], ramp(total), out=qa)
+    qa += per[0]
+    with np.errstate(invalid="ignore", over="ignore"):
+        np.subtract(qa, start[axis], out=qb)
+        qb *= per[2]
+    qb += start[1 - axis]
+    # 2-D fancy assignment is several times slower than two 1-D ones
+    q[0, starts] = p[0, :-1]
+    q[1, starts] = p[1, :-1]
+    q[:, -1] = p[:, -1]
     if bridge is not None:
         flags = np.zeros(total, bool)
-        flags[pos[bridge]] = True
+        flags[starts[bridge]] = True
         bridge = flags
-    return na, nb, bridge
+    return q, bridge
 
 
 def sum_dtype(image_dtype, h, w):
@@ -181,14 +190,15 @@ def sum_dtype(image_dtype, h, w):
 FLOAT32_MIN_PIXELS = 1 << 16
 
 
-def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
+def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
     """Cut a stream at the pixel grid and integrate the winding number.
 
-    Returns ``(win, r0, c0, area)`` or None when nothing reaches the image:
-    `win` is the winding integral over each pixel of the box whose top-left
-    pixel is (r0, c0) (0 outside the box), of `dtype` (float64 or float32),
-    a view of a scratch buffer to be used before the next call; `area` is
-    its sum, computed in float64 whatever `dtype`.
+    `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
+    ``(win, r0, c0, area)`` or None when nothing reaches the image: `win` is
+    the winding integral over each pixel of the box whose top-left pixel is
+    (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
+    a scratch buffer to be used before the next call; `area` is its sum,
+    computed in float64 whatever `dtype`.
     """
     import cv2
 
@@ -196,101 +206,85 @@ def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
     # pass over the pieces needed. Rows are floor(y) with y clipped to
     # [0, h] (row h, the bottom edge, lies outside the image); columns are
     # floor(x) for x in [0, w).
-    xlo, xhi = float(np.minimum.reduce(x)), float(np.maximum.reduce(x))
-    ylo, yhi = float(np.minimum.reduce(y)), float(np.maximum.reduce(y))
+    (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
     if ylo >= h or xhi <= 0.0 or xlo >= w:
         return None
     r0, r1 = int(max(ylo, 0.0)), int(min(yhi, float(h)))
     c0, c1 = int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
-    clip_y = ylo < 0.0 or yhi > h
-    clip_x = xlo < 0.0 or xhi >= w
-    # Columns: pieces left or right of the image affect no image column.
-    x, y, bridge = _refine(x, y, 0.0, float(w), bridge, "cols")
-    # Rows: pieces above the image are flattened onto its top edge (their
-    # cover reaches every row below), pieces below it onto its bottom edge
-    # (they add nothing inside, but they keep the box reaching the bottom
-    # row when the shape runs off the bottom of the image).
-    y, x, bridge = _refine(y, x, 0.0, float(h), bridge, "rows")
-    if clip_y:
-        np.minimum(y, float(h), out=y)
-        np.maximum(y, 0.0, out=y)
-    m = len(x) - 1
-    pieces = scratch("pieces", (3, m))
-    dx, xm, ym = pieces
-    np.subtract(x[1:], x[:-1], out=dx)
-    np.add(x[1:], x[:-1], out=xm)
-    xm *= 0.5
-    np.add(y[1:], y[:-1], out=ym)
-    ym *= 0.5
-    if clip_x or bridge is not None:
-        # Pieces left or right of the image and bridges between rings add
-        # nothing: their width is set to 0 and they are parked in the image,
-        # which is cheaper than compacting every array.
-        keep, inside = scratch("keep", (2, m), np.bool_)
-        np.greater_equal(xm, 0.0, out=keep)
-        keep &= np.less(xm, w, out=inside)
-        if bridge is not None:
-            keep &= ~bridge
-        dx *= keep
-        np.minimum(xm, w - 1.0, out=xm)
-        np.maximum(xm, 0.0, out=xm)
-    cells = scratch("cells", (2, m), np.intp)
-    np.copyto(cells, pieces[:0:-1], casting="unsafe")  # (ym, xm) >= 0: truncation is floor
-    row, col = cells
+    # Columns first, then rows, whose grid lines then cut the new pieces too.
+    p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
+    p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
+    if xlo < 0.0 or xhi >= w:
+        # Pieces left or right of the image affect no image column: moved
+        # onto its edge they keep their place in the stream but add nothing.
+        np.clip(p[0], 0.0, float(w), out=p[0])
+    if ylo < 0.0 or yhi > h:
+        # Pieces above the image are flattened onto its top edge (their
+        # cover reaches every row below), pieces below it onto its bottom
+        # edge (row h, outside the image: they add nothing inside).
+        np.clip(p[1], 0.0, float(h), out=p[1])
+    m = p.shape[1] - 1
+    # rows: 0 dx, 1-2 the deposits (top, bottom), 3-4 the midpoint (x, y)
+    pc = scratch("pieces", (5, m))
+    dx, dep, mid = pc[0], pc[1:3], pc[3:5]
+    np.subtract(p[:, 1:], p[:, :-1], out=pc[:2])
+    np.add(p[:, 1:], p[:, :-1], out=mid)
+    mid *= 0.5
+    if bridge is not None:
+        dx[bridge] = 0.0  # pieces between rings add nothing
+    # The winding integral over the image, sum(dx * (h - ym)) over the
+    # pieces, is -sum(dx * ym) since the dx of each column sum to 0.
+    area = -float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1])))
+    cell = np.floor(mid, out=scratch("cell", (2, m)))
     # A piece adds the signed area between itself and its pixel's bottom
-    # side to its pixel (top), and the rest of its cover (dx * fy) to the
-    # pixel below (bottom); summing down each column gives the winding
-    # integral.
-    bottom = np.subtract(ym, row, out=ym)
+    # side to its pixel (top), and the rest of its cover, dx * (ym - row),
+    # to the pixel below (bottom); summing down each column gives the
+    # winding integral.
+    bottom = np.subtract(mid[1], cell[1], out=dep[1])
     bottom *= dx
-    if extra is not None and len(extra[0]):
-        er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
-        row, col = np.concatenate([row, er]), np.concatenate([col, ec])
-        dx, bottom = np.concatenate([dx, np.zeros(len(ea))]), np.concatenate([bottom, -ea])
-    row -= r0
-    col -= c0
+    np.subtract(dx, bottom, out=dep[0])
     bh, bw = r1 - r0 + 1, c1 - c0 + 1
     # cv2.integral is a vectorised 2-D prefix sum, several times faster than
-    # np.cumsum. Each contribution v is entered as +v in its column and -v in
+    # np.cumsum. Each deposit v is entered as +v in its column and -v in
     # the next, so the prefix sum along rows gives v in that column alone and
     # the table is the column-wise cumulative sum we want. (This also keeps
-    # every partial sum near the winding integral, as float32 needs.)
-    stride = bw + 1
-    idx = np.multiply(row, stride, out=scratch("idx", len(row), np.intp))
-    idx += col
+    # every partial sum near the winding integral, as float32 needs.) A
+    # spare column takes the (zero) deposits of pieces on the right edge.
+    stride = bw + 2
+    # flat index of the top deposit, then of the bottom one (exact in float)
+    top = np.multiply(cell[1], stride, out=cell[1])
+    top += cell[0]
+    top -= r0 * stride + c0
+    np.add(top, stride, out=cell[0])
+    idx = scratch("idx", (2, m), np.intp)
+    np.copyto(idx, cell[::-1], casting="unsafe")
     dtype = np.dtype(dtype).type
-    # ufunc.at is 50x slower when it has to cast: deposits in `dtype`
-    t, b = scratch("deposits", (2, len(row)), dtype)
-    np.subtract(dx, bottom, out=t)
-    np.copyto(b, bottom)
+    if dtype is not np.float64:  # ufunc.at is 50x slower when it has to cast
+        dep, dep64 = scratch("deposits", (2, m), dtype), dep
+        np.copyto(dep, dep64)
+    idx, dep = idx.reshape(-1), dep.reshape(-1)
+    if extra is not None and len(extra[0]):
+        er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
+        ie = (er - r0) * stride + (ec - c0)
+        idx = np.concatenate([idx, ie, ie + stride])
+        dep = np.concatenate([dep, ea.astype(dtype), -ea.astype(dtype)])
+        area += float(np.add.reduce(ea))
     acc = scratch("acc", (bh + 1) * stride, dtype, zeroed=True)
     try:
-        np.add.at(acc, idx, t)
-        np.subtract.at(acc[1:], idx, t)
-        np.add.at(acc[stride:], idx, b)
-        np.subtract.at(acc[stride + 1 :], idx, b)
+        np.add.at(acc, idx, dep)
+        np.subtract.at(acc[1:], idx, dep)
         table = scratch("sum", (bh + 2, stride + 1), dtype)
-        depth = cv2.CV_32F if dtype is np.float32 else cv2.CV_64F
-        cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=depth)
+        cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=cv2.CV_32F if dtype is np.float32 else cv2.CV_64F)
     finally:
         # leave the scratch buffer all zero for the next call, by the
-        # cheaper of four scatters and one fill
-        if 16 * len(idx) < acc.size:
-            for shift in (0, 1, stride, stride + 1):
-                acc[shift:][idx] = 0.0
+        # cheaper of two scatters and one fill
+        if 8 * len(idx) < acc.size:
+            acc[idx] = 0.0
+            acc[1:][idx] = 0.0
         else:
             acc.fill(0.0)
     # Pieces on the bottom edge sit in row h, outside the image.
     bh = min(bh, h - r0)
-    # Pixel i of a column holds its own top part and every part above it, so
-    # a piece's top counts in the (bh - row) pixels from its row down and its
-    # bottom in one fewer: area = sum(dx * (bh - row)) - sum(bottom), in
-    # float64 whatever `dtype` (row <= bh always, and a piece in row bh lies
-    # on the bottom edge and has no bottom part). No np.dot: OpenBLAS threads
-    # stall for milliseconds on a busy machine.
-    prod = np.multiply(dx, row, out=scratch("area", len(row)))
-    add = np.add.reduce
-    area = bh * float(add(dx)) - float(add(prod)) - float(add(bottom))
     return table[1 : bh + 1, 1 : bw + 1], r0, c0, area
 
 
@@ -319,8 +313,8 @@ def ring_accumulation(rings, h, w, oriented=False, orient=True, dtype=np.float64
     """:func:`accumulate` of rings (oriented by nesting unless `oriented`)."""
     if orient and not oriented:
         rings = orient_rings(rings)
-    x, y, bridge = _stream(rings)
-    return accumulate(x, y, bridge, h, w, dtype=dtype)
+    p, bridge = _stream(rings)
+    return accumulate(p, bridge, h, w, dtype=dtype)
 
 
 def _ring_coverage(rings, h, w, oriented=False, orient=True):
@@ -369,8 +363,8 @@ def _disc_terms(centers, radius, h, w):
 def disc_accumulation(centers, radius, h, w, dtype=np.float64):
     """:func:`accumulate` of exact discs (chord polygons plus circular segments)."""
     rings, extra = _disc_terms(centers, radius, h, w)
-    x, y, bridge = _stream(rings)
-    return accumulate(x, y, bridge, h, w, extra, dtype)
+    p, bridge = _stream(rings)
+    return accumulate(p, bridge, h, w, extra, dtype)
 
 
 def _dense(box, h, w):
