@@ -58,6 +58,7 @@ import math
 
 import numpy as np
 
+from stimuli.geometry.polyline import shoelace
 from stimuli.validate import as_number, as_points
 from stimuli.render.rings import as_rings, orient_rings, resolve_shape
 from stimuli.render.workspace import ramp, scratch
@@ -190,7 +191,7 @@ def sum_dtype(image_dtype, h, w):
 FLOAT32_MIN_PIXELS = 1 << 16
 
 
-def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
+def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
     """Cut a stream at the pixel grid and integrate the winding number.
 
     `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
@@ -198,7 +199,9 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
     the winding integral over each pixel of the box whose top-left pixel is
     (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
     a scratch buffer to be used before the next call; `area` is its sum,
-    computed in float64 whatever `dtype`.
+    computed in float64 whatever `dtype`. Given the stream's one `ring`, the
+    area is that of the ring oriented to a positive shoelace sum (so that
+    the ring need not be reversed: the coverage is ``|win|`` either way).
     """
     import cv2
 
@@ -214,11 +217,14 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
     # Columns first, then rows, whose grid lines then cut the new pieces too.
     p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
     p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
-    if xlo < 0.0 or xhi >= w:
+    clip_x, clip_y = xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
+    # Whole inside the image, the ring's winding integral is its shoelace sum.
+    sign = shoelace(ring) if ring is not None and (clip_x or clip_y) else None
+    if clip_x:
         # Pieces left or right of the image affect no image column: moved
         # onto its edge they keep their place in the stream but add nothing.
         np.clip(p[0], 0.0, float(w), out=p[0])
-    if ylo < 0.0 or yhi > h:
+    if clip_y:
         # Pieces above the image are flattened onto its top edge (their
         # cover reaches every row below), pieces below it onto its bottom
         # edge (row h, outside the image: they add nothing inside).
@@ -235,6 +241,8 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
     # The winding integral over the image, sum(dx * (h - ym)) over the
     # pieces, is -sum(dx * ym) since the dx of each column sum to 0.
     area = -float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1])))
+    if ring is not None:
+        area = abs(area) if sign is None else (area if sign >= 0.0 else -area)
     cell = np.floor(mid, out=scratch("cell", (2, m)))
     # A piece adds the signed area between itself and its pixel's bottom
     # side to its pixel (top), and the rest of its cover, dx * (ym - row),
@@ -244,17 +252,23 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
     bottom *= dx
     np.subtract(dx, bottom, out=dep[0])
     bh, bw = r1 - r0 + 1, c1 - c0 + 1
-    # cv2.integral is a vectorised 2-D prefix sum, several times faster than
-    # np.cumsum. Each deposit v is entered as +v in its column and -v in
-    # the next, so the prefix sum along rows gives v in that column alone and
-    # the table is the column-wise cumulative sum we want. (This also keeps
-    # every partial sum near the winding integral, as float32 needs.) A
-    # spare column takes the (zero) deposits of pieces on the right edge.
+    # cv2.integral, a vectorised 2-D prefix sum several times faster than
+    # np.cumsum, gives the column-wise cumulative sum we want if each
+    # deposit v is entered as +v in its column and -v in the next, so that
+    # the prefix sum along rows gives v in that column alone. (This also
+    # keeps every partial sum near the winding integral, as float32 needs.)
+    # Few deposits are entered twice by ufunc.at (about 20 instructions
+    # each); many are entered once and the difference between neighbouring
+    # columns is taken in one pass over the box (`diff`). Spare columns take
+    # the (zero) deposits of pieces on the right edge and, with `diff`, a
+    # zero column on the left.
     stride = bw + 2
+    size = (bh + 1) * stride
+    diff = 16 * m > size
     # flat index of the top deposit, then of the bottom one (exact in float)
     top = np.multiply(cell[1], stride, out=cell[1])
     top += cell[0]
-    top -= r0 * stride + c0
+    top -= r0 * stride + c0 - diff
     np.add(top, stride, out=cell[0])
     idx = scratch("idx", (2, m), np.intp)
     np.copyto(idx, cell[::-1], casting="unsafe")
@@ -265,22 +279,30 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64):
     idx, dep = idx.reshape(-1), dep.reshape(-1)
     if extra is not None and len(extra[0]):
         er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
-        ie = (er - r0) * stride + (ec - c0)
+        ie = (er - r0) * stride + (ec - c0 + diff)
         idx = np.concatenate([idx, ie, ie + stride])
         dep = np.concatenate([dep, ea.astype(dtype), -ea.astype(dtype)])
         area += float(np.add.reduce(ea))
-    acc = scratch("acc", (bh + 1) * stride, dtype, zeroed=True)
+    acc = scratch("acc", size, dtype, zeroed=True)
+    depth = cv2.CV_32F if dtype is np.float32 else cv2.CV_64F
+    table = scratch("sum", (bh + 2, stride + 1 - diff), dtype)
     try:
         np.add.at(acc, idx, dep)
-        np.subtract.at(acc[1:], idx, dep)
-        table = scratch("sum", (bh + 2, stride + 1), dtype)
-        cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=cv2.CV_32F if dtype is np.float32 else cv2.CV_64F)
+        if diff:
+            grid = acc.reshape(bh + 1, stride)
+            d = scratch("diff", (bh + 1, stride - 1), dtype)
+            cv2.subtract(grid[:, 1:], grid[:, :-1], dst=d)
+            cv2.integral(d, table, sdepth=depth)
+        else:
+            np.subtract.at(acc[1:], idx, dep)
+            cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=depth)
     finally:
         # leave the scratch buffer all zero for the next call, by the
-        # cheaper of two scatters and one fill
-        if 8 * len(idx) < acc.size:
+        # cheaper of scatters and one fill
+        if 8 * len(idx) < size:
             acc[idx] = 0.0
-            acc[1:][idx] = 0.0
+            if not diff:
+                acc[1:][idx] = 0.0
         else:
             acc.fill(0.0)
     # Pieces on the bottom edge sit in row h, outside the image.
@@ -311,10 +333,12 @@ def box_coverage(acc):
 
 def ring_accumulation(rings, h, w, oriented=False, orient=True, dtype=np.float64):
     """:func:`accumulate` of rings (oriented by nesting unless `oriented`)."""
-    if orient and not oriented:
+    # One ring is never reversed: only the sign of its area depends on it.
+    single = orient and not oriented and len(rings) == 1
+    if orient and not oriented and not single:
         rings = orient_rings(rings)
     p, bridge = _stream(rings)
-    return accumulate(p, bridge, h, w, dtype=dtype)
+    return accumulate(p, bridge, h, w, dtype=dtype, ring=rings[0] if single else None)
 
 
 def _ring_coverage(rings, h, w, oriented=False, orient=True):
