@@ -109,8 +109,8 @@ def _refine(p, axis, lo, hi, bridge, out):
     m = p.shape[1] - 1
     a0, a1 = p[axis, :-1], p[axis, 1:]
     # rows: 0-1 floor of each piece's least and greatest `a`, 2 its count of
-    # new points, 3 their running total; 4-8 what every new point of the
-    # piece needs: offset, step, slope, start point (x, y)
+    # new points, 3 their running total; 4-6 what every new point of the
+    # piece needs besides its start point (offset, step, slope); 7-8 scratch
     w = scratch("refine", (9, m))
     np.minimum(a0, a1, out=w[0])
     np.maximum(a0, a1, out=w[1])
@@ -130,11 +130,10 @@ def _refine(p, axis, lo, hi, bridge, out):
     np.copyto(counts, cnt, casting="unsafe")
     d = np.subtract(p[:, 1:], p[:, :-1], out=w[7:9])
     step = np.sign(d[axis], out=w[5])
-    # a piece with constant `a` has no crossing: its slope is only used at
-    # its start, which is overwritten below
-    with np.errstate(divide="ignore", invalid="ignore"):
-        np.divide(d[1 - axis], d[axis], out=w[6])
-    np.copyto(w[7:9], p[:, :-1])
+    # A piece with constant `a` has no crossing: its slope (inf or nan; the
+    # caller silences the warnings) is only used at its start, which is
+    # overwritten below.
+    np.divide(d[1 - axis], d[axis], out=w[6])
     pos -= cnt  # each piece's start in the new stream
     starts = scratch("refine_s", m, np.intp)
     np.copyto(starts, pos, casting="unsafe")
@@ -152,16 +151,15 @@ def _refine(p, axis, lo, hi, bridge, out):
     # data; mode="wrap" (the indices are valid) makes take 2.5x cheaper
     k = np.repeat(ramp(m, np.intp), counts)
     per = scratch("refine_per", (5, total))
-    for row in range(5):
-        w[4 + row].take(k, out=per[row], mode="wrap")
+    for row, src in enumerate((w[4], w[5], w[6], p[0, :-1], p[1, :-1])):
+        src.take(k, out=per[row], mode="wrap")
     start = per[3:]
     q = scratch(out, (2, total + 1))
     qa, qb = q[axis, :-1], q[1 - axis, :-1]
     np.multiply(per[1], ramp(total), out=qa)
     qa += per[0]
-    with np.errstate(invalid="ignore", over="ignore"):
-        np.subtract(qa, start[axis], out=qb)
-        qb *= per[2]
+    np.subtract(qa, start[axis], out=qb)
+    qb *= per[2]
     qb += start[1 - axis]
     # 2-D fancy assignment is several times slower than two 1-D ones
     q[0, starts] = p[0, :-1]
@@ -191,20 +189,21 @@ def sum_dtype(image_dtype, h, w):
 FLOAT32_MIN_PIXELS = 1 << 16
 
 
-def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
-    """Cut a stream at the pixel grid and integrate the winding number.
+def cut_pieces(p, bridge, h, w, ring=None):
+    """Cut a stream at the pixel grid into pieces, each inside one pixel.
 
-    `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
-    ``(win, r0, c0, area)`` or None when nothing reaches the image: `win` is
-    the winding integral over each pixel of the box whose top-left pixel is
-    (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
-    a scratch buffer to be used before the next call; `area` is its sum,
-    computed in float64 whatever `dtype`. Given the stream's one `ring`, the
-    area is that of the ring oriented to a positive shoelace sum (so that
-    the ring need not be reversed: the coverage is ``|win|`` either way).
+    `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns None
+    when nothing reaches the image, else ``(pc, box, clipped, area)``: `pc`
+    a (5, m) scratch array whose rows are each piece's dx, its deposits
+    (the signed area between the piece and its pixel's bottom side, and the
+    rest of its cover, which goes to the pixel below) and its pixel (column,
+    row; floats holding integers, the column in [0, w], the row in [0, h]);
+    `box` = (r0, r1, c0, c1), the pixels the pieces can reach; `clipped`
+    whether the shape crosses the image's border; `area` the winding
+    integral over the image. Given the stream's one `ring`, the area is that
+    of the ring oriented to a positive shoelace sum (so that the ring need
+    not be reversed: the coverage is ``|win|`` either way).
     """
-    import cv2
-
     # The box of pixels the pieces can reach, from the stream's extent: no
     # pass over the pieces needed. Rows are floor(y) with y clipped to
     # [0, h] (row h, the bottom edge, lies outside the image); columns are
@@ -215,8 +214,9 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
     r0, r1 = int(max(ylo, 0.0)), int(min(yhi, float(h)))
     c0, c1 = int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
     # Columns first, then rows, whose grid lines then cut the new pieces too.
-    p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
-    p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
+        p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
     clip_x, clip_y = xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
     # Whole inside the image, the ring's winding integral is its shoelace sum.
     sign = shoelace(ring) if ring is not None and (clip_x or clip_y) else None
@@ -230,7 +230,8 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
         # edge (row h, outside the image: they add nothing inside).
         np.clip(p[1], 0.0, float(h), out=p[1])
     m = p.shape[1] - 1
-    # rows: 0 dx, 1-2 the deposits (top, bottom), 3-4 the midpoint (x, y)
+    # rows: 0 dx, 1-2 the deposits (top, bottom), 3-4 the midpoint (x, y),
+    # then the pixel
     pc = scratch("pieces", (5, m))
     dx, dep, mid = pc[0], pc[1:3], pc[3:5]
     np.subtract(p[:, 1:], p[:, :-1], out=pc[:2])
@@ -243,14 +244,38 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
     area = -float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1])))
     if ring is not None:
         area = abs(area) if sign is None else (area if sign >= 0.0 else -area)
-    cell = np.floor(mid, out=scratch("cell", (2, m)))
     # A piece adds the signed area between itself and its pixel's bottom
     # side to its pixel (top), and the rest of its cover, dx * (ym - row),
     # to the pixel below (bottom); summing down each column gives the
     # winding integral.
-    bottom = np.subtract(mid[1], cell[1], out=dep[1])
+    row = np.floor(mid[1], out=dep[0])
+    bottom = np.subtract(mid[1], row, out=dep[1])
+    np.copyto(mid[1], row)
+    np.floor(mid[0], out=mid[0])
     bottom *= dx
     np.subtract(dx, bottom, out=dep[0])
+    return pc, (r0, r1, c0, c1), clip_x or clip_y, area
+
+
+def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
+    """Cut a stream at the pixel grid and integrate the winding number.
+
+    `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
+    ``(win, r0, c0, area)`` or None when nothing reaches the image: `win` is
+    the winding integral over each pixel of the box whose top-left pixel is
+    (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
+    a scratch buffer to be used before the next call; `area` is its sum,
+    computed in float64 whatever `dtype` (see :func:`cut_pieces` for `ring`).
+    """
+    import cv2
+
+    cut = cut_pieces(p, bridge, h, w, ring)
+    if cut is None:
+        return None
+    pc, (r0, r1, c0, c1), _, area = cut
+    m = pc.shape[1]
+    dep, cell = pc[1:3], scratch("cell", (2, m))
+    np.copyto(cell, pc[3:5])
     bh, bw = r1 - r0 + 1, c1 - c0 + 1
     # cv2.integral, a vectorised 2-D prefix sum several times faster than
     # np.cumsum, gives the column-wise cumulative sum we want if each
@@ -331,14 +356,22 @@ def box_coverage(acc):
     return cov, r0, c0
 
 
-def ring_accumulation(rings, h, w, oriented=False, orient=True, dtype=np.float64):
-    """:func:`accumulate` of rings (oriented by nesting unless `oriented`)."""
+def ring_stream(rings, oriented=False, orient=True):
+    """(p, bridge, ring): the stream of rings (oriented by nesting unless
+    `oriented`) and, for one ring left as given, that ring (see
+    :func:`cut_pieces`)."""
     # One ring is never reversed: only the sign of its area depends on it.
     single = orient and not oriented and len(rings) == 1
     if orient and not oriented and not single:
         rings = orient_rings(rings)
     p, bridge = _stream(rings)
-    return accumulate(p, bridge, h, w, dtype=dtype, ring=rings[0] if single else None)
+    return p, bridge, rings[0] if single else None
+
+
+def ring_accumulation(rings, h, w, oriented=False, orient=True, dtype=np.float64):
+    """:func:`accumulate` of rings (oriented by nesting unless `oriented`)."""
+    p, bridge, ring = ring_stream(rings, oriented, orient)
+    return accumulate(p, bridge, h, w, dtype=dtype, ring=ring)
 
 
 def _ring_coverage(rings, h, w, oriented=False, orient=True):
