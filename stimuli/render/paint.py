@@ -12,7 +12,8 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
-from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation, sum_dtype
+from stimuli.render.discs import disc_accumulation
+from stimuli.render.raster import box_coverage, ring_accumulation, sum_dtype
 from stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
