@@ -228,8 +228,10 @@ def cut_pieces(p, bridge, h, w, ring=None):
         np.clip(p[1], 0.0, float(h), out=p[1])
     m = p.shape[1] - 1
     # rows: 0 dx, 1-2 the deposits (top, bottom), 3-4 the midpoint (x, y),
-    # then the pixel
-    pc = scratch("pieces", (5, m))
+    # then the pixel. The refinement's buffers are dead by now and were just
+    # written: reusing them keeps the working set in cache (a spiky shape
+    # moves megabytes through its scratch buffers).
+    pc = scratch("refine_per", (5, m))
     dx, dep, mid = pc[0], pc[1:3], pc[3:5]
     np.subtract(p[:, 1:], p[:, :-1], out=pc[:2])
     np.add(p[:, 1:], p[:, :-1], out=mid)
@@ -271,7 +273,7 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
         return None
     pc, (r0, r1, c0, c1), _, area = cut
     m = pc.shape[1]
-    dep, cell = pc[1:3], scratch("cell", (2, m))
+    dep, cell = pc[1:3], scratch("refine", (2, m))
     np.copyto(cell, pc[3:5])
     bh, bw = r1 - r0 + 1, c1 - c0 + 1
     # cv2.integral, a vectorised 2-D prefix sum several times faster than
