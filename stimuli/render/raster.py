@@ -37,13 +37,19 @@ below 1e-5 of a pixel, three orders under one grey level; see
 :func:`sum_dtype`); everything else in float64. Temporaries live in
 per-thread scratch buffers (:mod:`stimuli.render.workspace`).
 
-Speed: a 512 x 512 8-bit image of a 500-vertex polygon takes about 0.25 ms
-of CPU for a smooth blob and 0.9 ms for a spiky star (27,000 pieces) when
-the caches are warm, and about 0.55 / 1.2 ms when other work has run in
-between, as in ``benchmarks/bench_render.py`` (2-core AMD EPYC under load);
-callgrind counts 4.3 and 15.8 million instructions. The time goes into
-many small numpy calls (each a few microseconds when the caches are cold)
-and four ``np.add.at`` over the pieces, not into arithmetic.
+Speed (``benchmarks/bench_render.py --n 1000``, 512 x 512 8-bit images of
+500-vertex polygons, 2-core AMD EPYC shared with other work, load average
+7.7-10.9, medians of three runs): the renderer takes 0.57 ms of CPU per
+smooth blob and 1.23 ms per spiky star (27,000 pieces) with the bench's
+matplotlib and PNG steps run in between (0.59 / 1.35 ms before the
+refinement was rewritten), about 0.24 / 0.93 ms with warm caches;
+callgrind counts 4.0 and 10.8 million instructions per image (4.45 and
+15.75 before). Rendering plus ``cv2.imwrite`` stays 1.74x (blob) and 1.82x
+(spiky) ``cv2.fillPoly(LINE_AA)`` plus ``cv2.imwrite`` in CPU time, against
+a target of 1.3: the time does not follow the instruction count but the
+hundred-odd numpy calls, each several microseconds when other work has
+evicted the caches, and the megabytes a spiky star moves through its
+scratch buffers.
 
 References
 ----------
