@@ -35,9 +35,10 @@ ratio (1.8), which is why ``cv2.imencode`` (the encoder in memory) is timed
 too and the CPU-time ratio is the one to judge by. And the renderer,
 many small numpy calls, slows more than the encoder when other work (or
 other processes) has evicted the caches, which callgrind's counts do not see
-(blob: 12.2 M instructions against 10.0 M, ratio 1.22, while CPU time gives
-about 1.8). So the split is printed, with the ratio the measured R and F
-would give at half and a quarter of the measured W.
+(blob: 11.8 M instructions against 10.1 M, ratio 1.17, spiky: 22.3 M
+against 16.0 M, ratio 1.39, while CPU time gives about 1.75 and 1.8 under
+load). So the split is printed, with the ratio the measured R and F would
+give at half and a quarter of the measured W.
 
 Each method is timed both by wall clock and by the CPU time of the calling
 thread (``time.thread_time``): on a loaded machine the wall clock of a

@@ -12,7 +12,8 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
-from stimuli.render.raster import box_coverage, disc_accumulation, ring_accumulation, sum_dtype
+from stimuli.render.discs import disc_accumulation
+from stimuli.render.raster import box_coverage, ring_accumulation, sum_dtype
 from stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
@@ -20,10 +21,18 @@ from stimuli.render.rings import as_rings, resolve_shape
 
 
 _SCALE = {np.dtype(np.float64): 1.0, np.dtype(np.uint8): 255.0, np.dtype(np.uint16): 65535.0}
+# dtype.name is computed in Python by numpy (tens of microseconds when the
+# caches are cold, as long as the rest of a small render): look it up
+_NAMES = {dt: dt.name for dt in _SCALE}
+_BY_NAME = {None: np.dtype(np.float64), **{name: dt for dt, name in _NAMES.items()}}
 
 
 def resolve_dtype(dtype):
     """The numpy dtype of an image: None (float64), 'float64', 'uint8' or 'uint16'."""
+    if isinstance(dtype, str) or dtype is None:
+        dt = _BY_NAME.get(dtype)
+        if dt is not None:
+            return dt
     try:
         dt = np.dtype(np.float64 if dtype is None else dtype)
     except TypeError:
@@ -151,7 +160,7 @@ def result_record(kind, img, h, w, figure, ground, dtype, **params):
         "shape": (h, w),
         "figure": plain_colour(figure),
         "ground": plain_colour(ground),
-        "dtype": dtype.name,
+        "dtype": _NAMES[dtype],
     }
     out.update(params)
     return out

@@ -27,23 +27,29 @@ shapes that touch or cross the border are clipped exactly. The only error is
 floating point (about 1e-13 px^2 per pixel); values within 1e-10 of 0 or 1
 are snapped so that figure and ground colours come out exactly.
 
-Discs (:func:`disc_coverage`) are exact too: the circle is cut where it
-crosses grid lines, the polygon through those points is accumulated as
+Discs (:mod:`stimuli.render.discs`) are exact too: the circle is cut where
+it crosses grid lines, the polygon through those points is accumulated as
 above, and each cut arc adds its circular segment ``R^2/2 (d - sin d)`` to
-the one pixel that contains it.
+the one pixel that contains it (the `extra` deposits of :func:`accumulate`).
 
 8-bit images of at least 65536 pixels are integrated in float32 (error
 below 1e-5 of a pixel, three orders under one grey level; see
 :func:`sum_dtype`); everything else in float64. Temporaries live in
 per-thread scratch buffers (:mod:`stimuli.render.workspace`).
 
-Speed: a 512 x 512 8-bit image of a 500-vertex polygon takes about 0.25 ms
-of CPU for a smooth blob and 0.9 ms for a spiky star (27,000 pieces) when
-the caches are warm, and about 0.55 / 1.2 ms when other work has run in
-between, as in ``benchmarks/bench_render.py`` (2-core AMD EPYC under load);
-callgrind counts 4.3 and 15.8 million instructions. The time goes into
-many small numpy calls (each a few microseconds when the caches are cold)
-and four ``np.add.at`` over the pieces, not into arithmetic.
+Speed (``benchmarks/bench_render.py --n 1000``, 512 x 512 8-bit images of
+500-vertex polygons, 2-core AMD EPYC shared with other work, load average
+7.7-10.9, medians of three runs): the renderer takes 0.57 ms of CPU per
+smooth blob and 1.23 ms per spiky star (27,000 pieces) with the bench's
+matplotlib and PNG steps run in between (0.59 / 1.35 ms before the
+refinement was rewritten), about 0.24 / 0.93 ms with warm caches;
+callgrind counts 4.0 and 10.8 million instructions per image (4.45 and
+15.75 before). Rendering plus ``cv2.imwrite`` stays 1.74x (blob) and 1.82x
+(spiky) ``cv2.fillPoly(LINE_AA)`` plus ``cv2.imwrite`` in CPU time, against
+a target of 1.3: the time does not follow the instruction count but the
+hundred-odd numpy calls, each several microseconds when other work has
+evicted the caches, and the megabytes a spiky star moves through its
+scratch buffers.
 
 References
 ----------
@@ -54,11 +60,9 @@ References
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from stimuli.validate import as_number, as_points
+from stimuli.geometry.polyline import shoelace
 from stimuli.render.rings import as_rings, orient_rings, resolve_shape
 from stimuli.render.workspace import ramp, scratch
 
@@ -75,93 +79,100 @@ _SNAP = 1e-10
 
 
 def _stream(rings):
-    """(x, y, bridge) of closed rings, shifted by +0.5 so that pixel (i, j)
-    is the square [j, j+1] x [i, i+1]. `bridge` is None for one ring."""
+    """(p, bridge): closed rings as one stream, a (2, n) array of x and y
+    rows shifted by +0.5 so that pixel (i, j) is the square [j, j+1] x
+    [i, i+1]. `bridge` is None for one ring."""
     if len(rings) == 1:
         r = rings[0]
-        p = np.concatenate([r, r[:1]]) + 0.5
-        return np.ascontiguousarray(p[:, 0]), np.ascontiguousarray(p[:, 1]), None
+        n = len(r)
+        p = scratch("stream", (2, n + 1))
+        p[:, :n] = r.T
+        p[:, n] = r[0]
+        p += 0.5
+        return p, None
     parts, flags = [], []
     for r in rings:
         parts += [r, r[:1]]
         f = np.zeros(len(r) + 1, bool)
         f[-1] = True
         flags.append(f)
-    p = np.concatenate(parts) + 0.5
-    return (
-        np.ascontiguousarray(p[:, 0]),
-        np.ascontiguousarray(p[:, 1]),
-        np.concatenate(flags)[:-1],
-    )
+    p = np.concatenate(parts).T + 0.5  # C-contiguous (2, n)
+    return p, np.concatenate(flags)[:-1]
 
 
-def _refine(a, b, lo, hi, bridge, out):
-    """Insert the points where a stream crosses ``a = integer`` in [lo, hi].
+def _refine(p, axis, lo, hi, bridge, out):
+    """Insert the points where a stream crosses ``p[axis] = integer`` in [lo, hi].
 
-    Crossing points carry exactly integral `a`; `b` is interpolated from the
-    start of the piece, so original vertices are kept bit for bit. The
-    result lives in the scratch buffer named `out` (see :func:`scratch`).
+    Crossing points carry exactly integral coordinates on `axis`; the other
+    coordinate is interpolated from the start of the piece, so original
+    vertices are kept bit for bit. Returns ``(q, bridge)``: `q` is `p` when
+    nothing crosses, else a view of the scratch buffer named `out` (see
+    :func:`scratch`).
     """
-    m = len(a) - 1
-    a0, a1 = a[:-1], a[1:]
-    first, last, d, step = scratch("refine", (4, m))
-    # first and last integer strictly inside each piece, clipped to [lo, hi]
-    np.minimum(a0, a1, out=first)
-    np.floor(first, out=first)
-    first += 1.0
-    np.maximum(first, lo, out=first)
-    np.maximum(a0, a1, out=last)
-    np.ceil(last, out=last)
-    last -= 1.0
-    np.minimum(last, hi, out=last)
-    np.subtract(last, first, out=d)  # crossings - 1
-    np.maximum(d, -1.0, out=d)
+    m = p.shape[1] - 1
+    a0, a1 = p[axis, :-1], p[axis, 1:]
+    # rows: 0-1 floor of each piece's least and greatest `a`, 2 its count of
+    # new points, 3 their running total; 4-6 what every new point of the
+    # piece needs besides its start point (offset, step, slope); 7-8 scratch
+    w = scratch("refine", (9, m))
+    np.minimum(a0, a1, out=w[0])
+    np.maximum(a0, a1, out=w[1])
+    ext = np.floor(w[:2], out=w[:2])
+    # The crossings of a piece are the integers in (w0, w1] within [lo, hi];
+    # an end point on a grid line gives a zero-length piece, which adds 0.
+    np.clip(ext, lo - 1.0, hi, out=ext)
+    cnt = np.subtract(w[1], w[0], out=w[2])
+    cnt += 1.0  # the piece's start and its crossings
     if bridge is not None:
-        d[bridge] = -1.0
-    cnt, pos = scratch("refine_i", (2, m), np.intp)
-    np.copyto(cnt, d, casting="unsafe")
-    cnt += 2  # new points per piece: its start and its crossings
-    cnt.cumsum(out=pos)
+        cnt[bridge] = 1.0  # a piece between rings is never cut
+    pos = np.cumsum(cnt, out=w[3])
     total = int(pos[-1])
     if total == m:
-        return a, b, bridge
-    pos -= cnt  # new index of each old point
-    # k[j]: the old piece that new point j lies on (np.repeat without a new array)
-    k = scratch("refine_k", total, np.intp)
-    k.fill(0)
-    k[pos[1:]] = 1
-    k.cumsum(out=k)
-    # crossing j of piece i (j counted in the new stream) is e[i] + step[i] * j:
-    # first, first + 1, ... where `a` grows, last, last - 1, ... where it falls
-    up = np.greater(a1, a0, out=scratch("refine_up", m, np.bool_))
-    np.copyto(step, up)
-    step += step
-    step -= 1.0
-    last += 1.0
-    first -= 1.0
-    np.copyto(last, first, where=up)
-    e = np.subtract(last, np.multiply(step, pos, out=d), out=last)
-    slope = np.subtract(b[1:], b[:-1], out=d)
-    da = np.subtract(a1, a0, out=first)
-    # where da == 0 the piece has no crossing and its slope is never used
-    np.divide(slope, da, out=slope, where=da != 0.0)
-    na, nb = scratch(out, (2, total + 1))
-    tmp = scratch("refine_t", total)
-    v = step.take(k, out=na[:-1])
-    v *= ramp(total)
-    v += e.take(k, out=tmp)
-    u = np.subtract(v, a0.take(k, out=tmp), out=nb[:-1])
-    u *= slope.take(k, out=tmp)
-    u += b[:-1].take(k, out=tmp)
-    na[pos] = a0
-    na[-1] = a[-1]
-    nb[pos] = b[:-1]
-    nb[-1] = b[-1]
+        return p, bridge
+    counts = scratch("refine_n", m, np.intp)
+    np.copyto(counts, cnt, casting="unsafe")
+    d = np.subtract(p[:, 1:], p[:, :-1], out=w[7:9])
+    step = np.sign(d[axis], out=w[5])
+    # A piece with constant `a` has no crossing: its slope (inf or nan; the
+    # caller silences the warnings) is only used at its start, which is
+    # overwritten below.
+    np.divide(d[1 - axis], d[axis], out=w[6])
+    pos -= cnt  # each piece's start in the new stream
+    starts = scratch("refine_s", m, np.intp)
+    np.copyto(starts, pos, casting="unsafe")
+    # Crossing j = 1, 2, ... of a piece lies at mid + step * (j - cnt / 2),
+    # mid = w0 + cnt / 2: w0 + 1, w0 + 2, ... where `a` grows, w1, w1 - 1,
+    # ... where it falls. With j = k - start for the new point k, that is
+    # offset + step * k, offset = mid - step * (start + cnt / 2); every term
+    # is an integer or a half, exact in float64.
+    half = np.multiply(cnt, 0.5, out=cnt)
+    np.add(w[0], half, out=w[0])
+    pos += half
+    pos *= step
+    np.subtract(w[0], pos, out=w[4])
+    # every new point's piece (np.repeat of an arange), then its piece's
+    # data; mode="wrap" (the indices are valid) makes take 2.5x cheaper
+    k = np.repeat(ramp(m, np.intp), counts)
+    per = scratch("refine_per", (5, total))
+    for row, src in enumerate((w[4], w[5], w[6], p[0, :-1], p[1, :-1])):
+        src.take(k, out=per[row], mode="wrap")
+    start = per[3:]
+    q = scratch(out, (2, total + 1))
+    qa, qb = q[axis, :-1], q[1 - axis, :-1]
+    np.multiply(per[1], ramp(total), out=qa)
+    qa += per[0]
+    np.subtract(qa, start[axis], out=qb)
+    qb *= per[2]
+    qb += start[1 - axis]
+    # 2-D fancy assignment is several times slower than two 1-D ones
+    q[0, starts] = p[0, :-1]
+    q[1, starts] = p[1, :-1]
+    q[:, -1] = p[:, -1]
     if bridge is not None:
         flags = np.zeros(total, bool)
-        flags[pos[bridge]] = True
+        flags[starts[bridge]] = True
         bridge = flags
-    return na, nb, bridge
+    return q, bridge
 
 
 def sum_dtype(image_dtype, h, w):
@@ -181,116 +192,151 @@ def sum_dtype(image_dtype, h, w):
 FLOAT32_MIN_PIXELS = 1 << 16
 
 
-def accumulate(x, y, bridge, h, w, extra=None, dtype=np.float64):
-    """Cut a stream at the pixel grid and integrate the winding number.
+def cut_pieces(p, bridge, h, w, ring=None):
+    """Cut a stream at the pixel grid into pieces, each inside one pixel.
 
-    Returns ``(win, r0, c0, area)`` or None when nothing reaches the image:
-    `win` is the winding integral over each pixel of the box whose top-left
-    pixel is (r0, c0) (0 outside the box), of `dtype` (float64 or float32),
-    a view of a scratch buffer to be used before the next call; `area` is
-    its sum, computed in float64 whatever `dtype`.
+    `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns None
+    when nothing reaches the image, else ``(pc, box, clipped, area)``: `pc`
+    a (5, m) scratch array whose rows are each piece's dx, its deposits
+    (the signed area between the piece and its pixel's bottom side, and the
+    rest of its cover, which goes to the pixel below) and its pixel (column,
+    row; floats holding integers, the column in [0, w], the row in [0, h]);
+    `box` = (r0, r1, c0, c1), the pixels the pieces can reach; `clipped`
+    whether the shape crosses the image's border; `area` the winding
+    integral over the image. Given the stream's one `ring`, the area is that
+    of the ring oriented to a positive shoelace sum (so that the ring need
+    not be reversed: the coverage is ``|win|`` either way).
     """
-    import cv2
-
     # The box of pixels the pieces can reach, from the stream's extent: no
     # pass over the pieces needed. Rows are floor(y) with y clipped to
     # [0, h] (row h, the bottom edge, lies outside the image); columns are
     # floor(x) for x in [0, w).
-    xlo, xhi = float(np.minimum.reduce(x)), float(np.maximum.reduce(x))
-    ylo, yhi = float(np.minimum.reduce(y)), float(np.maximum.reduce(y))
+    (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
     if ylo >= h or xhi <= 0.0 or xlo >= w:
         return None
     r0, r1 = int(max(ylo, 0.0)), int(min(yhi, float(h)))
     c0, c1 = int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
-    clip_y = ylo < 0.0 or yhi > h
-    clip_x = xlo < 0.0 or xhi >= w
-    # Columns: pieces left or right of the image affect no image column.
-    x, y, bridge = _refine(x, y, 0.0, float(w), bridge, "cols")
-    # Rows: pieces above the image are flattened onto its top edge (their
-    # cover reaches every row below), pieces below it onto its bottom edge
-    # (they add nothing inside, but they keep the box reaching the bottom
-    # row when the shape runs off the bottom of the image).
-    y, x, bridge = _refine(y, x, 0.0, float(h), bridge, "rows")
+    # Columns first, then rows, whose grid lines then cut the new pieces too.
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
+        p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
+    clip_x, clip_y = xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
+    # Whole inside the image, the ring's winding integral is its shoelace sum.
+    sign = shoelace(ring) if ring is not None and (clip_x or clip_y) else None
+    if clip_x:
+        # Pieces left or right of the image affect no image column: moved
+        # onto its edge they keep their place in the stream but add nothing.
+        np.clip(p[0], 0.0, float(w), out=p[0])
     if clip_y:
-        np.minimum(y, float(h), out=y)
-        np.maximum(y, 0.0, out=y)
-    m = len(x) - 1
-    pieces = scratch("pieces", (3, m))
-    dx, xm, ym = pieces
-    np.subtract(x[1:], x[:-1], out=dx)
-    np.add(x[1:], x[:-1], out=xm)
-    xm *= 0.5
-    np.add(y[1:], y[:-1], out=ym)
-    ym *= 0.5
-    if clip_x or bridge is not None:
-        # Pieces left or right of the image and bridges between rings add
-        # nothing: their width is set to 0 and they are parked in the image,
-        # which is cheaper than compacting every array.
-        keep, inside = scratch("keep", (2, m), np.bool_)
-        np.greater_equal(xm, 0.0, out=keep)
-        keep &= np.less(xm, w, out=inside)
-        if bridge is not None:
-            keep &= ~bridge
-        dx *= keep
-        np.minimum(xm, w - 1.0, out=xm)
-        np.maximum(xm, 0.0, out=xm)
-    cells = scratch("cells", (2, m), np.intp)
-    np.copyto(cells, pieces[:0:-1], casting="unsafe")  # (ym, xm) >= 0: truncation is floor
-    row, col = cells
+        # Pieces above the image are flattened onto its top edge (their
+        # cover reaches every row below), pieces below it onto its bottom
+        # edge (row h, outside the image: they add nothing inside).
+        np.clip(p[1], 0.0, float(h), out=p[1])
+    m = p.shape[1] - 1
+    # rows: 0 dx, 1-2 the deposits (top, bottom), 3-4 the midpoint (x, y),
+    # then the pixel. The refinement's buffers are dead by now and were just
+    # written: reusing them keeps the working set in cache (a spiky shape
+    # moves megabytes through its scratch buffers).
+    pc = scratch("refine_per", (5, m))
+    dx, dep, mid = pc[0], pc[1:3], pc[3:5]
+    np.subtract(p[:, 1:], p[:, :-1], out=pc[:2])
+    np.add(p[:, 1:], p[:, :-1], out=mid)
+    mid *= 0.5
+    if bridge is not None:
+        dx[bridge] = 0.0  # pieces between rings add nothing
+    # The winding integral over the image, sum(dx * (h - ym)) over the
+    # pieces, is -sum(dx * ym) since the dx of each column sum to 0.
+    area = -float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1])))
+    if ring is not None:
+        area = abs(area) if sign is None else (area if sign >= 0.0 else -area)
     # A piece adds the signed area between itself and its pixel's bottom
-    # side to its pixel (top), and the rest of its cover (dx * fy) to the
-    # pixel below (bottom); summing down each column gives the winding
-    # integral.
-    bottom = np.subtract(ym, row, out=ym)
+    # side to its pixel (top), and the rest of its cover, dx * (ym - row),
+    # to the pixel below (bottom); summing down each column gives the
+    # winding integral.
+    row = np.floor(mid[1], out=dep[0])
+    bottom = np.subtract(mid[1], row, out=dep[1])
+    np.copyto(mid[1], row)
+    np.floor(mid[0], out=mid[0])
     bottom *= dx
+    np.subtract(dx, bottom, out=dep[0])
+    return pc, (r0, r1, c0, c1), clip_x or clip_y, area
+
+
+def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
+    """Cut a stream at the pixel grid and integrate the winding number.
+
+    `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
+    ``(win, r0, c0, area)`` or None when nothing reaches the image: `win` is
+    the winding integral over each pixel of the box whose top-left pixel is
+    (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
+    a scratch buffer to be used before the next call; `area` is its sum,
+    computed in float64 whatever `dtype` (see :func:`cut_pieces` for `ring`).
+    """
+    import cv2
+
+    cut = cut_pieces(p, bridge, h, w, ring)
+    if cut is None:
+        return None
+    pc, (r0, r1, c0, c1), _, area = cut
+    m = pc.shape[1]
+    dep, cell = pc[1:3], scratch("refine", (2, m))
+    np.copyto(cell, pc[3:5])
+    bh, bw = r1 - r0 + 1, c1 - c0 + 1
+    # cv2.integral, a vectorised 2-D prefix sum several times faster than
+    # np.cumsum, gives the column-wise cumulative sum we want if each
+    # deposit v is entered as +v in its column and -v in the next, so that
+    # the prefix sum along rows gives v in that column alone. (This also
+    # keeps every partial sum near the winding integral, as float32 needs.)
+    # Few deposits are entered twice by ufunc.at (about 20 instructions
+    # each); many are entered once and the difference between neighbouring
+    # columns is taken in one pass over the box (`diff`). Spare columns take
+    # the (zero) deposits of pieces on the right edge and, with `diff`, a
+    # zero column on the left.
+    stride = bw + 2
+    size = (bh + 1) * stride
+    diff = 16 * m > size
+    # flat index of the top deposit, then of the bottom one (exact in float)
+    top = np.multiply(cell[1], stride, out=cell[1])
+    top += cell[0]
+    top -= r0 * stride + c0 - diff
+    np.add(top, stride, out=cell[0])
+    idx = scratch("idx", (2, m), np.intp)
+    np.copyto(idx, cell[::-1], casting="unsafe")
+    dtype = np.dtype(dtype).type
+    if dtype is not np.float64:  # ufunc.at is 50x slower when it has to cast
+        dep, dep64 = scratch("deposits", (2, m), dtype), dep
+        np.copyto(dep, dep64)
+    idx, dep = idx.reshape(-1), dep.reshape(-1)
     if extra is not None and len(extra[0]):
         er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
-        row, col = np.concatenate([row, er]), np.concatenate([col, ec])
-        dx, bottom = np.concatenate([dx, np.zeros(len(ea))]), np.concatenate([bottom, -ea])
-    row -= r0
-    col -= c0
-    bh, bw = r1 - r0 + 1, c1 - c0 + 1
-    # cv2.integral is a vectorised 2-D prefix sum, several times faster than
-    # np.cumsum. Each contribution v is entered as +v in its column and -v in
-    # the next, so the prefix sum along rows gives v in that column alone and
-    # the table is the column-wise cumulative sum we want. (This also keeps
-    # every partial sum near the winding integral, as float32 needs.)
-    stride = bw + 1
-    idx = np.multiply(row, stride, out=scratch("idx", len(row), np.intp))
-    idx += col
-    dtype = np.dtype(dtype).type
-    # ufunc.at is 50x slower when it has to cast: deposits in `dtype`
-    t, b = scratch("deposits", (2, len(row)), dtype)
-    np.subtract(dx, bottom, out=t)
-    np.copyto(b, bottom)
-    acc = scratch("acc", (bh + 1) * stride, dtype, zeroed=True)
+        ie = (er - r0) * stride + (ec - c0 + diff)
+        idx = np.concatenate([idx, ie, ie + stride])
+        dep = np.concatenate([dep, ea.astype(dtype), -ea.astype(dtype)])
+        area += float(np.add.reduce(ea))
+    acc = scratch("acc", size, dtype, zeroed=True)
+    depth = cv2.CV_32F if dtype is np.float32 else cv2.CV_64F
+    table = scratch("sum", (bh + 2, stride + 1 - diff), dtype)
     try:
-        np.add.at(acc, idx, t)
-        np.subtract.at(acc[1:], idx, t)
-        np.add.at(acc[stride:], idx, b)
-        np.subtract.at(acc[stride + 1 :], idx, b)
-        table = scratch("sum", (bh + 2, stride + 1), dtype)
-        depth = cv2.CV_32F if dtype is np.float32 else cv2.CV_64F
-        cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=depth)
+        np.add.at(acc, idx, dep)
+        if diff:
+            grid = acc.reshape(bh + 1, stride)
+            d = scratch("diff", (bh + 1, stride - 1), dtype)
+            cv2.subtract(grid[:, 1:], grid[:, :-1], dst=d)
+            cv2.integral(d, table, sdepth=depth)
+        else:
+            np.subtract.at(acc[1:], idx, dep)
+            cv2.integral(acc.reshape(bh + 1, stride), table, sdepth=depth)
     finally:
         # leave the scratch buffer all zero for the next call, by the
-        # cheaper of four scatters and one fill
-        if 16 * len(idx) < acc.size:
-            for shift in (0, 1, stride, stride + 1):
-                acc[shift:][idx] = 0.0
+        # cheaper of scatters and one fill
+        if 8 * len(idx) < size:
+            acc[idx] = 0.0
+            if not diff:
+                acc[1:][idx] = 0.0
         else:
             acc.fill(0.0)
     # Pieces on the bottom edge sit in row h, outside the image.
     bh = min(bh, h - r0)
-    # Pixel i of a column holds its own top part and every part above it, so
-    # a piece's top counts in the (bh - row) pixels from its row down and its
-    # bottom in one fewer: area = sum(dx * (bh - row)) - sum(bottom), in
-    # float64 whatever `dtype` (row <= bh always, and a piece in row bh lies
-    # on the bottom edge and has no bottom part). No np.dot: OpenBLAS threads
-    # stall for milliseconds on a busy machine.
-    prod = np.multiply(dx, row, out=scratch("area", len(row)))
-    add = np.add.reduce
-    area = bh * float(add(dx)) - float(add(prod)) - float(add(bottom))
     return table[1 : bh + 1, 1 : bw + 1], r0, c0, area
 
 
@@ -315,65 +361,30 @@ def box_coverage(acc):
     return cov, r0, c0
 
 
+def ring_stream(rings, oriented=False, orient=True):
+    """(p, bridge, ring): the stream of rings (oriented by nesting unless
+    `oriented`) and, for one ring left as given, that ring (see
+    :func:`cut_pieces`)."""
+    # One ring is never reversed: only the sign of its area depends on it.
+    single = orient and not oriented and len(rings) == 1
+    if orient and not oriented and not single:
+        rings = orient_rings(rings)
+    p, bridge = _stream(rings)
+    return p, bridge, rings[0] if single else None
+
+
 def ring_accumulation(rings, h, w, oriented=False, orient=True, dtype=np.float64):
     """:func:`accumulate` of rings (oriented by nesting unless `oriented`)."""
-    if orient and not oriented:
-        rings = orient_rings(rings)
-    x, y, bridge = _stream(rings)
-    return accumulate(x, y, bridge, h, w, dtype=dtype)
+    p, bridge, ring = ring_stream(rings, oriented, orient)
+    return accumulate(p, bridge, h, w, dtype=dtype, ring=ring)
 
 
 def _ring_coverage(rings, h, w, oriented=False, orient=True):
     return box_coverage(ring_accumulation(rings, h, w, oriented, orient))
 
 
-def _disc_terms(centers, radius, h, w):
-    """Chord polygons and circular-segment corrections of exact discs.
-
-    Each circle is cut where it crosses a grid line (and at its four extreme
-    points); the polygon through the cuts is rasterised exactly, and each
-    arc's circular segment ``R^2/2 (d - sin d)`` lies in the one pixel that
-    holds the arc, so it is added there. Returns (rings, extra) with rings in
-    image coordinates and extra = (row, col, area).
-    """
-    rings, rows, cols, areas = [], [], [], []
-    r = float(radius)
-    quad = np.array([r, 0.0, -r, 0.0]), np.array([0.0, r, 0.0, -r])
-    for cx, cy in centers + 0.5:
-        # Only grid lines of the image (edges included) need cuts: an arc
-        # outside the image spans the same columns as its chord (arcs are
-        # monotone between the extreme points) and its segment is dropped.
-        gx = np.arange(max(math.floor(cx - r) + 1, 0), min(math.ceil(cx + r), w + 1), dtype=float)
-        gy = np.arange(max(math.floor(cy - r) + 1, 0), min(math.ceil(cy + r), h + 1), dtype=float)
-        hx = np.sqrt(np.maximum(r * r - (gx - cx) ** 2, 0.0))
-        hy = np.sqrt(np.maximum(r * r - (gy - cy) ** 2, 0.0))
-        px = np.concatenate([gx, gx, cx + hy, cx - hy, cx + quad[0]])
-        py = np.concatenate([cy + hx, cy - hx, gy, gy, cy + quad[1]])
-        ang = np.arctan2(py - cy, px - cx)
-        order = np.argsort(ang, kind="stable")
-        ang, px, py = ang[order], px[order], py[order]
-        d = np.diff(np.append(ang, ang[0] + 2.0 * np.pi))
-        keep = d > 0.0
-        ang, px, py, d = ang[keep], px[keep], py[keep], d[keep]
-        # increasing angle with y down: positive shoelace, +1 inside
-        rings.append(np.column_stack([px - 0.5, py - 0.5]))
-        mid = ang + 0.5 * d
-        rows.append(np.floor(cy + r * np.sin(mid)).astype(np.intp))
-        cols.append(np.floor(cx + r * np.cos(mid)).astype(np.intp))
-        areas.append(0.5 * r * r * (d - np.sin(d)))
-    row, col, area = (np.concatenate(v) for v in (rows, cols, areas))
-    inside = (row >= 0) & (row < h) & (col >= 0) & (col < w)
-    return rings, (row[inside], col[inside], area[inside])
-
-
-def disc_accumulation(centers, radius, h, w, dtype=np.float64):
-    """:func:`accumulate` of exact discs (chord polygons plus circular segments)."""
-    rings, extra = _disc_terms(centers, radius, h, w)
-    x, y, bridge = _stream(rings)
-    return accumulate(x, y, bridge, h, w, extra, dtype)
-
-
-def _dense(box, h, w):
+def dense_coverage(box, h, w):
+    """The (h, w) float64 coverage image of :func:`box_coverage`'s result."""
     cov, r0, c0 = box
     out = np.zeros((h, w))
     if cov is not None:
@@ -440,38 +451,4 @@ def coverage(rings, shape, orient=True):
     """
     h, w = resolve_shape(shape=shape)
     rings, oriented = as_rings(rings)
-    return _dense(_ring_coverage(rings, h, w, oriented=oriented, orient=orient), h, w)
-
-
-def disc_coverage(centers, radius, shape):
-    """Exact area coverage of pixels by discs.
-
-    Parameters
-    ----------
-    centers : (M, 2) array
-        Disc centres ``(x, y)`` in image pixels (y down, pixel centres at
-        integer coordinates).
-    radius : float
-        Disc radius in pixels (> 0).
-    shape : (int, int)
-        Image ``(height, width)``.
-
-    Returns
-    -------
-    cov : (height, width) float64 array
-        Exact covered fraction of each pixel (to floating point), clipped to
-        [0, 1]. Where discs overlap the winding integrals add and are
-        clipped at 1, exact except in pixels crossed by two circles.
-
-    Examples
-    --------
-    A disc of diameter 1 inscribed in pixel (3, 3) covers pi/4 of it:
-
-    >>> cov = disc_coverage([(3.0, 3.0)], 0.5, (7, 7))
-    >>> bool(np.isclose(cov[3, 3], np.pi / 4)), float(cov.sum() - cov[3, 3])
-    (True, 0.0)
-    """
-    h, w = resolve_shape(shape=shape)
-    centers = as_points(centers, "centers")
-    radius = as_number(radius, "radius", gt=0)
-    return _dense(box_coverage(disc_accumulation(centers, radius, h, w)), h, w)
+    return dense_coverage(_ring_coverage(rings, h, w, oriented=oriented, orient=orient), h, w)

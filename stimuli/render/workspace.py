@@ -63,11 +63,13 @@ def scratch(name, shape, dtype=np.float64, zeroed=False):
     return buf[:n] if n is shape else buf[:n].reshape(shape)
 
 
-def ramp(n):
-    """``np.arange(n, dtype=float)`` from a cached buffer (read only)."""
-    buf = _TLS.__dict__.get("ramp")
+def ramp(n, dtype=np.float64):
+    """``np.arange(n, dtype=dtype)`` from a cached buffer (read only)."""
+    key = ("ramp", dtype)
+    store = _TLS.__dict__
+    buf = store.get(key)
     if buf is None or buf.size < n:
-        buf = np.arange(max(n, _MIN, 0 if buf is None else 2 * buf.size), dtype=np.float64)
+        buf = np.arange(max(n, _MIN, 0 if buf is None else 2 * buf.size), dtype=dtype)
         buf.flags.writeable = False
-        _TLS.ramp = buf
+        store[key] = buf
     return buf[:n]
