@@ -5,8 +5,8 @@ smoothing of the photo, which flattens texture that would otherwise split
 GrabCut's colour models, at most :data:`WORK_PIXELS` pixels (larger photos
 are reduced for the search and the mask brought back to full size):
 
-* automatic (no box, no scribbles): GrabCut from the photo inset by 5 %
-  is the answer; GrabCut again from the box around what it found (5 %
+* automatic (no box, no scribbles): GrabCut (in CIE Lab) from the photo
+  inset by 5 % is the answer; GrabCut again from the box around what it found (5 %
   margin) is a second hypothesis, and the agreement (IoU) of the two is a
   measure of how sure the answer is (it feeds the verdict);
 * a box ``(x, y, width, height)``: outside is background; GrabCut on the
@@ -181,13 +181,15 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
             second = largest_filled(grabcut(smooth, labels=_core_labels(smooth.shape, sbox), iterations=iterations))
         mode = "box"
     else:
-        raw = grabcut(smooth, box=inset_box(smooth.shape), iterations=iterations)
+        # in CIE Lab: raised the median IoU on both halves of both groups of the development photos
+        smooth_lab = cv2.cvtColor(smooth, cv2.COLOR_BGR2LAB)
+        raw = grabcut(smooth_lab, box=inset_box(smooth.shape), iterations=iterations)
         first = largest_filled(raw)
         second = first
         if first.any():
             around = box_around(first, 0.05)
             if around[2] * around[3] < 0.9 * sw * sh:
-                second = largest_filled(grabcut(smooth, box=around, iterations=iterations))
+                second = largest_filled(grabcut(smooth_lab, box=around, iterations=iterations))
         mode = "auto"
     competing = _runner_up(raw) if mode == "auto" else None
     agreement = mask_iou(first, second)
