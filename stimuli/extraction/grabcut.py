@@ -18,7 +18,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["to_bgr8", "inset_box", "check_box", "grabcut", "largest_filled"]
+__all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "grabcut", "largest_filled"]
 
 #: GrabCut's labels (as cv2.GC_BGD, GC_FGD, GC_PR_BGD, GC_PR_FGD).
 BGD, FGD, PR_BGD, PR_FGD = 0, 1, 2, 3
@@ -64,6 +64,52 @@ def check_box(box, shape, name, what="rect"):
     return (x, y, bw, bh)
 
 
+def box_labels(shape, box, band=0.0):
+    """GrabCut labels for a box: sure background outside, probably object inside, probably background
+    on the box's outer `band` (a fraction of its width and height, at least 1 px when `band` > 0).
+
+    A person draws a box a little larger than the object, so a thin band
+    along its inside is mostly background; holding it as *probable*
+    background lets GrabCut learn the object's immediate surroundings
+    while leaving it free to give the band back to the object where the
+    object reaches the box.
+
+    Parameters
+    ----------
+    shape : tuple
+        ``(H, W, ...)`` of the image.
+    box : (x, y, width, height)
+        Image pixels, inside the image (as :func:`check_box` gives).
+    band : float
+        Fraction of the box's width (left and right) and height (top and
+        bottom); 0 for none.
+
+    Returns
+    -------
+    (H, W) uint8 ndarray
+        ``BGD, FGD, PR_BGD, PR_FGD`` = 0, 1, 2, 3.
+
+    Examples
+    --------
+    >>> box_labels((6, 8), (1, 1, 6, 4), band=0.2)
+    array([[0, 0, 0, 0, 0, 0, 0, 0],
+           [0, 2, 2, 2, 2, 2, 2, 0],
+           [0, 2, 3, 3, 3, 3, 2, 0],
+           [0, 2, 3, 3, 3, 3, 2, 0],
+           [0, 2, 2, 2, 2, 2, 2, 0],
+           [0, 0, 0, 0, 0, 0, 0, 0]], dtype=uint8)
+    """
+    labels = np.full(shape[:2], BGD, np.uint8)
+    x, y, bw, bh = box
+    if band > 0:
+        labels[y : y + bh, x : x + bw] = PR_BGD
+        bx, by = max(1, int(round(band * bw))), max(1, int(round(band * bh)))
+        labels[y + by : y + bh - by, x + bx : x + bw - bx] = PR_FGD
+    else:
+        labels[y : y + bh, x : x + bw] = PR_FGD
+    return labels
+
+
 def grabcut(bgr, box=None, labels=None, iterations=5):
     """Object pixels by GrabCut, from a box or from a label mask.
 
@@ -84,8 +130,12 @@ def grabcut(bgr, box=None, labels=None, iterations=5):
     (H, W) bool ndarray
         Where GrabCut ends with (probable) object. If the initial labels
         leave no object or no background sample, the initial guess.
+        The same input gives the same answer (OpenCV's random generator,
+        which seeds GrabCut's colour models by k-means, is reset first).
     """
     import cv2
+
+    cv2.setRNGSeed(0)
 
     bgd = np.zeros((1, 65), np.float64)
     fgd = np.zeros((1, 65), np.float64)

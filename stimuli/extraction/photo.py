@@ -5,14 +5,25 @@ smoothing of the photo, which flattens texture that would otherwise split
 GrabCut's colour models, at most :data:`WORK_PIXELS` pixels (larger photos
 are reduced for the search and the mask brought back to full size):
 
-* automatic (no box, no scribbles): GrabCut from the photo inset by 5 %
-  is the answer; GrabCut again from the box around what it found (5 %
+* automatic (no box, no scribbles): GrabCut (in CIE Lab) from the photo
+  inset by 5 % is the answer; GrabCut again from the box around what it found (5 %
   margin) is a second hypothesis, and the agreement (IoU) of the two is a
   measure of how sure the answer is (it feeds the verdict);
 * a box ``(x, y, width, height)``: outside is background; GrabCut on the
-  smoothed and on the raw photo, the smoothed one's answer kept (the raw
-  one's when smoothing found no boundary: nothing, or the whole box), their
-  agreement recorded; when both find (nearly) nothing, GrabCut again with
+  raw photo in CIE Lab with a band of :data:`BOX_BAND` of the box's size
+  along its inside held as probable background (a person draws the box
+  with some margin, so that band is mostly background: GrabCut learns the
+  object's surroundings from it, and the band's background no longer
+  counts as object) is the answer; plain GrabCut on the RGB photo from the
+  same box is the second hypothesis (and the answer when the first found
+  no boundary: nothing, or the whole box), their agreement recorded; on
+  the development photos (``benchmarks/validate_photos.py``) the median
+  IoU is 0.736 (horses) and 0.812 (objects) against plain GrabCut's 0.701
+  and 0.761, but the gain is on the half it was tuned on (horses 0.769 vs
+  0.722, objects 0.877 vs 0.731); on the other half it is level with
+  plain GrabCut (0.689 vs 0.692, 0.791 vs 0.786). The bilateral smoothing
+  that helps the automatic mode lowered it; when both find
+  (nearly) nothing, GrabCut again with
   the box's central fifth held as object (a person centres the box on the
   object); the mask never leaves the box;
 * scribbles: a label image of the photo's size (see :func:`read_scribbles`)
@@ -39,13 +50,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.extraction.grabcut import BGD, FGD, PR_BGD, PR_FGD, check_box, grabcut, inset_box, largest_filled, to_bgr8
+from stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
+                                        largest_filled, to_bgr8)
 
-__all__ = ["WORK_PIXELS", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo",
+__all__ = ["WORK_PIXELS", "BOX_BAND", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo",
            "read_scribbles", "mask_iou", "box_around"]
 
 #: GrabCut runs on at most this many pixels (larger photos are reduced).
 WORK_PIXELS = 250_000
+#: Box mode: the fraction of the box's size along each of its sides held as probable background
+#: (a box drawn with a 5 % margin around the object leaves 0.05 / 1.1 of its size empty on each side).
+BOX_BAND = 0.045
 #: Scribble colours (RGB): object strokes pure red, background strokes pure blue.
 SCRIBBLE_OBJECT = (255, 0, 0)
 SCRIBBLE_BACKGROUND = (0, 0, 255)
@@ -153,12 +168,14 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         second = largest_filled(grabcut(small, labels=labels, iterations=iterations))
         mode = "scribbles" if box is None else "box+scribbles"
     elif sbox is not None:
-        first = largest_filled(grabcut(smooth, box=sbox, iterations=iterations))
-        second = largest_filled(grabcut(small, box=sbox, iterations=iterations))
-        first, second = second, first  # the smoothed photo's answer is the one kept
+        # the answer: GrabCut in CIE Lab with the box's inner band held as
+        # probable background; the check: plain GrabCut on the RGB photo
+        lab = cv2.cvtColor(small, cv2.COLOR_BGR2LAB)
+        second = largest_filled(grabcut(lab, labels=box_labels(lab.shape, sbox, BOX_BAND), iterations=iterations))
+        first = largest_filled(grabcut(small, box=sbox, iterations=iterations))
         if _degenerate(second, sbox) and not _degenerate(first, sbox):
-            # smoothing can merge the object into the background (nothing
-            # left) or the reverse; the raw photo's answer is then the better
+            # the band can leave a small object no room (nothing left), or
+            # Lab merge it into the background; the plain answer is then the better
             second = first
         if np.count_nonzero(second) < 0.01 * sbox[2] * sbox[3]:
             # the colour models took (nearly) everything for background: a person's box
@@ -166,13 +183,15 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
             second = largest_filled(grabcut(smooth, labels=_core_labels(smooth.shape, sbox), iterations=iterations))
         mode = "box"
     else:
-        raw = grabcut(smooth, box=inset_box(smooth.shape), iterations=iterations)
+        # in CIE Lab: raised the median IoU on both halves of both groups of the development photos
+        smooth_lab = cv2.cvtColor(smooth, cv2.COLOR_BGR2LAB)
+        raw = grabcut(smooth_lab, box=inset_box(smooth.shape), iterations=iterations)
         first = largest_filled(raw)
         second = first
         if first.any():
             around = box_around(first, 0.05)
             if around[2] * around[3] < 0.9 * sw * sh:
-                second = largest_filled(grabcut(smooth, box=around, iterations=iterations))
+                second = largest_filled(grabcut(smooth_lab, box=around, iterations=iterations))
         mode = "auto"
     competing = _runner_up(raw) if mode == "auto" else None
     agreement = mask_iou(first, second)
@@ -203,9 +222,8 @@ def _core_labels(shape, box, core=0.2):
     of `core` times the box's size at its centre."""
     import cv2
 
-    labels = np.full(shape[:2], BGD, np.uint8)
+    labels = box_labels(shape, box)
     x, y, bw, bh = box
-    labels[y : y + bh, x : x + bw] = PR_FGD
     centre = (int(round(x + bw / 2)), int(round(y + bh / 2)))
     axes = (max(1, int(core * bw / 2)), max(1, int(core * bh / 2)))
     cv2.ellipse(labels, centre, axes, 0, 0, 360, FGD, thickness=-1)
@@ -239,9 +257,7 @@ def _scribble_labels(marks, box):
 
     h, w = marks.shape
     if box is not None:
-        labels = np.full((h, w), BGD, np.uint8)
-        x, y, bw, bh = box
-        labels[y : y + bh, x : x + bw] = PR_FGD
+        labels = box_labels((h, w), box)
     else:
         # without a box: probably object within the hull of the object strokes
         labels = np.full((h, w), PR_BGD, np.uint8)
