@@ -320,22 +320,44 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
 
     tried = {}
 
+    def evaluate(fit, sp, g0, crossings=True):
+        # the bad segments of a fit (step 3 of the rule); the crossing test (GEOS, the dearest part)
+        # only where asked
+        samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
+        return bad_segments(fit.seg, samples if crossings and check_crossings else None, ref_dev,
+                            segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
+                            turns, corner_turn, g0)
+
+    def fit_state(g0, held):
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
+        return fit, None if fit.failed_piece is not None else _pack(P, closed, fit, g0, held, sign, t_start, method)
+
     def attempt(g0, held):
         # one fit under the rule: (fit, spline or None where Newton failed, bad
         # segments); held tangents are the bisector's, so the relaxed nodes
         # name a fit (step 5 often returns to one already made)
         key = (frozenset(g0), frozenset(held))
         if key not in tried:
-            fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
-            sp = bad = None
-            if fit.failed_piece is None:
-                sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-                samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
-                bad = bad_segments(fit.seg, samples if check_crossings else None, ref_dev,
-                                   segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
-                                   turns, corner_turn, g0)
-            tried[key] = (fit, sp, bad)
+            fit, sp = fit_state(g0, held)
+            tried[key] = (fit, sp, None if sp is None else evaluate(fit, sp, g0))
         return tried[key]
+
+    def clean(g0, held):
+        # step 5's question: the spline of a fit where nothing is bad or straying, else None; the
+        # cheap tests first, the crossing test last (most fits tried there fail a cheap one)
+        key = (frozenset(g0), frozenset(held))
+        if key in tried:
+            fit, sp, bad = tried[key]
+            ok = sp is not None and not bad.size
+        else:
+            fit, sp = fit_state(g0, held)
+            ok = sp is not None
+        relaxed = list(g0) + list(held)
+        ok = ok and not straying_nodes(fit.seg, N, closed, relaxed, tangents, max_dev).size
+        if ok and key not in tried:
+            ok = not evaluate(fit, sp, g0, crossings=False).size and not (check_crossings and evaluate(fit, sp, g0).size)
+        tried.setdefault(key, (fit, None, None))  # counted (iterations) but not reused
+        return sp if ok else None
 
     failures = 0
     sp = fit = bad = None
@@ -366,9 +388,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         g0, held = {c for c in kinds if kinds[c] == "G0"}, {c: tangents[c] for c in kinds if kinds[c] == "G1"}
         for e in sorted(set(kinds) - given, key=lambda i: turns[i]):
             g, h = g0 - {e}, {k: v for k, v in held.items() if k != e}
-            fit, new, new_bad = attempt(g, h)
-            if new is not None and not new_bad.size and not straying_nodes(
-                    fit.seg, N, closed, list(g) + list(h), tangents, max_dev).size:
+            new = clean(g, h)
+            if new is not None:
                 g0, held, sp = g, h, new
     iterations = sum(f.iterations for f, _, _ in tried.values())
     return replace(sp, iterations=iterations, seconds=time.perf_counter() - t_start)
