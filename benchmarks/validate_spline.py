@@ -24,13 +24,16 @@ With ``--curved K`` it measures instead the ``attneave_curved`` acceptance
 test on K seeded Attneave polygons (6-19 points): the share of the polygons
 whose ``smooth_method: cubic`` curve is accepted (simple and inside the
 polygon's box grown by 10%) whose ``qic`` curve is accepted too (target:
->= 95%), and how many ``qic`` curves cross themselves.
+>= 95%), and how many ``qic`` curves cross themselves. With ``--jagged K``
+it times the robust QIC spline on K such polygons against the pure G2
+spline on the same points (median of 7 runs; issue 9: robust <= 3x pure).
 
 Usage::
 
     python benchmarks/validate_spline.py [--data DIR] [--n 12 20 40 80] [--limit K]
         [--every K [--rest]] [--methods qic qic-g2 cubic]
     python benchmarks/validate_spline.py --curved 600 [--seed 11]
+    python benchmarks/validate_spline.py --jagged 100 [--seed 11]
 """
 
 from __future__ import annotations
@@ -45,7 +48,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _machine import header  # noqa: E402
+from _machine import header, median_time  # noqa: E402
 
 from stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning  # noqa: E402
 from stimuli.curves.splines import fit_spline  # noqa: E402
@@ -126,6 +129,30 @@ def curved_acceptance(k, seed):
           f"({time.perf_counter() - t0:.0f} s)")
 
 
+def jagged_speed(k, seed, repeats=7):
+    """Time of the robust QIC spline on k seeded Attneave polygons (6-19
+    points, the jagged input of attneave_curved) against the pure G2 spline
+    on the same points (its anchor; it may raise there, which is timed too)."""
+    from stimuli.curves.qic import qic_spline
+    from stimuli.shapes.generators import attneave_polygon
+
+    rng = np.random.default_rng(seed)
+    polys = [attneave_polygon(rng, int(rng.integers(6, 20)))[0].points for _ in range(k)]
+
+    def run(robust):
+        for p in polys:
+            try:
+                qic_spline(p, robust=robust)
+            except InputError:
+                pass
+
+    fits = [qic_spline(p) for p in polys]
+    relaxed = sum(len(f.corners) for f in fits) / sum(len(p) for p in polys)
+    robust, pure = (1e3 * median_time(lambda r=r: run(r), repeats) / k for r in (True, False))
+    print(f"{k} Attneave polygons (seed {seed}), median of {repeats} runs: robust {robust:.2f} ms per curve, "
+          f"pure G2 {pure:.2f} ms, robust / pure {robust / pure:.1f}; {100 * relaxed:.1f}% of nodes relaxed")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default=str(Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "mpeg7"))
@@ -136,11 +163,17 @@ def main(argv=None):
     ap.add_argument("--methods", nargs="+", default=["qic", "qic-g2", "cubic"])
     ap.add_argument("--curved", type=int, default=None, metavar="K",
                     help="measure attneave_curved's qic acceptance on K polygons instead")
+    ap.add_argument("--jagged", type=int, default=None, metavar="K",
+                    help="time the robust QIC spline on K Attneave polygons against the pure G2 one instead")
     ap.add_argument("--seed", type=int, default=11)
     args = ap.parse_args(argv)
     if args.curved:
         header("validate_spline: attneave_curved acceptance, smooth_method qic vs cubic")
         curved_acceptance(args.curved, args.seed)
+        return
+    if args.jagged:
+        header("validate_spline: robust QIC spline on jagged polygons vs the pure G2 spline")
+        jagged_speed(args.jagged, args.seed)
         return
     header("validate_spline: splines through real outlines reduced to N points")
     t0 = time.perf_counter()

@@ -103,57 +103,80 @@ def _pieces(N, closed, g0, ts, te):
     ]
 
 
+def _solve_piece(P, idx, pclosed, t0, t1, held, held_keys, tol, max_iter, max_halvings, ranges):
+    """One piece between G0 corners: (segments dict, iterations, G2 error, largest miss / chord), or
+    (None, solver result) where Newton fails or a segment degenerates."""
+    N = len(P)
+    Q = P if idx.size == N and pclosed else P[idx]
+    Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
+    D = Qn - Q[: len(Qn)]
+    r = np.hypot(D[:, 0], D[:, 1])
+    h = float(np.add.reduce(r)) / r.size  # the mean chord: the piece's scale
+    rn = r / h
+    phi = np.arctan2(D[:, 1], D[:, 0])
+    p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
+    nodes = idx  # node k of the piece is input row idx[k]
+    hold = None
+    if held:
+        hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys)
+        if not pclosed:
+            # a piece's end nodes are free ends (or the open curve's given tangents)
+            hold[0] = hold[-1] = False
+        for k in np.flatnonzero(hold):
+            th = held[int(nodes[k])]
+            if k < p0i.size:
+                p0i[k] = wrap_angle(th - phi[k])
+            km = k - 1 if k > 0 else (p0i.size - 1 if pclosed else None)
+            if km is not None:
+                p1i[km] = wrap_angle(th - phi[km])
+        if not hold.any():
+            hold = None
+    res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold, tol, max_iter, max_halvings)
+    if res is None or not res.ok or np.minimum.reduce(res.st["X0"]) < _MIN_X0:
+        return None, res
+    st, A = res.st, res.A
+    nseg = r.size
+    # each segment ends at r (1, G / X0) in its chord frame: the miss is
+    # r |G| / X0 (the tests check it independently by sampling)
+    miss = float(np.maximum.reduce(np.abs(r * st["G"] / st["X0"])))
+    p0 = st["phi0"]  # end angles to the chord, as solved
+    seg = dict(start=idx[:nseg], x=Q[:nseg], theta0=phi + p0, k0=st["k0"] / h,
+               dk=(st["k1"] - st["k0"]) / st["L"] / h**2, L=st["L"] * h)
+    if ranges:
+        lo, hi = tangent_range(st["delta"], A)
+        seg.update(turn=hi - lo, chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo)))
+    return seg, res.iterations, res.g2, miss
+
+
 class _Fit:
     """Segments of one fit, in order from the first point, before packing; with `ranges` (the robust
-    rule) also each segment's tangent range (``turn``) and largest angle to its chord (``chord_dev``)."""
+    rule) also each segment's tangent range (``turn``) and largest angle to its chord (``chord_dev``).
+    With `pieces` (a dict kept across the fits of the robust rule) a piece between G0 corners that an
+    earlier fit solved with the same held tangents is taken from it: pieces are solved independently,
+    so a relaxation re-solves only the piece(s) it touches; ``iterations`` counts the solved ones."""
 
-    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30, ranges=True):
+    def __init__(self, P, closed, g0, held, ts, te, tol, max_iter, max_halvings=30, ranges=True, pieces=None):
         N = len(P)
         segs, self.iterations, self.g2, miss = [], 0, 0.0, 0.0
         self.failed_piece = None
         held_keys = np.fromiter(held, dtype=int, count=len(held))
         for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
-            Q = P if idx.size == N and pclosed else P[idx]
-            Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
-            D = Qn - Q[: len(Qn)]
-            r = np.hypot(D[:, 0], D[:, 1])
-            h = float(np.add.reduce(r)) / r.size  # the mean chord: the piece's scale
-            rn = r / h
-            phi = np.arctan2(D[:, 1], D[:, 0])
-            p0i, p1i = chord_end_angles(phi, rn, pclosed, t0, t1)
-            nodes = idx  # node k of the piece is input row idx[k]
-            hold = None
-            if held:
-                hold = np.isin(nodes[: p0i.size + (0 if pclosed else 1)], held_keys)
-                if not pclosed:
-                    # a piece's end nodes are free ends (or the open curve's given tangents)
-                    hold[0] = hold[-1] = False
-                for k in np.flatnonzero(hold):
-                    th = held[int(nodes[k])]
-                    if k < p0i.size:
-                        p0i[k] = wrap_angle(th - phi[k])
-                    km = k - 1 if k > 0 else (p0i.size - 1 if pclosed else None)
-                    if km is not None:
-                        p1i[km] = wrap_angle(th - phi[km])
-                if not hold.any():
-                    hold = None
-            res = solve_nodes(p0i, p1i, rn, pclosed, t0 is None, t1 is None, hold, tol, max_iter, max_halvings)
-            if res is None or not res.ok or np.minimum.reduce(res.st["X0"]) < _MIN_X0:
-                self.failed_piece = (idx, res)
+            key = None
+            if pieces is not None:
+                key = (idx.tobytes(), pclosed, t0, t1, tuple((int(k), held[int(k)]) for k in idx if int(k) in held))
+            solved = key is None or key not in pieces
+            out = (_solve_piece(P, idx, pclosed, t0, t1, held, held_keys, tol, max_iter, max_halvings, ranges)
+                   if solved else pieces[key])
+            if key is not None:
+                pieces[key] = out
+            if out[0] is None:
+                self.failed_piece = (idx, out[1])
                 return
-            self.iterations += res.iterations
-            st, A = res.st, res.A
-            nseg = r.size
-            # each segment ends at r (1, G / X0) in its chord frame: the miss is
-            # r |G| / X0 (the tests check it independently by sampling)
-            miss = max(miss, float(np.maximum.reduce(np.abs(r * st["G"] / st["X0"]))))
-            self.g2 = max(self.g2, res.g2)
-            p0 = st["phi0"]  # end angles to the chord, as solved
-            seg = dict(start=idx[:nseg], x=Q[:nseg], theta0=phi + p0, k0=st["k0"] / h,
-                       dk=(st["k1"] - st["k0"]) / st["L"] / h**2, L=st["L"] * h)
-            if ranges:
-                lo, hi = tangent_range(st["delta"], A)
-                seg.update(turn=hi - lo, chord_dev=np.maximum(np.abs(p0 + hi), np.abs(p0 + lo)))
+            seg, its, g2, m = out
+            its = its if solved else 0
+            self.iterations += its
+            miss = max(miss, m)
+            self.g2 = max(self.g2, g2)
             segs.append(seg)
         # the miss relative to the curve's size (by 1-D reductions: along axis 0 of (N, 2) they are slow)
         span = [float(np.maximum.reduce(v) - np.minimum.reduce(v)) for v in (P[:, 0], P[:, 1])]
@@ -319,6 +342,19 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     given = set(g0)
 
     tried = {}
+    pieces = {}  # solved pieces between G0 corners, by their nodes and held tangents
+
+    def evaluate(fit, sp, g0, crossings=True):
+        # the bad segments of a fit (step 3 of the rule); the crossing test (GEOS, the dearest part)
+        # only where asked
+        samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
+        return bad_segments(fit.seg, samples if crossings and check_crossings else None, ref_dev,
+                            segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
+                            turns, corner_turn, g0)
+
+    def fit_state(g0, held):
+        fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS, pieces=pieces)
+        return fit, None if fit.failed_piece is not None else _pack(P, closed, fit, g0, held, sign, t_start, method)
 
     def attempt(g0, held):
         # one fit under the rule: (fit, spline or None where Newton failed, bad
@@ -326,16 +362,26 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         # name a fit (step 5 often returns to one already made)
         key = (frozenset(g0), frozenset(held))
         if key not in tried:
-            fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS)
-            sp = bad = None
-            if fit.failed_piece is None:
-                sp = _pack(P, closed, fit, g0, held, sign, t_start, method)
-                samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
-                bad = bad_segments(fit.seg, samples if check_crossings else None, ref_dev,
-                                   segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
-                                   turns, corner_turn, g0)
-            tried[key] = (fit, sp, bad)
+            fit, sp = fit_state(g0, held)
+            tried[key] = (fit, sp, None if sp is None else evaluate(fit, sp, g0))
         return tried[key]
+
+    def clean(g0, held):
+        # step 5's question: the spline of a fit where nothing is bad or straying, else None; the
+        # cheap tests first, the crossing test last (most fits tried there fail a cheap one)
+        key = (frozenset(g0), frozenset(held))
+        if key in tried:
+            fit, sp, bad = tried[key]
+            ok = sp is not None and not bad.size
+        else:
+            fit, sp = fit_state(g0, held)
+            ok = sp is not None
+        relaxed = list(g0) + list(held)
+        ok = ok and not straying_nodes(fit.seg, N, closed, relaxed, tangents, max_dev).size
+        if ok and key not in tried:
+            ok = not evaluate(fit, sp, g0, crossings=False).size and not (check_crossings and evaluate(fit, sp, g0).size)
+        tried.setdefault(key, (fit, None, None))  # counted (iterations) but not reused
+        return sp if ok else None
 
     failures = 0
     sp = fit = bad = None
@@ -366,9 +412,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         g0, held = {c for c in kinds if kinds[c] == "G0"}, {c: tangents[c] for c in kinds if kinds[c] == "G1"}
         for e in sorted(set(kinds) - given, key=lambda i: turns[i]):
             g, h = g0 - {e}, {k: v for k, v in held.items() if k != e}
-            fit, new, new_bad = attempt(g, h)
-            if new is not None and not new_bad.size and not straying_nodes(
-                    fit.seg, N, closed, list(g) + list(h), tangents, max_dev).size:
+            new = clean(g, h)
+            if new is not None:
                 g0, held, sp = g, h, new
     iterations = sum(f.iterations for f, _, _ in tried.values())
     return replace(sp, iterations=iterations, seconds=time.perf_counter() - t_start)
