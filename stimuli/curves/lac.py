@@ -44,6 +44,7 @@ from stimuli.curves.lac_gamma import lac_position, lac_theta
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import circle_tangents, end_angles, geometric_sign, spline_points
 from stimuli.errors import InputError
+from stimuli.validate import as_int
 
 __all__ = [
     "LACNotDrawable",
@@ -280,9 +281,7 @@ class LACSpline:
         """Sample every segment at `samples` points equally spaced in arc
         length, both ends included. Returns a
         :class:`~stimuli.curve_metrics.SampledCurve`."""
-        samples = int(samples)
-        if samples < 2:
-            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        samples = as_int(samples, "samples (per segment)", lo=2)
         parts = []
         offset = 0.0
         for i, seg in enumerate(self.segments):

@@ -78,7 +78,7 @@ from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
 from stimuli.curves.qic import ConvergenceError, qic_spline
 from stimuli.errors import InputError
-from stimuli.validate import as_number
+from stimuli.validate import as_int, as_number
 
 __all__ = ["LACG2Spline", "lac_spline"]
 
@@ -157,9 +157,7 @@ class LACG2Spline:
         -------
         SampledCurve
         """
-        samples = int(samples)
-        if samples < 2:
-            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        samples = as_int(samples, "samples (per segment)", lo=2)
         a, b = self._ends()
         M = a.size
         t = np.linspace(0.0, 1.0, samples)

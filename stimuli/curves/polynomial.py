@@ -18,6 +18,7 @@ import numpy as np
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import geometric_sign, spline_points
 from stimuli.errors import InputError
+from stimuli.validate import as_int
 
 __all__ = ["PolynomialSpline", "polynomial_spline"]
 
@@ -65,9 +66,7 @@ class PolynomialSpline:
 
         Curvature is NaN where the parametric speed vanishes (a cusp, e.g.
         when points double back): it is undefined there."""
-        samples = int(samples)
-        if samples < 2:
-            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        samples = as_int(samples, "samples (per segment)", lo=2)
         kn = self.knots
         u = kn[:-1, None] + (kn[1:] - kn[:-1])[:, None] * np.linspace(0.0, 1.0, samples)[None, :]
         uf = u.ravel()

@@ -15,7 +15,7 @@ import numpy as np
 from stimuli.curves.euler import clothoid_points
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.qic_newton import tangent_range
-from stimuli.errors import InputError
+from stimuli.validate import as_int
 
 __all__ = ["QICSpline"]
 
@@ -121,9 +121,7 @@ class QICSpline:
         -------
         SampledCurve
         """
-        samples = int(samples)
-        if samples < 2:
-            raise InputError(f"samples: expected at least 2 per segment, got {samples}")
+        samples = as_int(samples, "samples (per segment)", lo=2)
         u = np.linspace(0.0, 1.0, samples)
         s_loc = self.length[:, None] * u[None, :]
         x, y, th, k = clothoid_points(
