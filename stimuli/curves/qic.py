@@ -163,7 +163,10 @@ class _Fit:
         for idx, pclosed, t0, t1 in _pieces(N, closed, g0, ts, te):
             key = None
             if pieces is not None:
-                key = (idx.tobytes(), pclosed, t0, t1, tuple((int(k), held[int(k)]) for k in idx if int(k) in held))
+                # the held tangents inside the piece, found by the (few) held nodes, not by a
+                # Python loop over the piece's nodes (0.16 ms at N = 1000)
+                inside = held_keys[np.isin(held_keys, idx)] if held else ()
+                key = (idx.tobytes(), pclosed, t0, t1, tuple((int(k), held[int(k)]) for k in inside))
             solved = key is None or key not in pieces
             out = (_solve_piece(P, idx, pclosed, t0, t1, held, held_keys, tol, max_iter, max_halvings, ranges)
                    if solved else pieces[key])
