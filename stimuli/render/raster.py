@@ -63,6 +63,8 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.geometry.polyline import shoelace
+from stimuli.render import kernel
+from stimuli.render.kernel import LIB
 from stimuli.render.rings import as_rings, orient_rings, resolve_shape
 from stimuli.render.workspace import ramp, scratch
 
@@ -192,6 +194,34 @@ def sum_dtype(image_dtype, h, w):
 FLOAT32_MIN_PIXELS = 1 << 16
 
 
+def stream_box(p, h, w):
+    """``((r0, r1, c0, c1), clip_x, clip_y)``: the pixels a stream's pieces
+    can reach and whether it crosses the image's side or top/bottom edges;
+    None when nothing reaches the image.
+
+    Found from the stream's extent, with no pass over the pieces: rows are
+    floor(y) with y clipped to [0, h] (row h, the bottom edge, lies outside
+    the image); columns are floor(x) for x in [0, w).
+    """
+    (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
+    # A shape wholly above the image is flattened onto its top edge, where
+    # the pieces of every column cancel: it adds nothing either.
+    if ylo >= h or yhi <= 0.0 or xhi <= 0.0 or xlo >= w:
+        return None
+    box = int(max(ylo, 0.0)), int(min(yhi, float(h))), int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
+    return box, xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
+
+
+def ring_area(area, ring, clipped):
+    """The winding integral `area` of a stream, for its one `ring` (or None)
+    oriented to a positive shoelace sum (see :func:`cut_pieces`)."""
+    if ring is None:
+        return area
+    if not clipped:  # whole inside the image: |area| is the shoelace sum
+        return abs(area)
+    return area if shoelace(ring) >= 0.0 else -area
+
+
 def cut_pieces(p, bridge, h, w, ring=None):
     """Cut a stream at the pixel grid into pieces, each inside one pixel.
 
@@ -207,22 +237,14 @@ def cut_pieces(p, bridge, h, w, ring=None):
     of the ring oriented to a positive shoelace sum (so that the ring need
     not be reversed: the coverage is ``|win|`` either way).
     """
-    # The box of pixels the pieces can reach, from the stream's extent: no
-    # pass over the pieces needed. Rows are floor(y) with y clipped to
-    # [0, h] (row h, the bottom edge, lies outside the image); columns are
-    # floor(x) for x in [0, w).
-    (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
-    if ylo >= h or xhi <= 0.0 or xlo >= w:
+    ext = stream_box(p, h, w)
+    if ext is None:
         return None
-    r0, r1 = int(max(ylo, 0.0)), int(min(yhi, float(h)))
-    c0, c1 = int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
+    (r0, r1, c0, c1), clip_x, clip_y = ext
     # Columns first, then rows, whose grid lines then cut the new pieces too.
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
         p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
-    clip_x, clip_y = xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
-    # Whole inside the image, the ring's winding integral is its shoelace sum.
-    sign = shoelace(ring) if ring is not None and (clip_x or clip_y) else None
     if clip_x:
         # Pieces left or right of the image affect no image column: moved
         # onto its edge they keep their place in the stream but add nothing.
@@ -246,9 +268,7 @@ def cut_pieces(p, bridge, h, w, ring=None):
         dx[bridge] = 0.0  # pieces between rings add nothing
     # The winding integral over the image, sum(dx * (h - ym)) over the
     # pieces, is -sum(dx * ym) since the dx of each column sum to 0.
-    area = -float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1])))
-    if ring is not None:
-        area = abs(area) if sign is None else (area if sign >= 0.0 else -area)
+    area = ring_area(-float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1]))), ring, clip_x or clip_y)
     # A piece adds the signed area between itself and its pixel's bottom
     # side to its pixel (top), and the rest of its cover, dx * (ym - row),
     # to the pixel below (bottom); summing down each column gives the
@@ -266,12 +286,46 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
     """Cut a stream at the pixel grid and integrate the winding number.
 
     `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
-    ``(win, r0, c0, area)`` or None when nothing reaches the image: `win` is
-    the winding integral over each pixel of the box whose top-left pixel is
-    (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
-    a scratch buffer to be used before the next call; `area` is its sum,
-    computed in float64 whatever `dtype` (see :func:`cut_pieces` for `ring`).
+    ``(win, r0, c0, area, integrated)`` or None when nothing reaches the
+    image: `win` covers the box whose top-left pixel is (r0, c0) (0 outside
+    the box); `area` is the winding integral over the image, computed in
+    float64 (see :func:`cut_pieces` for `ring`). With the numpy path
+    `integrated` is True and `win` is the winding integral over each pixel,
+    of `dtype` (float64 or float32), a view of a scratch buffer to be used
+    before the next call. With the compiled kernel (:data:`KERNEL` ``'c'``)
+    `integrated` is False and `win` holds the deposits, a new float64
+    array, whose column prefix sum (:func:`winding`) is the integral.
     """
+    if LIB is not None:
+        return _accumulate_kernel(p, bridge, h, w, extra, ring)
+    return _accumulate_numpy(p, bridge, h, w, extra, dtype, ring)
+
+
+def _accumulate_kernel(p, bridge, h, w, extra, ring):
+    ext = stream_box(p, h, w)
+    if ext is None:
+        return None
+    box, clip_x, clip_y = ext
+    dep, area = kernel.deposit(p, bridge, h, w, box)
+    r0, c0 = box[0], box[2]
+    if extra is not None and len(extra[0]):
+        er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
+        np.add.at(dep, (er - r0, ec - c0), ea)
+        np.subtract.at(dep, (er - r0 + 1, ec - c0), ea)
+        area += float(np.add.reduce(ea))
+    # Pieces on the bottom edge sit in row h, outside the image.
+    win = dep[: min(box[1] - r0 + 1, h - r0)]
+    return win, r0, c0, ring_area(area, ring, clip_x or clip_y), False
+
+
+def winding(acc):
+    """The winding integral over the box of an accumulation (see
+    :func:`accumulate`); deposits are integrated in place (once)."""
+    win, _, _, _, integrated = acc
+    return win if integrated else kernel.integrate(win)
+
+
+def _accumulate_numpy(p, bridge, h, w, extra, dtype, ring):
     import cv2
 
     cut = cut_pieces(p, bridge, h, w, ring)
@@ -337,7 +391,7 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
             acc.fill(0.0)
     # Pieces on the bottom edge sit in row h, outside the image.
     bh = min(bh, h - r0)
-    return table[1 : bh + 1, 1 : bw + 1], r0, c0, area
+    return table[1 : bh + 1, 1 : bw + 1], r0, c0, area, True
 
 
 def box_coverage(acc):
@@ -352,7 +406,7 @@ def box_coverage(acc):
 
     if acc is None:
         return None, 0, 0
-    win, r0, c0, _ = acc
+    win, r0, c0 = winding(acc), acc[1], acc[2]
     cov = cv2.absdiff(win, 0.0)  # a new contiguous array
     cv2.min(cov, 1.0, dst=cov)  # overlapping rings give > 1
     cv2.threshold(cov, _SNAP, 0.0, cv2.THRESH_TOZERO, dst=cov)
