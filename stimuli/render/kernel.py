@@ -51,14 +51,20 @@ LIB = _load()
 KERNEL = "numpy" if LIB is None else "c"
 
 
+def _address(a):
+    # ``a.ctypes.data`` builds a helper object (about a microsecond)
+    return a.__array_interface__["data"][0]
+
+
 def deposit(p, bridge, h, w, box):
     """(dep, area): the pieces of stream `p` deposited over `box`.
 
     `p` is a (2, n) float64 stream (x and y rows shifted by +0.5, see
     :mod:`stimuli.render.raster`), `bridge` its n - 1 flags or None, `box`
-    ``(r0, r1, c0, c1)``. `dep` is a (r1 - r0 + 2, c1 - c0 + 1) float64
-    array of deposits, a scratch buffer to be used before the next call (before the column prefix sum), `area` the winding
-    integral over the image.
+    ``(r0, r1, c0, c1)``. `dep` is the (r1 - r0 + 2, c1 - c0 + 1) float64
+    array of deposits (before the column prefix sum), a scratch buffer to
+    be used before the next call; `area` is the winding integral over the
+    image.
     """
     r0, r1, c0, c1 = box
     bh, bw = r1 - r0 + 1, c1 - c0 + 1
@@ -66,15 +72,15 @@ def deposit(p, bridge, h, w, box):
     x, y = np.ascontiguousarray(p[0], np.float64), np.ascontiguousarray(p[1], np.float64)
     flags = None if bridge is None else np.ascontiguousarray(bridge, np.uint8)
     area = LIB.attneave_deposit(
-        x.ctypes.data, y.ctypes.data, x.size, None if flags is None else flags.ctypes.data,
-        h, w, r0, c0, bh, bw, dep.ctypes.data,
+        _address(x), _address(y), x.size, None if flags is None else _address(flags),
+        h, w, r0, c0, bh, bw, _address(dep),
     )
     return dep, area
 
 
 def integrate(a):
     """Column prefix sum of the C-contiguous float64 array `a`, in place."""
-    LIB.attneave_integrate(a.ctypes.data, a.shape[0], a.shape[1])
+    LIB.attneave_integrate(_address(a), a.shape[0], a.shape[1])
     return a
 
 
@@ -92,7 +98,7 @@ def paint_u8(a, integrated, out, lut=None):
     run = scratch("kernel_run", out.shape[1])
     row_step, pix_step = out.strides[:2]
     LIB.attneave_paint_u8(
-        a.ctypes.data, out.shape[0], out.shape[1], 0 if integrated else 1,
-        out.ctypes.data, row_step, pix_step, None if lut is None else lut.ctypes.data,
-        levels.ctypes.data, run.ctypes.data,
+        _address(a), out.shape[0], out.shape[1], 0 if integrated else 1,
+        _address(out), row_step, pix_step, None if lut is None else _address(lut),
+        _address(levels), _address(run),
     )
