@@ -38,7 +38,10 @@ printed (``stimuli.render.KERNEL``): the compiled kernel, or the numpy path
 small numpy calls slow more than the encoder when other work has evicted
 the caches, which callgrind's counts do not see (numpy path: blob 11.8 M
 instructions against 10.1 M, ratio 1.17, spiky 22.3 M against 16.0 M,
-ratio 1.39, while CPU time gave 1.74 and 1.82 at load 8-11). So the split is
+ratio 1.39, while CPU time gave 1.74 and 1.82 at load 8-11; the kernel:
+12.1 M against 10.0 M, 1.21, and 17.4 M against 16.0 M, 1.09, while CPU
+time gave 1.34 and 1.25 at load 1.3-2.5, medians of three runs of
+``--n 1000``). So the split is
 printed, with the ratio the measured R and F would give at half and a
 quarter of the measured W.
 

@@ -32,24 +32,22 @@ it crosses grid lines, the polygon through those points is accumulated as
 above, and each cut arc adds its circular segment ``R^2/2 (d - sin d)`` to
 the one pixel that contains it (the `extra` deposits of :func:`accumulate`).
 
-8-bit images of at least 65536 pixels are integrated in float32 (error
-below 1e-5 of a pixel, three orders under one grey level; see
-:func:`sum_dtype`); everything else in float64. Temporaries live in
-per-thread scratch buffers (:mod:`stimuli.render.workspace`).
+The numpy path integrates 8-bit images of at least 65536 pixels in float32
+(error below 1e-5 of a pixel; :func:`sum_dtype`), all else in float64;
+temporaries live in per-thread scratch buffers (:mod:`.workspace`).
 
-Speed (``benchmarks/bench_render.py --n 1000``, 512 x 512 8-bit images of
-500-vertex polygons, 2-core AMD EPYC shared with other work, load average
-7.7-10.9, medians of three runs): the renderer takes 0.57 ms of CPU per
-smooth blob and 1.23 ms per spiky star (27,000 pieces) with the bench's
-matplotlib and PNG steps run in between (0.59 / 1.35 ms before the
-refinement was rewritten), about 0.24 / 0.93 ms with warm caches;
-callgrind counts 4.0 and 10.8 million instructions per image (4.45 and
-15.75 before). Rendering plus ``cv2.imwrite`` stays 1.74x (blob) and 1.82x
-(spiky) ``cv2.fillPoly(LINE_AA)`` plus ``cv2.imwrite`` in CPU time, against
-a target of 1.3: the time does not follow the instruction count but the
-hundred-odd numpy calls, each several microseconds when other work has
-evicted the caches, and the megabytes a spiky star moves through its
-scratch buffers.
+Speed. The deposits and the 8-bit painting also exist in C (:mod:`.kernel`,
+float64 throughout; ``stimuli.render.KERNEL`` says which path runs): the
+numpy functions are the reference and the fallback, held to 1e-12 by a test.
+``benchmarks/bench_render.py --n 1000`` (512 x 512 8-bit images of
+500-vertex polygons, 2-core AMD EPYC shared with other work, load 1.3-2.5,
+CPU medians of three runs): rendering plus ``cv2.imwrite`` is 1.34x (blob;
+target 1.3 not met) and 1.25x (spiky star) ``cv2.fillPoly(LINE_AA)`` plus
+``cv2.imwrite``; the renderer takes 0.20 / 0.40 ms per image in the bench
+(0.10 / 0.26 ms with warm caches; callgrind: 4.2 / 5.9 M instructions).
+The numpy path gave 1.74 / 1.82 (0.57 / 1.23 ms at load 8-11; 4.0 / 10.8 M
+instructions): its time went to a hundred numpy calls, several
+microseconds each with cold caches.
 
 References
 ----------
@@ -195,14 +193,10 @@ FLOAT32_MIN_PIXELS = 1 << 16
 
 
 def stream_box(p, h, w):
-    """``((r0, r1, c0, c1), clip_x, clip_y)``: the pixels a stream's pieces
-    can reach and whether it crosses the image's side or top/bottom edges;
-    None when nothing reaches the image.
-
-    Found from the stream's extent, with no pass over the pieces: rows are
-    floor(y) with y clipped to [0, h] (row h, the bottom edge, lies outside
-    the image); columns are floor(x) for x in [0, w).
-    """
+    """``((r0, r1, c0, c1), clip_x, clip_y)`` or None: the pixels a stream's
+    pieces can reach, from its extent (rows floor(y), y clipped to [0, h],
+    row h lying outside the image; columns floor(x), x in [0, w)), and
+    whether it crosses the image's side or top/bottom edges."""
     (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
     # A shape wholly above the image is flattened onto its top edge, where
     # the pieces of every column cancel: it adds nothing either.
@@ -217,9 +211,8 @@ def ring_area(area, ring, clipped):
     oriented to a positive shoelace sum (see :func:`cut_pieces`)."""
     if ring is None:
         return area
-    if not clipped:  # whole inside the image: |area| is the shoelace sum
-        return abs(area)
-    return area if shoelace(ring) >= 0.0 else -area
+    # whole inside the image, |area| is the shoelace sum
+    return abs(area) if not clipped else (area if shoelace(ring) >= 0.0 else -area)
 
 
 def cut_pieces(p, bridge, h, w, ring=None):
@@ -288,13 +281,12 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
     `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
     ``(win, r0, c0, area, integrated)`` or None when nothing reaches the
     image: `win` covers the box whose top-left pixel is (r0, c0) (0 outside
-    the box); `area` is the winding integral over the image, computed in
-    float64 (see :func:`cut_pieces` for `ring`). With the numpy path
-    `integrated` is True and `win` is the winding integral over each pixel,
-    of `dtype` (float64 or float32), a view of a scratch buffer to be used
-    before the next call. With the compiled kernel (:data:`KERNEL` ``'c'``)
-    `integrated` is False and `win` holds the deposits, a new float64
-    array, whose column prefix sum (:func:`winding`) is the integral.
+    it), a view of a scratch buffer to be used before the next call; `area`
+    is the winding integral over the image, in float64 (see
+    :func:`cut_pieces` for `ring`). On the numpy path `win` is that integral
+    per pixel, of `dtype` (float64 or float32), and `integrated` True; with
+    the compiled kernel it holds float64 deposits, `integrated` is False,
+    and :func:`winding` gives the integral.
     """
     if LIB is not None:
         return _accumulate_kernel(p, bridge, h, w, extra, ring)
