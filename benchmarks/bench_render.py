@@ -31,14 +31,19 @@ shows a ratio nearer R / F. The wall clock of ``imwrite`` also holds the
 file system's latency, which on this machine swung between 0.1 and 3.5 ms
 per file with the other users' disk traffic: wall-clock ratios measured
 while the disk was slow (1.1-1.3 here) look far better than the CPU-time
-ratio (1.8), which is why ``cv2.imencode`` (the encoder in memory) is timed
-too and the CPU-time ratio is the one to judge by. And the renderer,
-many small numpy calls, slows more than the encoder when other work (or
-other processes) has evicted the caches, which callgrind's counts do not see
-(blob: 11.8 M instructions against 10.1 M, ratio 1.17, spiky: 22.3 M
-against 16.0 M, ratio 1.39, while CPU time gives about 1.75 and 1.8 under
-load). So the split is printed, with the ratio the measured R and F would
-give at half and a quarter of the measured W.
+ratio, which is why ``cv2.imencode`` (the encoder in memory) is timed too
+and the CPU-time ratio is the one to judge by. The renderer's own path is
+printed (``stimuli.render.KERNEL``): the compiled kernel, or the numpy path
+(``ATTNEAVE_NUMPY_RENDER=1``, or no C compiler at install), whose hundred
+small numpy calls slow more than the encoder when other work has evicted
+the caches, which callgrind's counts do not see (numpy path: blob 11.8 M
+instructions against 10.1 M, ratio 1.17, spiky 22.3 M against 16.0 M,
+ratio 1.39, while CPU time gave 1.74 and 1.82 at load 8-11; the kernel:
+12.1 M against 10.0 M, 1.21, and 17.4 M against 16.0 M, 1.09, while CPU
+time gave 1.34 and 1.25 at load 1.3-2.5, medians of three runs of
+``--n 1000``). So the split is
+printed, with the ratio the measured R and F would give at half and a
+quarter of the measured W.
 
 Each method is timed both by wall clock and by the CPU time of the calling
 thread (``time.thread_time``): on a loaded machine the wall clock of a
@@ -296,6 +301,9 @@ def main(argv=None):
         only(kinds[0], args.n, args.seed, args.only)
         return
     header("bench_render: exact-coverage rendering + PNG vs cv2.fillPoly(LINE_AA) + imwrite")
+    from stimuli.render import KERNEL
+
+    print(f"renderer: stimuli.render.KERNEL = {KERNEL!r} (ATTNEAVE_NUMPY_RENDER=1 forces 'numpy')")
     tmp = tempfile.mkdtemp(prefix="bench_render_")
     try:
         for kind in kinds:

@@ -1,7 +1,8 @@
 """Rendering contours to images with exact area-coverage antialiasing.
 
 Modules: ``rings`` (shapes as oriented rings), ``raster`` (the exact
-rasteriser: coverage of rings), ``discs`` (exact discs), ``workspace``
+rasteriser: coverage of rings), ``kernel`` (its optional compiled
+inner loops; ``KERNEL`` says whether they run), ``discs`` (exact discs), ``workspace``
 (its scratch buffers), ``paint`` (silhouettes and dots
 as images), ``strokes`` (outlines and fragments), ``placement`` (fitting
 points to an image), ``files`` (8/16-bit quantisation, PNG, SVG).
@@ -13,6 +14,7 @@ centres at integer coordinates).
 from stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
+    "KERNEL": ".kernel",
     "coverage": ".raster",
     "disc_coverage": ".discs",
     "render_silhouette": ".paint",

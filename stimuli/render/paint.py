@@ -12,8 +12,9 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
+from stimuli.render import kernel
 from stimuli.render.discs import disc_accumulation
-from stimuli.render.raster import box_coverage, ring_accumulation, sum_dtype
+from stimuli.render.raster import box_coverage, ring_accumulation, sum_dtype, winding
 from stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
@@ -129,8 +130,18 @@ def _paint_uint8(acc, h, w, figure, ground):
             img[..., ch] = fill
     if acc is None:
         return img
-    win, r0, c0, _ = acc
+    win, r0, c0, _, integrated = acc
     sub = img[r0 : r0 + win.shape[0], c0 : c0 + win.shape[1]]
+    if not integrated:
+        # the compiled kernel: prefix sum, coverage, rounding and blend in
+        # one pass (colour images integrate first, then paint each channel)
+        if n == 1:
+            kernel.paint_u8(win, False, sub, None if luts is None else luts[0])
+        else:
+            winding(acc)
+            for ch in range(n):
+                kernel.paint_u8(win, True, sub[..., ch], luts[ch])
+        return img
     if n == 1:
         cv2.convertScaleAbs(win, sub, 255.0)
         if luts is None:

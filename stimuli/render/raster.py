@@ -32,24 +32,22 @@ it crosses grid lines, the polygon through those points is accumulated as
 above, and each cut arc adds its circular segment ``R^2/2 (d - sin d)`` to
 the one pixel that contains it (the `extra` deposits of :func:`accumulate`).
 
-8-bit images of at least 65536 pixels are integrated in float32 (error
-below 1e-5 of a pixel, three orders under one grey level; see
-:func:`sum_dtype`); everything else in float64. Temporaries live in
-per-thread scratch buffers (:mod:`stimuli.render.workspace`).
+The numpy path integrates 8-bit images of at least 65536 pixels in float32
+(error below 1e-5 of a pixel; :func:`sum_dtype`), all else in float64;
+temporaries live in per-thread scratch buffers (:mod:`.workspace`).
 
-Speed (``benchmarks/bench_render.py --n 1000``, 512 x 512 8-bit images of
-500-vertex polygons, 2-core AMD EPYC shared with other work, load average
-7.7-10.9, medians of three runs): the renderer takes 0.57 ms of CPU per
-smooth blob and 1.23 ms per spiky star (27,000 pieces) with the bench's
-matplotlib and PNG steps run in between (0.59 / 1.35 ms before the
-refinement was rewritten), about 0.24 / 0.93 ms with warm caches;
-callgrind counts 4.0 and 10.8 million instructions per image (4.45 and
-15.75 before). Rendering plus ``cv2.imwrite`` stays 1.74x (blob) and 1.82x
-(spiky) ``cv2.fillPoly(LINE_AA)`` plus ``cv2.imwrite`` in CPU time, against
-a target of 1.3: the time does not follow the instruction count but the
-hundred-odd numpy calls, each several microseconds when other work has
-evicted the caches, and the megabytes a spiky star moves through its
-scratch buffers.
+Speed. The deposits and the 8-bit painting also exist in C (:mod:`.kernel`,
+float64 throughout; ``stimuli.render.KERNEL`` says which path runs): the
+numpy functions are the reference and the fallback, held to 1e-12 by a test.
+``benchmarks/bench_render.py --n 1000`` (512 x 512 8-bit images of
+500-vertex polygons, 2-core AMD EPYC shared with other work, load 1.3-2.5,
+CPU medians of three runs): rendering plus ``cv2.imwrite`` is 1.34x (blob;
+target 1.3 not met) and 1.25x (spiky star) ``cv2.fillPoly(LINE_AA)`` plus
+``cv2.imwrite``; the renderer takes 0.20 / 0.40 ms per image in the bench
+(0.10 / 0.26 ms with warm caches; callgrind: 4.2 / 5.9 M instructions).
+The numpy path gave 1.74 / 1.82 (0.57 / 1.23 ms at load 8-11; 4.0 / 10.8 M
+instructions): its time went to a hundred numpy calls, several
+microseconds each with cold caches.
 
 References
 ----------
@@ -63,6 +61,8 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.geometry.polyline import shoelace
+from stimuli.render import kernel
+from stimuli.render.kernel import LIB
 from stimuli.render.rings import as_rings, orient_rings, resolve_shape
 from stimuli.render.workspace import ramp, scratch
 
@@ -192,6 +192,29 @@ def sum_dtype(image_dtype, h, w):
 FLOAT32_MIN_PIXELS = 1 << 16
 
 
+def stream_box(p, h, w):
+    """``((r0, r1, c0, c1), clip_x, clip_y)`` or None: the pixels a stream's
+    pieces can reach, from its extent (rows floor(y), y clipped to [0, h],
+    row h lying outside the image; columns floor(x), x in [0, w)), and
+    whether it crosses the image's side or top/bottom edges."""
+    (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
+    # A shape wholly above the image is flattened onto its top edge, where
+    # the pieces of every column cancel: it adds nothing either.
+    if ylo >= h or yhi <= 0.0 or xhi <= 0.0 or xlo >= w:
+        return None
+    box = int(max(ylo, 0.0)), int(min(yhi, float(h))), int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
+    return box, xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
+
+
+def ring_area(area, ring, clipped):
+    """The winding integral `area` of a stream, for its one `ring` (or None)
+    oriented to a positive shoelace sum (see :func:`cut_pieces`)."""
+    if ring is None:
+        return area
+    # whole inside the image, |area| is the shoelace sum
+    return abs(area) if not clipped else (area if shoelace(ring) >= 0.0 else -area)
+
+
 def cut_pieces(p, bridge, h, w, ring=None):
     """Cut a stream at the pixel grid into pieces, each inside one pixel.
 
@@ -207,22 +230,14 @@ def cut_pieces(p, bridge, h, w, ring=None):
     of the ring oriented to a positive shoelace sum (so that the ring need
     not be reversed: the coverage is ``|win|`` either way).
     """
-    # The box of pixels the pieces can reach, from the stream's extent: no
-    # pass over the pieces needed. Rows are floor(y) with y clipped to
-    # [0, h] (row h, the bottom edge, lies outside the image); columns are
-    # floor(x) for x in [0, w).
-    (xlo, ylo), (xhi, yhi) = np.minimum.reduce(p, axis=1).tolist(), np.maximum.reduce(p, axis=1).tolist()
-    if ylo >= h or xhi <= 0.0 or xlo >= w:
+    ext = stream_box(p, h, w)
+    if ext is None:
         return None
-    r0, r1 = int(max(ylo, 0.0)), int(min(yhi, float(h)))
-    c0, c1 = int(max(xlo, 0.0)), int(min(xhi, w - 1.0))
+    (r0, r1, c0, c1), clip_x, clip_y = ext
     # Columns first, then rows, whose grid lines then cut the new pieces too.
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         p, bridge = _refine(p, 0, 0.0, float(w), bridge, "cols")
         p, bridge = _refine(p, 1, 0.0, float(h), bridge, "rows")
-    clip_x, clip_y = xlo < 0.0 or xhi >= w, ylo < 0.0 or yhi > h
-    # Whole inside the image, the ring's winding integral is its shoelace sum.
-    sign = shoelace(ring) if ring is not None and (clip_x or clip_y) else None
     if clip_x:
         # Pieces left or right of the image affect no image column: moved
         # onto its edge they keep their place in the stream but add nothing.
@@ -246,9 +261,7 @@ def cut_pieces(p, bridge, h, w, ring=None):
         dx[bridge] = 0.0  # pieces between rings add nothing
     # The winding integral over the image, sum(dx * (h - ym)) over the
     # pieces, is -sum(dx * ym) since the dx of each column sum to 0.
-    area = -float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1])))
-    if ring is not None:
-        area = abs(area) if sign is None else (area if sign >= 0.0 else -area)
+    area = ring_area(-float(np.add.reduce(np.multiply(dx, mid[1], out=pc[1]))), ring, clip_x or clip_y)
     # A piece adds the signed area between itself and its pixel's bottom
     # side to its pixel (top), and the rest of its cover, dx * (ym - row),
     # to the pixel below (bottom); summing down each column gives the
@@ -266,12 +279,45 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
     """Cut a stream at the pixel grid and integrate the winding number.
 
     `p` is a (2, n) stream from :func:`_stream` (x and y rows). Returns
-    ``(win, r0, c0, area)`` or None when nothing reaches the image: `win` is
-    the winding integral over each pixel of the box whose top-left pixel is
-    (r0, c0) (0 outside the box), of `dtype` (float64 or float32), a view of
-    a scratch buffer to be used before the next call; `area` is its sum,
-    computed in float64 whatever `dtype` (see :func:`cut_pieces` for `ring`).
+    ``(win, r0, c0, area, integrated)`` or None when nothing reaches the
+    image: `win` covers the box whose top-left pixel is (r0, c0) (0 outside
+    it), a view of a scratch buffer to be used before the next call; `area`
+    is the winding integral over the image, in float64 (see
+    :func:`cut_pieces` for `ring`). On the numpy path `win` is that integral
+    per pixel, of `dtype` (float64 or float32), and `integrated` True; with
+    the compiled kernel it holds float64 deposits, `integrated` is False,
+    and :func:`winding` gives the integral.
     """
+    if LIB is not None:
+        return _accumulate_kernel(p, bridge, h, w, extra, ring)
+    return _accumulate_numpy(p, bridge, h, w, extra, dtype, ring)
+
+
+def _accumulate_kernel(p, bridge, h, w, extra, ring):
+    ext = stream_box(p, h, w)
+    if ext is None:
+        return None
+    box, clip_x, clip_y = ext
+    dep, area = kernel.deposit(p, bridge, h, w, box)
+    r0, c0 = box[0], box[2]
+    if extra is not None and len(extra[0]):
+        er, ec, ea = extra  # a disc's circular segments: +ea in one pixel only
+        np.add.at(dep, (er - r0, ec - c0), ea)
+        np.subtract.at(dep, (er - r0 + 1, ec - c0), ea)
+        area += float(np.add.reduce(ea))
+    # Pieces on the bottom edge sit in row h, outside the image.
+    win = dep[: min(box[1] - r0 + 1, h - r0)]
+    return win, r0, c0, ring_area(area, ring, clip_x or clip_y), False
+
+
+def winding(acc):
+    """The winding integral over the box of an accumulation (see
+    :func:`accumulate`); deposits are integrated in place (once)."""
+    win, _, _, _, integrated = acc
+    return win if integrated else kernel.integrate(win)
+
+
+def _accumulate_numpy(p, bridge, h, w, extra, dtype, ring):
     import cv2
 
     cut = cut_pieces(p, bridge, h, w, ring)
@@ -337,7 +383,7 @@ def accumulate(p, bridge, h, w, extra=None, dtype=np.float64, ring=None):
             acc.fill(0.0)
     # Pieces on the bottom edge sit in row h, outside the image.
     bh = min(bh, h - r0)
-    return table[1 : bh + 1, 1 : bw + 1], r0, c0, area
+    return table[1 : bh + 1, 1 : bw + 1], r0, c0, area, True
 
 
 def box_coverage(acc):
@@ -352,7 +398,7 @@ def box_coverage(acc):
 
     if acc is None:
         return None, 0, 0
-    win, r0, c0, _ = acc
+    win, r0, c0 = winding(acc), acc[1], acc[2]
     cov = cv2.absdiff(win, 0.0)  # a new contiguous array
     cv2.min(cov, 1.0, dst=cov)  # overlapping rings give > 1
     cv2.threshold(cov, _SNAP, 0.0, cv2.THRESH_TOZERO, dst=cov)

@@ -1,0 +1,104 @@
+"""The compiled kernel of the exact rasteriser, if it was built.
+
+``coverage_kernel.c`` (plain C99, built at install by ``setup.py`` as an
+optional extension) walks a stream's pieces across the pixel cells and
+deposits their area and cover exactly as :func:`stimuli.render.raster.accumulate`
+does, then takes the column prefix sum and paints 8-bit pixels in one pass.
+It is loaded with ctypes; if it was not built, cannot be loaded, or
+``ATTNEAVE_NUMPY_RENDER=1`` is set, :data:`KERNEL` is ``'numpy'`` and the
+numpy path, the reference, is used.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import importlib.machinery
+import os
+from pathlib import Path
+
+import numpy as np
+
+from stimuli.render.workspace import scratch
+
+_HERE = Path(__file__).resolve().parent
+
+
+def _load():
+    if os.environ.get("ATTNEAVE_NUMPY_RENDER", "") not in ("", "0"):
+        return None
+    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
+        path = _HERE / f"coverage_kernel{suffix}"
+        if path.exists():
+            try:
+                lib = ctypes.CDLL(str(path))
+            except OSError:
+                return None
+            break
+    else:
+        return None
+    dp, lg, vp = ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p
+    lib.attneave_deposit.restype = ctypes.c_double
+    lib.attneave_deposit.argtypes = [dp, dp, lg, vp, lg, lg, lg, lg, lg, lg, dp]
+    lib.attneave_integrate.restype = None
+    lib.attneave_integrate.argtypes = [dp, lg, lg]
+    lib.attneave_paint_u8.restype = None
+    lib.attneave_paint_u8.argtypes = [dp, lg, lg, ctypes.c_int, vp, lg, lg, vp, vp, dp]
+    return lib
+
+
+LIB = _load()
+#: Which rasteriser runs: ``'c'`` (the compiled kernel) or ``'numpy'``.
+KERNEL = "numpy" if LIB is None else "c"
+
+
+def _address(a):
+    # ``a.ctypes.data`` builds a helper object (about a microsecond)
+    return a.__array_interface__["data"][0]
+
+
+def deposit(p, bridge, h, w, box):
+    """(dep, area): the pieces of stream `p` deposited over `box`.
+
+    `p` is a (2, n) float64 stream (x and y rows shifted by +0.5, see
+    :mod:`stimuli.render.raster`), `bridge` its n - 1 flags or None, `box`
+    ``(r0, r1, c0, c1)``. `dep` is the (r1 - r0 + 2, c1 - c0 + 1) float64
+    array of deposits (before the column prefix sum), a scratch buffer to
+    be used before the next call; `area` is the winding integral over the
+    image.
+    """
+    r0, r1, c0, c1 = box
+    bh, bw = r1 - r0 + 1, c1 - c0 + 1
+    dep = scratch("kernel_deposits", (bh + 1, bw))
+    x, y = np.ascontiguousarray(p[0], np.float64), np.ascontiguousarray(p[1], np.float64)
+    flags = None if bridge is None else np.ascontiguousarray(bridge, np.uint8)
+    area = LIB.attneave_deposit(
+        _address(x), _address(y), x.size, None if flags is None else _address(flags),
+        h, w, r0, c0, bh, bw, _address(dep),
+    )
+    return dep, area
+
+
+def integrate(a):
+    """Column prefix sum of the C-contiguous float64 array `a`, in place."""
+    LIB.attneave_integrate(_address(a), a.shape[0], a.shape[1])
+    return a
+
+
+def paint_u8(a, integrated, out, lut=None):
+    """``out = lut[rint(255 * min(|win|, 1))]`` with `win` the winding integral.
+
+    `a` (C-contiguous float64) holds the winding integral if `integrated`,
+    else deposits, integrated on the way (`a` is left as it is). `out` is a uint8 view of
+    the same height and width (any strides, e.g. one channel of an RGB
+    image), `lut` 256 uint8 levels, or None for black on white (255 - level).
+    """
+    if lut is not None:
+        lut = np.ascontiguousarray(lut, np.uint8)
+    levels = scratch("kernel_levels", out.shape[1], np.intc)
+    run = scratch("kernel_run", out.shape[1])
+    row_step, pix_step = out.strides[:2]
+    LIB.attneave_paint_u8(
+        _address(a), out.shape[0], out.shape[1], 0 if integrated else 1,
+        _address(out), row_step, pix_step, None if lut is None else _address(lut),
+        _address(levels), _address(run),
+    )
