@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["box_contact", "box_gap", "edge_support", "colour_error", "lab_image"]
+__all__ = ["box_contact", "box_gap", "edge_support", "colour_error", "lab_image", "gradient_magnitude"]
 
 #: Quantisation of each Lab channel for the colour models (levels).
 COLOUR_BINS = 16
@@ -145,6 +145,16 @@ def lab_image(image, sigma=1.0):
     return cv2.cvtColor(bgr, cv2.COLOR_BGR2Lab)
 
 
+def gradient_magnitude(lab):
+    """Colour-gradient magnitude of a CIE Lab image: the Euclidean norm over
+    the three channels of their 3 x 3 Sobel derivatives (float32, H x W)."""
+    import cv2
+
+    gx = cv2.Sobel(lab, cv2.CV_32F, 1, 0, ksize=3)
+    gy = cv2.Sobel(lab, cv2.CV_32F, 0, 1, ksize=3)
+    return np.sqrt((gx * gx + gy * gy).reshape(lab.shape[0], lab.shape[1], -1).sum(axis=2))
+
+
 def edge_support(image, contour, tolerance=1.0):
     """Share of an outline that lies on an image edge.
 
@@ -183,9 +193,7 @@ def edge_support(image, contour, tolerance=1.0):
     import cv2
 
     lab = lab_image(image)
-    gx = cv2.Sobel(lab, cv2.CV_32F, 1, 0)
-    gy = cv2.Sobel(lab, cv2.CV_32F, 0, 1)
-    mag = np.sqrt((gx * gx + gy * gy).sum(axis=2))
+    mag = gradient_magnitude(lab)
     high = max(float(np.percentile(mag, 90)), 1e-6)
     edges = cv2.Canny(lab, 0.5 * high, high, L2gradient=True)
     dist = cv2.distanceTransform(np.where(edges > 0, 0, 255).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)

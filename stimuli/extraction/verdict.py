@@ -175,12 +175,11 @@ def boundary_contrast(image, contour, sigma=1.5):
     import cv2
 
     from stimuli.extraction.grabcut import to_bgr8
+    from stimuli.extraction.quality import gradient_magnitude
 
     lab = cv2.cvtColor(to_bgr8(image), cv2.COLOR_BGR2Lab).astype(np.float32)
     lab = cv2.GaussianBlur(lab, (0, 0), sigma)
-    gx = cv2.Sobel(lab, cv2.CV_32F, 1, 0, ksize=3)
-    gy = cv2.Sobel(lab, cv2.CV_32F, 0, 1, ksize=3)
-    mag = np.sqrt((gx * gx + gy * gy).reshape(lab.shape[0], lab.shape[1], -1).sum(axis=2))
+    mag = gradient_magnitude(lab)
     h, w = mag.shape
     p = np.round(contour.points).astype(int)
     along = mag[np.clip(p[:, 1], 0, h - 1), np.clip(p[:, 0], 0, w - 1)]
