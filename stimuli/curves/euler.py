@@ -36,6 +36,8 @@ from math import factorial
 import numpy as np
 from scipy.special import fresnel
 
+from stimuli.curves import qic_kernel
+
 __all__ = [
     "fresnel_moments",
     "g1_hermite",
@@ -484,8 +486,13 @@ def clothoid_points(x0, y0, theta0, k, dk, s):
     )
     shape = s.shape
     sf = s.ravel()
-    I0 = _moments((dk.ravel() * sf) * sf, k.ravel() * sf, 1, t0.ravel())[0] * sf
-    x = x0 + I0.real.reshape(shape)
-    y = y0 + I0.imag.reshape(shape)
+    if qic_kernel.LIB is not None:
+        # the compiled kernel: the same integral summed per point, without numpy's temporaries
+        x, y = qic_kernel.clothoid_xy(*(np.ascontiguousarray(v).ravel() for v in (x0, y0, t0, k, dk, sf)))
+        x, y = x.reshape(shape), y.reshape(shape)
+    else:
+        I0 = _moments((dk.ravel() * sf) * sf, k.ravel() * sf, 1, t0.ravel())[0] * sf
+        x = x0 + I0.real.reshape(shape)
+        y = y0 + I0.imag.reshape(shape)
     theta = t0 + k * s + 0.5 * dk * s * s
     return x, y, theta, k + dk * s

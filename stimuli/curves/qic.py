@@ -37,9 +37,10 @@ from dataclasses import replace
 
 import numpy as np
 
+from stimuli.curves import qic_kernel
 from stimuli.curves.euler import wrap_angle
 from stimuli.curves.points import bisector_tangents, chord_end_angles, geometric_sign, spline_points
-from stimuli.curves.qic_newton import solve_nodes, tangent_range
+from stimuli.curves.qic_newton import NewtonResult, solve_nodes, tangent_range
 from stimuli.curves.qic_result import QICSpline
 from stimuli.curves.qic_rule import (
     CORNER_TURN,
@@ -108,6 +109,23 @@ def _solve_piece(P, idx, pclosed, t0, t1, held, held_keys, tol, max_iter, max_ha
     (None, solver result) where Newton fails or a segment degenerates."""
     N = len(P)
     Q = P if idx.size == N and pclosed else P[idx]
+    if qic_kernel.LIB is not None:
+        theta_hold = None
+        if held:
+            inside = np.isin(idx, held_keys)
+            if inside.any():
+                theta_hold = np.full(idx.size, np.nan)
+                theta_hold[inside] = [held[int(i)] for i in idx[inside]]
+        status, rows, info = qic_kernel.solve_piece(Q, pclosed, t0, t1, theta_hold, tol, max_iter, max_halvings)
+        if status:
+            res = None if status == qic_kernel.NO_START else NewtonResult(
+                None, None, {"X0": rows[6]}, int(info[0]), status != qic_kernel.NO_CONVERGENCE, info[2], info[3])
+            return None, res
+        m = rows.shape[1]
+        seg = dict(start=idx[:m], x=Q[:m], theta0=rows[0], k0=rows[1], dk=rows[2], L=rows[3])
+        if ranges:
+            seg.update(turn=rows[4], chord_dev=rows[5])
+        return seg, int(info[0]), float(info[2]), float(info[4])
     Qn = np.concatenate((Q[1:], Q[:1])) if pclosed else Q[1:]
     D = Qn - Q[: len(Qn)]
     r = np.hypot(D[:, 0], D[:, 1])

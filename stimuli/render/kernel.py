@@ -12,29 +12,20 @@ numpy path, the reference, is used.
 from __future__ import annotations
 
 import ctypes
-import importlib.machinery
-import os
 from pathlib import Path
 
 import numpy as np
 
+from stimuli.compiled import address as _address
+from stimuli.compiled import load_library
 from stimuli.render.workspace import scratch
 
 _HERE = Path(__file__).resolve().parent
 
 
 def _load():
-    if os.environ.get("ATTNEAVE_NUMPY_RENDER", "") not in ("", "0"):
-        return None
-    for suffix in importlib.machinery.EXTENSION_SUFFIXES:
-        path = _HERE / f"coverage_kernel{suffix}"
-        if path.exists():
-            try:
-                lib = ctypes.CDLL(str(path))
-            except OSError:
-                return None
-            break
-    else:
+    lib = load_library(_HERE, "coverage_kernel", "ATTNEAVE_NUMPY_RENDER")
+    if lib is None:
         return None
     dp, lg, vp = ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p
     lib.attneave_deposit.restype = ctypes.c_double
@@ -49,11 +40,6 @@ def _load():
 LIB = _load()
 #: Which rasteriser runs: ``'c'`` (the compiled kernel) or ``'numpy'``.
 KERNEL = "numpy" if LIB is None else "c"
-
-
-def _address(a):
-    # ``a.ctypes.data`` builds a helper object (about a microsecond)
-    return a.__array_interface__["data"][0]
 
 
 def deposit(p, bridge, h, w, box):

@@ -1,0 +1,102 @@
+"""The compiled kernel of the pure G2 QIC solve, if it was built.
+
+``qic_solve.c`` (plain C99, built at install by ``setup.py`` as an
+optional extension) solves one piece of the QIC spline exactly as the numpy
+reference does (:func:`stimuli.curves.qic_newton.solve_nodes` behind
+``stimuli.curves.qic``): circle-tangent end angles, the small-angle start,
+damped Newton on the node angles with the cyclic tridiagonal solve, held (G1)
+nodes and given end tangents, and the segments in pixels with their tangent
+ranges, in one call; and evaluates clothoid points
+(:func:`stimuli.curves.euler.clothoid_points`). Its generalised Fresnel
+integrals are Gauss-Legendre sums, with numpy's rules where the numpy path
+sums too and composite sums where it uses the Fresnel closed form; both
+reach the rounding floor, and the two paths' splines agree to about 1e-13
+(``tests/test_qic_kernel.py``).
+
+It is loaded with ctypes; if it was not built, cannot be loaded, or
+``ATTNEAVE_NUMPY_SPLINE=1`` is set, :data:`KERNEL` is ``'numpy'`` and the
+numpy path, the reference, is used.
+"""
+
+from __future__ import annotations
+
+import ctypes
+from pathlib import Path
+
+import numpy as np
+
+from stimuli.compiled import address as _address
+from stimuli.compiled import load_library
+
+__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy"]
+
+_HERE = Path(__file__).resolve().parent
+#: Status codes of :func:`solve_piece` (0: solved).
+NO_START, NO_CONVERGENCE, DEGENERATE = 1, 2, 3
+
+
+def _load():
+    lib = load_library(_HERE, "qic_solve", "ATTNEAVE_NUMPY_SPLINE")
+    if lib is None:
+        return None
+    vp, lg, db = ctypes.c_void_p, ctypes.c_long, ctypes.c_double
+    lib.attneave_qic_piece.restype = lg
+    lib.attneave_qic_piece.argtypes = [vp, lg, lg, db, db, vp, db, lg, lg, vp]
+    lib.attneave_clothoid_points.restype = None
+    lib.attneave_clothoid_points.argtypes = [lg] + [vp] * 8
+    return lib
+
+
+LIB = _load()
+#: Which QIC solver runs: ``'c'`` (the compiled kernel) or ``'numpy'``.
+KERNEL = "numpy" if LIB is None else "c"
+_NAN = float("nan")
+
+
+def solve_piece(Q, closed, t0, t1, theta_hold, tol, max_iter, max_halvings):
+    """One piece of the pure G2 QIC spline by the kernel.
+
+    Parameters
+    ----------
+    Q : ndarray, shape (n, 2)
+        The piece's points (float64, C-contiguous; image pixels).
+    closed : bool
+    t0, t1 : float or None
+        Open pieces: tangent angle at the first / last point (None: natural end).
+    theta_hold : ndarray, shape (n,), or None
+        Tangent angle of each held (G1) node, NaN elsewhere (ignored at an
+        open piece's ends).
+    tol, max_iter, max_halvings
+        As in :func:`stimuli.curves.qic_newton.solve_nodes`.
+
+    Returns
+    -------
+    status : int
+        0 (solved), :data:`NO_START` (the initial guess gives a degenerate
+        segment), :data:`NO_CONVERGENCE`, :data:`DEGENERATE` (a segment
+        longer than a million times its chord).
+    rows : ndarray, shape (7, m)
+        Per segment: tangent angle at its start, start curvature, curvature
+        rate (input coordinates, d theta / ds), length (px), range of the
+        tangent angle, largest angle to its chord, and the Fresnel integral
+        X0 (chord / length).
+    info : ndarray
+        Newton iterations, status, largest curvature jump over max |k|,
+        largest closure residual, largest end-point miss (px).
+    """
+    n = Q.shape[0]
+    m = n if closed else n - 1
+    out = np.empty(7 * m + 8)
+    status = LIB.attneave_qic_piece(
+        _address(Q), n, closed, _NAN if t0 is None else t0, _NAN if t1 is None else t1,
+        None if theta_hold is None else _address(theta_hold), tol, max_iter, max_halvings, _address(out),
+    )
+    return status, out[: 7 * m].reshape(7, m), out[7 * m :]
+
+
+def clothoid_xy(x0, y0, theta0, k, dk, s):
+    """x, y of :func:`stimuli.curves.euler.clothoid_points` by the kernel,
+    for 1-D float64 C-contiguous arrays of one size."""
+    x, y = np.empty(s.size), np.empty(s.size)
+    LIB.attneave_clothoid_points(s.size, *(_address(a) for a in (x0, y0, theta0, k, dk, s, x, y)))
+    return x, y
