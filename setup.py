@@ -17,7 +17,8 @@ setup(
         Extension("stimuli.render.coverage_kernel", ["stimuli/render/coverage_kernel.c"],
                   extra_compile_args=FLAGS, optional=True),
         # sin, cos, atan2: libm, which Windows has in its C runtime
-        Extension("stimuli.curves.qic_solve", ["stimuli/curves/qic_solve.c"], extra_compile_args=FLAGS,
+        Extension("stimuli.curves.qic_solve", ["stimuli/curves/qic_solve.c", "stimuli/curves/clothoid_moments.c"],
+                  extra_compile_args=FLAGS,
                   libraries=[] if sys.platform == "win32" else ["m"], optional=True),
     ]
 )

@@ -73,6 +73,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from stimuli.curves import qic_kernel
 from stimuli.curves.qic import qic_spline
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -154,7 +155,8 @@ def main():
     header("bench_spline: QIC spline (pure G2 and robust) vs scipy CubicSpline and libspiro")
     rng = np.random.default_rng(args.seed)
     spiro = load_spiro()
-    print(f"libspiro: {'found' if spiro else 'not installed (apt-get install libspiro1)'}")
+    print(f"libspiro: {'found' if spiro else 'not installed (apt-get install libspiro1)'}; "
+          f"QIC solver: {qic_kernel.KERNEL} (ATTNEAVE_NUMPY_SPLINE=1 forces numpy)")
     print(f"{'N':>6} {'pure ms':>9} {'robust ms':>10} {'cubic ms':>9} {'spiro ms':>9} {'pure/spiro':>10} "
           f"{'robust/pure':>11} {'pure/cubic':>10} {'iters':>6} {'G2 err':>9} {'relaxed':>8}")
     for n in (30, 1000):

@@ -7,8 +7,8 @@ points (where the robust rule holds G1 nodes, cuts G0 corners and Newton
 meets segments turning by more than pi, i.e. the kernel's composite Fresnel
 sums) are fitted through both paths: every segment's tangent angle, end
 curvatures and length must agree to 1e-12 (curvatures times the mean chord,
-lengths over it), with the same corners and Newton iterations, and both
-paths must fail alike. Clothoid points are checked against the numpy path
+lengths over it), with the same corners and Newton iterations, and so
+must their samples; both paths must fail alike. Clothoid points are checked against the numpy path
 and against an independent quadrature (scipy's adaptive ``quad``).
 
 The other spline tests run on whichever path is loaded; CI runs them with
@@ -52,6 +52,13 @@ def assert_same(a, b, P):
     np.testing.assert_allclose(a.length / h, b.length / h, rtol=0, atol=1e-12)
     assert (a.corners, a.corner_kinds, a.iterations) == (b.corners, b.corner_kinds, b.iterations)
     np.testing.assert_array_equal(a.start, b.start)
+    # the samples of one spline by both paths (the kernel's sampler and clothoid_points)
+    for ours, ref in ((a.sample(5), numpy_path(lambda: a.sample(5))),
+                      (a.sample_by_turn(0.15, 12), numpy_path(lambda: a.sample_by_turn(0.15, 12)))):
+        np.testing.assert_array_equal(ours.segment, ref.segment)
+        np.testing.assert_allclose(np.c_[ours.x, ours.y, ours.s] / h, np.c_[ref.x, ref.y, ref.s] / h, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(ours.theta, ref.theta, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(ours.curvature * h, ref.curvature * h, rtol=0, atol=1e-12)
 
 
 def smooth(rng, n, closed=True):

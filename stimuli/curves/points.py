@@ -174,18 +174,25 @@ def bisector_tangents(P, closed):
     True
     """
     P = np.asarray(P, dtype=float)
-    D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
-    u = D / np.hypot(D[:, 0], D[:, 1])[:, None]
+    # by 1-D slices of the coordinates: np.roll and (N, 2) reductions cost more than the arithmetic
+    x, y = P[:, 0], P[:, 1]
     if closed:
-        b = u + np.roll(u, 1, axis=0)
+        dx, dy = np.concatenate((x[1:], x[:1])) - x, np.concatenate((y[1:], y[:1])) - y
     else:
-        b = np.vstack([u[:1], u[1:] + u[:-1], u[-1:]])
+        dx, dy = x[1:] - x[:-1], y[1:] - y[:-1]
+    r = np.hypot(dx, dy)
+    ux, uy = dx / r, dy / r
+    if closed:
+        bx, by = ux + np.concatenate((ux[-1:], ux[:-1])), uy + np.concatenate((uy[-1:], uy[:-1]))
+        nx, ny = -uy, ux
+    else:
+        bx, by = np.concatenate((ux[:1], ux[1:] + ux[:-1], ux[-1:])), np.concatenate((uy[:1], uy[1:] + uy[:-1], uy[-1:]))
+        nx, ny = -np.append(uy, uy[-1]), np.append(ux, ux[-1])
     # a full reversal (turn of pi) has no bisector: use the normal of the side
-    flat = np.hypot(b[:, 0], b[:, 1]) < 1e-12
+    flat = np.hypot(bx, by) < 1e-12
     if flat.any():
-        src = u if closed else np.vstack([u, u[-1:]])
-        b[flat] = np.column_stack([-src[flat, 1], src[flat, 0]])
-    return np.arctan2(b[:, 1], b[:, 0])
+        bx[flat], by[flat] = nx[flat], ny[flat]
+    return np.arctan2(by, bx)
 
 
 def end_angles(p0, theta0, p1, theta1):

@@ -6,12 +6,13 @@ reference does (:func:`stimuli.curves.qic_newton.solve_nodes` behind
 ``stimuli.curves.qic``): circle-tangent end angles, the small-angle start,
 damped Newton on the node angles with the cyclic tridiagonal solve, held (G1)
 nodes and given end tangents, and the segments in pixels with their tangent
-ranges, in one call; and evaluates clothoid points
-(:func:`stimuli.curves.euler.clothoid_points`). Its generalised Fresnel
-integrals are Gauss-Legendre sums, with numpy's rules where the numpy path
-sums too and composite sums where it uses the Fresnel closed form; both
-reach the rounding floor, and the two paths' splines agree to about 1e-13
-(``tests/test_qic_kernel.py``).
+ranges, in one call. ``clothoid_moments.c`` holds its generalised Fresnel
+integrals, Gauss-Legendre sums (numpy's rules where the numpy path sums too,
+composite sums where it uses the Fresnel closed form; both reach the rounding
+floor), and evaluates clothoid points
+(:func:`stimuli.curves.euler.clothoid_points`) and a spline's samples
+(:meth:`stimuli.curves.qic_result.QICSpline.sample`). The two paths' splines
+agree to about 1e-14 (``tests/test_qic_kernel.py`` asks for 1e-12).
 
 It is loaded with ctypes; if it was not built, cannot be loaded, or
 ``ATTNEAVE_NUMPY_SPLINE=1`` is set, :data:`KERNEL` is ``'numpy'`` and the
@@ -28,7 +29,7 @@ import numpy as np
 from stimuli.compiled import address as _address
 from stimuli.compiled import load_library
 
-__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy"]
+__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments"]
 
 _HERE = Path(__file__).resolve().parent
 #: Status codes of :func:`solve_piece` (0: solved).
@@ -44,6 +45,8 @@ def _load():
     lib.attneave_qic_piece.argtypes = [vp, lg, lg, db, db, vp, db, lg, lg, vp]
     lib.attneave_clothoid_points.restype = None
     lib.attneave_clothoid_points.argtypes = [lg] + [vp] * 8
+    lib.attneave_sample_segments.restype = lg
+    lib.attneave_sample_segments.argtypes = [lg, vp, db, lg] + [vp] * 8 + [db, lg, vp]
     return lib
 
 
@@ -100,3 +103,29 @@ def clothoid_xy(x0, y0, theta0, k, dk, s):
     x, y = np.empty(s.size), np.empty(s.size)
     LIB.attneave_clothoid_points(s.size, *(_address(a) for a in (x0, y0, theta0, k, dk, s, x, y)))
     return x, y
+
+
+def sample_segments(counts, max_step, max_samples, x0, y0, theta0, k0, dk, L, xe, ye, sign):
+    """Samples of clothoid segments by the kernel: ``counts[j]`` (>= 2)
+    points equally spaced in arc length on segment j, the last one put on
+    ``(xe[j], ye[j])`` exactly.
+
+    `counts` is None where `max_step` > 0: then each segment gets as few
+    points as keep the tangent's change between neighbours at most
+    `max_step` radians, at least 3 and at most ``max(max_samples, 3)``.
+    The segments' arrays are 1-D of one length m. Returns the samples'
+    counts and the (5, total) array of rows s (arc length from the first
+    segment's start), x, y, tangent angle and ``sign`` times curvature.
+    """
+    m = L.size
+    if counts is None:
+        counts = np.empty(m, np.int64)
+        cap = m * max(int(max_samples), 3)
+    else:
+        counts = np.ascontiguousarray(counts, np.int64)
+        cap = int(counts.sum())
+    out = np.empty((5, cap))
+    rows = [np.ascontiguousarray(a, np.float64) for a in (x0, y0, theta0, k0, dk, L, xe, ye)]
+    total = LIB.attneave_sample_segments(m, _address(counts), max_step, int(max_samples), *(_address(a) for a in rows),
+                                         sign, cap, _address(out))
+    return counts, out[:, :total]

@@ -12,6 +12,7 @@ from functools import cached_property
 
 import numpy as np
 
+from stimuli.curves import qic_kernel
 from stimuli.curves.euler import clothoid_points
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.qic_newton import tangent_range
@@ -122,23 +123,7 @@ class QICSpline:
         SampledCurve
         """
         samples = as_int(samples, "samples (per segment)", lo=2)
-        u = np.linspace(0.0, 1.0, samples)
-        s_loc = self.length[:, None] * u[None, :]
-        x, y, th, k = clothoid_points(
-            self.x0[:, None], self.y0[:, None], self.theta0[:, None],
-            self.k0[:, None], self.dk[:, None], s_loc,
-        )
-        # each segment ends on the next point: put it there exactly, not to
-        # round-off, so that joins are not tiny zig-zags
-        nxt = (self.start + 1) % len(self.points)
-        x[:, -1], y[:, -1] = self.points[nxt, 0], self.points[nxt, 1]
-        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
-        s = (offs[:, None] + s_loc).ravel()
-        seg = np.repeat(self.start, samples)
-        return SampledCurve(
-            s=s, x=x.ravel(), y=y.ravel(), curvature=self.sign * k.ravel(), segment=seg,
-            theta=th.ravel(), closed=self.closed, breaks=tuple(self.corners),
-        )
+        return self._samples(np.full(self.length.size, samples))
 
     def sample_by_turn(self, max_step=0.1, max_samples=32):
         """Sample every segment at points equally spaced in arc length, as
@@ -151,24 +136,36 @@ class QICSpline:
         -------
         SampledCurve
         """
+        if qic_kernel.LIB is not None and max_step > 0:
+            return self._samples(None, max_step, max_samples)
         # curvature is linear on a segment: its largest |k| is at an end, and
         # |k| * (L / steps) bounds the tangent's change between neighbours
         kmax = np.maximum(np.abs(self.k0), np.abs(self.k0 + self.dk * self.length))
         steps = np.ceil(np.minimum(self.length * kmax / max_step, max_samples))
-        counts = np.clip(steps.astype(int) + 1, 3, max(int(max_samples), 3))
-        seg = np.repeat(np.arange(counts.size), counts)
-        first = np.r_[0, np.cumsum(counts)[:-1]]
-        u = (np.arange(seg.size) - first[seg]) / (counts[seg] - 1)
-        s_loc = self.length[seg] * u
-        x, y, th, k = clothoid_points(self.x0[seg], self.y0[seg], self.theta0[seg], self.k0[seg], self.dk[seg], s_loc)
-        last = first + counts - 1
-        nxt = (self.start + 1) % len(self.points)
-        x[last], y[last] = self.points[nxt, 0], self.points[nxt, 1]
-        offs = np.r_[0.0, np.cumsum(self.length)[:-1]]
-        return SampledCurve(
-            s=offs[seg] + s_loc, x=x, y=y, curvature=self.sign * k, segment=self.start[seg], theta=th,
-            closed=self.closed, breaks=tuple(self.corners),
-        )
+        return self._samples(np.clip(steps.astype(np.int64) + 1, 3, max(int(max_samples), 3)))
+
+    def _samples(self, counts, max_step=0.0, max_samples=0):
+        """`counts` (int64, >= 2 each) points per segment, equally spaced in
+        arc length (None: as :meth:`sample_by_turn` chooses them, by the kernel)."""
+        # each segment ends on the next point: put it there exactly, not to
+        # round-off, so that joins are not tiny zig-zags
+        end = self.points[(self.start + 1) % len(self.points)]
+        if qic_kernel.LIB is not None:
+            counts, (s, x, y, th, k) = qic_kernel.sample_segments(
+                counts, max_step, max_samples, self.x0, self.y0, self.theta0, self.k0, self.dk, self.length,
+                end[:, 0], end[:, 1], self.sign,
+            )
+        else:
+            j = np.repeat(np.arange(counts.size), counts)
+            first = np.r_[0, np.cumsum(counts)[:-1]]
+            s_loc = self.length[j] * ((np.arange(j.size) - first[j]) / (counts[j] - 1))
+            x, y, th, k = clothoid_points(self.x0[j], self.y0[j], self.theta0[j], self.k0[j], self.dk[j], s_loc)
+            last = first + counts - 1
+            x[last], y[last] = end[:, 0], end[:, 1]
+            s = np.r_[0.0, np.cumsum(self.length)[:-1]][j] + s_loc
+            k = self.sign * k
+        return SampledCurve(s=s, x=x, y=y, curvature=k, segment=np.repeat(self.start, counts), theta=th,
+                            closed=self.closed, breaks=tuple(self.corners))
 
     def metrics(self, samples=32):
         """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`,
