@@ -18,43 +18,46 @@ repeat by repeat so that machine load hits all alike:
 Medians of all repeats (ms), never a best run, and the ratios pure /
 libspiro (targets, issue 9: <= 2 at N = 30, <= 1 at N = 1000), robust / pure
 (target <= 3) and pure / CubicSpline. The machine and its load average are
-printed first (``benchmarks/_machine.py``).
+printed first (``benchmarks/_machine.py``), and which QIC solver ran: the
+compiled kernel (``stimuli/curves/qic_solve.c``, ``KERNEL == 'c'``) or the
+numpy reference (``ATTNEAVE_NUMPY_SPLINE=1``, or no C compiler at install).
 
-Measured (load average 9.4-10.7 on 2 shared cpus, AMD EPYC; three runs of
-this script each, alternating between commit 5436aa3, before issue 9's
-second speed pass, and commit 24d50a1, its result; every figure a median of
-its run, ranges over the three runs):
+Measured (load average 7.6-7.9 on 2 shared cpus, AMD EPYC; three runs of
+this script each, alternating between commit 4bedff8, before the kernel, and
+commit 6180f5d, with it; every figure a median of its run, ranges over the
+three runs):
 
 =====================  ===============  ===============
-                       before           after
+                       before (numpy)   after (kernel)
 =====================  ===============  ===============
-pure, N = 30           0.297-0.310 ms   0.198-0.206 ms
-libspiro, N = 30       0.069-0.072 ms   0.067-0.070 ms
-pure / libspiro        4.28-4.32        2.94-2.97
-pure, N = 1000         0.70-0.76 ms     0.47-0.52 ms
-pure / libspiro        0.54-0.58        0.37-0.40
-robust, N = 30         0.53-0.56 ms     0.43-0.45 ms
-robust, N = 1000       1.45-1.62 ms     1.19-1.32 ms
-robust / pure          1.8 / 2.1        2.2 / 2.5
+pure, N = 30           0.218-0.222 ms   0.047-0.049 ms
+libspiro, N = 30       0.072-0.076 ms   0.067-0.068 ms
+pure / libspiro        2.92-3.01        0.71-0.72
+pure, N = 1000         0.55-0.58 ms     0.27-0.30 ms
+pure / libspiro        0.41-0.42        0.20-0.21
+robust, N = 30         0.53-0.56 ms     0.26-0.27 ms
+robust, N = 1000       1.70-2.12 ms     1.03-1.09 ms
+robust / pure, N = 30  2.43-2.49        5.41-5.45
+robust / pure, 1000    2.91-3.64        3.68-3.76
 =====================  ===============  ===============
 
-Instruction counts (``valgrind --tool=callgrind``, 500 fits, 300 after,
-minus none, in fresh processes after ``gc.freeze()``,
-``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``, N = 30): 2.80 M -> 1.89 M
-per pure fit, against 0.97 M per libspiro call through this script's ctypes
-wrapper (2.9 -> 1.95 x); in time the ratio stays about 1.5 times the
-instruction ratio, as before (numpy's dispatch runs at a lower rate than
-libspiro's arithmetic).
+Instruction counts (``valgrind --tool=callgrind``, per call, the difference
+of a run with 300 (N = 30) or 20 (N = 1000) calls and one with none, after
+``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): at N = 30
+pure 1.90 M -> 0.385 M against 0.97 M per libspiro call through this
+script's ctypes wrapper (1.95 -> 0.40 x), robust 4.29 M -> 2.15 M.
 
-The 2 x target in time at N = 30 is not reached. Newton still takes 2
-iterations (3 segment states, 2 Jacobians, 3 cyclic tridiagonal solves);
-what is left is numpy's per-call overhead on arrays of 30: a stripped
-prototype of the same closed solve (no validation, line search or result
-object) took 117 us where ``qic_spline`` took 168 us in the same loop (at
-commit 22ac7a9), i.e. about 2.1 x libspiro at this benchmark's scale for the
-bare solve alone; 2 x needs compiled code or fewer numpy calls than this
-solve makes. (In a tight loop, without the other methods in between, the
-pure fit takes 0.17 ms, 0.25 ms before.)
+The pure target is met with margin at both N. The robust / pure target
+(<= 3) is not, although the robust mode runs the same kernel and its time
+halved: at N = 30 the pure fit is now ~0.035 ms of CPU and what the robust
+mode adds is the robust rule's checks on the fit (``stimuli/curves/qic_rule.py``:
+polygon turns, reference deviations, segment bulge, the crossing test,
+straying nodes, ~0.14 ms of numpy calls, mostly ``np.roll`` and small
+reductions), its samples (~0.02 ms, in the kernel) and bisector tangents;
+at N = 1000 the bulge and crossing tests (~0.3 ms) and the samples
+(~0.1-0.2 ms). Halving that needs the rule's checks vectorised without
+``np.roll`` or compiled; the rule is another module's (issue 9's robust
+part).
 
 Usage::
 

@@ -7,7 +7,9 @@ points is a clothoid (Euler spiral), whose curvature is linear in arc length
 and so monotone: no curvature extremum, hence no spurious information,
 appears between the points. The pure form (``robust=False``, the command
 line's ``--method qic-g2``) joins every segment with curvature continuity
-(G2) and is solved by :func:`stimuli.curves.qic_newton.solve_nodes`.
+(G2) and is solved by :func:`stimuli.curves.qic_newton.solve_nodes`, or,
+where it was built, by the same solve compiled (:mod:`stimuli.curves.qic_kernel`;
+``ATTNEAVE_NUMPY_SPLINE=1`` forces numpy, the reference).
 
 On jagged points the pure G2 spline can loop or swing far from the polygon.
 The robust form (the default) then relaxes continuity at a few nodes by the
@@ -311,7 +313,9 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     Scale invariant: each piece is scaled by its mean chord length. Newton
     starts from the small-angle G2 spline (:mod:`stimuli.curves.qic_newton`)
     and costs O(N) per iteration (a cyclic tridiagonal solve, LAPACK
-    ``dgtsv``); the robust rule adds a crossing test per round (GEOS).
+    ``dgtsv``), each piece in one call of the compiled kernel where it was
+    built (:data:`stimuli.curves.qic_kernel.KERNEL`); the robust rule adds a
+    crossing test per round (GEOS).
 
     References
     ----------
