@@ -94,6 +94,10 @@ def test_kernel_agrees_with_numpy_on_random_smooth_curves():
             for e in ends:
                 kw = dict(closed=False, robust=False, end_tangents=e)
                 assert_same(qic_spline(Q, **kw), numpy_path(lambda: qic_spline(Q, **kw)), Q)
+            if n == 3:  # one open segment, natural or clamped ends
+                for e in ends:
+                    kw = dict(closed=False, robust=False, end_tangents=e)
+                    assert_same(qic_spline(Q[:2], **kw), numpy_path(lambda: qic_spline(Q[:2], **kw)), Q[:2])
             if n >= 7:
                 kw = dict(robust=False, corners=[1, n // 2])
                 assert_same(qic_spline(P, **kw), numpy_path(lambda: qic_spline(P, **kw)), P)

@@ -34,6 +34,7 @@ __all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_p
 _HERE = Path(__file__).resolve().parent
 #: Status codes of :func:`solve_piece` (0: solved).
 NO_START, NO_CONVERGENCE, DEGENERATE = 1, 2, 3
+_NO_MEMORY = 4
 
 
 def _load():
@@ -86,6 +87,11 @@ def solve_piece(Q, closed, t0, t1, theta_hold, tol, max_iter, max_halvings):
     info : ndarray
         Newton iterations, status, largest curvature jump over max |k|,
         largest closure residual, largest end-point miss (px).
+
+    Raises
+    ------
+    MemoryError
+        The kernel could not allocate its work arrays.
     """
     n = Q.shape[0]
     m = n if closed else n - 1
@@ -94,6 +100,8 @@ def solve_piece(Q, closed, t0, t1, theta_hold, tol, max_iter, max_halvings):
         _address(Q), n, closed, _NAN if t0 is None else t0, _NAN if t1 is None else t1,
         None if theta_hold is None else _address(theta_hold), tol, max_iter, max_halvings, _address(out),
     )
+    if status == _NO_MEMORY:
+        raise MemoryError(f"QIC kernel: no memory for the work arrays of {n} points")
     return status, out[: 7 * m].reshape(7, m), out[7 * m :]
 
 
