@@ -22,50 +22,53 @@ printed first (``benchmarks/_machine.py``), and which QIC solver ran: the
 compiled kernel (``stimuli/curves/qic_solve.c``, ``KERNEL == 'c'``) or the
 numpy reference (``ATTNEAVE_NUMPY_SPLINE=1``, or no C compiler at install).
 
-Measured (load average 7.6-7.9 on 2 shared cpus, AMD EPYC; three runs of
+Measured (load average 5.3-5.9 on 2 shared cpus, AMD EPYC; three runs of
 this script each, alternating between commit 4bedff8, before the kernel, and
-commit 6180f5d, with it; every figure a median of its run, ranges over the
+commit 1e22b6d, with it; every figure a median of its run, ranges over the
 three runs):
 
 =====================  ===============  ===============
                        before (numpy)   after (kernel)
 =====================  ===============  ===============
-pure, N = 30           0.218-0.222 ms   0.047-0.049 ms
-libspiro, N = 30       0.072-0.076 ms   0.067-0.068 ms
-pure / libspiro        2.92-3.01        0.71-0.72
-pure, N = 1000         0.55-0.58 ms     0.27-0.30 ms
-pure / libspiro        0.41-0.42        0.20-0.21
-robust, N = 30         0.53-0.56 ms     0.26-0.27 ms
-robust, N = 1000       1.70-2.12 ms     1.03-1.09 ms
-robust / pure, N = 30  2.43-2.49        5.41-5.45
-robust / pure, 1000    2.91-3.64        3.68-3.76
+pure, N = 30           0.202-0.215 ms   0.043-0.045 ms
+libspiro, N = 30       0.068-0.071 ms   0.063-0.065 ms
+pure / libspiro        2.99-3.01        0.67-0.69
+pure, N = 1000         0.48-0.51 ms     0.25-0.26 ms
+pure / libspiro        0.36-0.39        0.19-0.20
+robust, N = 30         0.47-0.53 ms     0.23-0.25 ms
+robust, N = 1000       1.34-1.44 ms     0.87-0.93 ms
+robust / pure, N = 30  2.33-2.47        5.34-5.40
+robust / pure, 1000    2.82-2.85        3.43-3.60
 =====================  ===============  ===============
 
 Instruction counts (``valgrind --tool=callgrind``, per call, the difference
 of a run with 300 (N = 30) or 20 (N = 1000) calls and one with none, after
-``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): at N = 30
-pure 1.90 M -> 0.385 M against 0.97 M per libspiro call through this
-script's ctypes wrapper (1.95 -> 0.40 x), robust 4.29 M -> 2.15 M.
+``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): pure
+1.90 M -> 0.385 M at N = 30 (libspiro through this script's ctypes wrapper
+0.97 M: 1.95 -> 0.40 x) and 5.9 M -> 2.9 M at N = 1000 (libspiro 22 M);
+robust 4.29 M -> 2.16 M and 17.9 M -> 10.9 M.
 
 On real outlines (the last rows: every 5th of the 350 MPEG-7 masks, 70,
-reduced to N = 12 / 20 / 40 points, 3 interleaved fits each, CPU time, load
-10.5): robust 0.58 / 0.53 / 0.50 ms with the kernel against 1.50 / 1.14 /
-1.13 ms on the numpy path, pure 0.10 against 0.47 ms; the robust fits are the
-same (before and after the kernel, on every 3rd outline at N = 12 / 20 / 40,
-robust and pure, 684 fits: the same corners and kinds everywhere, segments
-within 1.2e-14, Newton iterations different in one fit).
+reduced to N = 12 / 20 / 40 points, 3 interleaved fits each, CPU time, same
+three runs): robust 0.47-0.48 / 0.45-0.48 / 0.42-0.48 ms with the kernel
+against 1.41-1.48 / 0.91-1.03 / 0.95-1.09 ms on the numpy path, pure
+0.065-0.099 ms against 0.39-0.47 ms. The robust fits are the same: before
+and after the kernel, on every 3rd outline at N = 12 / 20 / 40, robust and
+pure (684 fits), the same corners and kinds everywhere, segments within
+1.2e-14, Newton iterations different in one fit.
 
 The pure target is met with margin at both N. The robust / pure target
 (<= 3) is not, although the robust mode runs the same kernel and its time
-halved: at N = 30 the pure fit is now ~0.035 ms of CPU and what the robust
-mode adds is the robust rule's checks on the fit (``stimuli/curves/qic_rule.py``:
-polygon turns, reference deviations, segment bulge, the crossing test,
-straying nodes, ~0.14 ms of numpy calls, mostly ``np.roll`` and small
-reductions), its samples (~0.02 ms, in the kernel) and bisector tangents;
-at N = 1000 the bulge and crossing tests (~0.3 ms) and the samples
-(~0.1-0.2 ms). Halving that needs the rule's checks vectorised without
-``np.roll`` or compiled; the rule is another module's (issue 9's robust
-part).
+halved: the pure fit is now ~0.04 ms at N = 30, and the robust mode adds the
+robust rule's checks on the fit (``stimuli/curves/qic_rule.py``: polygon
+turns, reference deviations, segment bulge, the crossing test, straying
+nodes), its samples and the bisector tangents. Replacing each call in turn
+by a cached result (thread CPU time, load ~8, at commit 6180f5d) put the
+rule's checks at ~0.14 ms of the robust fit's ~0.22 ms at N = 30 (numpy
+calls on arrays of 30: mostly ``np.roll`` and small reductions) and the
+bulge and crossing tests at ~0.3 ms of ~0.87 ms at N = 1000. Reaching 3 x
+needs those checks vectorised without ``np.roll``, or compiled; the rule is
+another module's (issue 9's robust part).
 
 Usage::
 
