@@ -135,11 +135,33 @@ def polygon_turns(P, closed):
     >>> polygon_turns(np.array([[0, 0], [1, 0], [1, 1], [0, 1.]]), True).round(4).tolist()
     [1.5708, 1.5708, 1.5708, 1.5708]
     """
-    D = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
-    phi = np.arctan2(D[:, 1], D[:, 0])
+    phi = _side_angles(P, closed)
     if closed:
-        return np.abs(wrap_angle(phi - np.roll(phi, 1)))
+        d = np.empty_like(phi)
+        d[1:] = phi[1:] - phi[:-1]
+        d[0] = phi[0] - phi[-1]
+        return np.abs(wrap_angle(d))
     return np.r_[0.0, np.abs(wrap_angle(np.diff(phi))), 0.0]
+
+
+def _sides(P, closed):
+    """x and y steps of every side of the polygon, from each point to the
+    next (N sides when closed, N - 1 when open), by 1-D slices: np.roll on
+    (N, 2) arrays costs more than the arithmetic at the sizes the rule sees."""
+    x, y = P[:, 0], P[:, 1]
+    if not closed:
+        return x[1:] - x[:-1], y[1:] - y[:-1]
+    dx, dy = np.empty_like(x), np.empty_like(y)
+    np.subtract(x[1:], x[:-1], out=dx[:-1])
+    np.subtract(y[1:], y[:-1], out=dy[:-1])
+    dx[-1], dy[-1] = x[0] - x[-1], y[0] - y[-1]
+    return dx, dy
+
+
+def _side_angles(P, closed):
+    """Direction (radians) of every side of the polygon (see :func:`_sides`)."""
+    dx, dy = _sides(P, closed)
+    return np.arctan2(dy, dx)
 
 
 def polygon_is_simple(P, closed):
@@ -164,9 +186,10 @@ def reference_deviation(P, tangents):
     >>> reference_deviation(P, bisector_tangents(P, True)).round(4).tolist()
     [0.7854, 0.7854, 0.7854, 0.7854]
     """
-    D = np.roll(P, -1, axis=0) - P
-    phi = np.arctan2(D[:, 1], D[:, 0])
-    return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(np.roll(tangents, -1) - phi)))
+    phi = _side_angles(P, True)
+    nxt = np.empty_like(tangents)
+    nxt[:-1], nxt[-1] = tangents[1:], tangents[0]
+    return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(nxt - phi)))
 
 
 def segment_bulge(curve, P, closed=True):
@@ -200,14 +223,15 @@ def segment_bulge(curve, P, closed=True):
     [0.5]
     """
     seg = np.asarray(curve.segment)
-    starts = np.r_[0, np.flatnonzero(seg[1:] != seg[:-1]) + 1]
-    sides = (np.roll(P, -1, axis=0) - P) if closed else np.diff(P, axis=0)
-    h = float(np.mean(np.hypot(sides[:, 0], sides[:, 1])))
-    a = P[seg]
-    D = P[(seg + 1) % len(P)] - a
-    # |cross product| / |chord| is the distance from the chord's line
-    cross = np.abs((curve.x - a[:, 0]) * D[:, 1] - (curve.y - a[:, 1]) * D[:, 0])
-    return np.maximum.reduceat(cross / np.hypot(D[:, 0], D[:, 1]), starts) / h
+    starts = np.flatnonzero(np.diff(seg, prepend=-1))
+    dx, dy = _sides(P, closed)
+    r = np.hypot(dx, dy)
+    h = float(np.add.reduce(r)) / r.size
+    # per sample, the chord of its segment (1-D gathers: cheaper than rows of P)
+    cx, cy, ux, uy = P[:, 0][seg], P[:, 1][seg], (dx / r)[seg], (dy / r)[seg]
+    # |cross product with the unit chord| is the distance from the chord's line
+    cross = np.abs((curve.x - cx) * uy - (curve.y - cy) * ux)
+    return np.maximum.reduceat(cross, starts) / h
 
 
 def folded_corners(seg, g0, P, closed):
@@ -284,15 +308,18 @@ def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
     """Step 2 of the module notes: the G2 nodes whose tangent strays from
     the bisector tangent by more than `max_dev` (radians) and by at least as
     much as at both neighbours (`relaxed`: nodes already relaxed)."""
-    theta = np.full(N, np.nan)
-    theta[seg["start"]] = seg["theta0"]
-    dev = np.abs(wrap_angle(theta - tangents))
-    dev[list(relaxed)] = 0.0
+    dev = np.zeros(N)
+    start = seg["start"]
+    dev[start] = np.abs(wrap_angle(seg["theta0"] - tangents[start]))
+    if relaxed:
+        dev[list(relaxed)] = 0.0
     if not closed:
         dev[0] = dev[-1] = 0.0
-    dev = np.nan_to_num(dev)
-    peak = (dev > max_dev) & (dev >= np.roll(dev, 1)) & (dev >= np.roll(dev, -1))
-    return np.flatnonzero(peak)
+    # a peak: above max_dev and at least its neighbours' (cyclic)
+    prev, nxt = np.empty_like(dev), np.empty_like(dev)
+    prev[1:], prev[0] = dev[:-1], dev[-1]
+    nxt[:-1], nxt[-1] = dev[1:], dev[0]
+    return np.flatnonzero((dev > max_dev) & (dev >= prev) & (dev >= nxt))
 
 
 def hold_straying_nodes(seg, N, closed, g0, held, tangents, turns, corner_turn, max_dev):
