@@ -168,7 +168,8 @@ def polygon_is_simple(P, closed):
     """Whether the polygon (closed) or polyline of the points is simple (GEOS)."""
     import shapely
 
-    return bool(shapely.is_simple(shapely.LinearRing(P) if closed else shapely.LineString(P)))
+    # the vectorised constructors: the geometry classes cost more than GEOS's test at N = 30
+    return bool(shapely.is_simple(shapely.linearrings(P) if closed else shapely.linestrings(P)))
 
 
 def reference_deviation(P, tangents):
@@ -288,20 +289,38 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
         turns there as the polygon does).
     """
     start = seg["start"]
+    turn = seg["turn"]
     limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[start] + CHORD_MARGIN)
-    bad = (seg["turn"] > np.pi) | (seg["chord_dev"] > limit)
-    if bulge is not None:
-        t0, t1 = turns[start], turns[(start + 1) % len(turns)]
+    bad = (turn > np.pi) | (seg["chord_dev"] > limit)
+    # steps 3d-e only for segments that bulge enough to fail one of them (few, on smooth curves none)
+    big = None if bulge is None else np.flatnonzero(bulge > min(SHARP_BULGE, EXCESS_BULGE))
+    if big is not None and big.size:
+        a, b = start[big], (start[big] + 1) % len(turns)
         sharp = turns > corner_turn
-        sharp[list(g0)] = False
-        bad |= (bulge > SHARP_BULGE) & (sharp[start] | sharp[(start + 1) % len(turns)])
-        bad |= (bulge > EXCESS_BULGE) & (seg["turn"] - 0.5 * (t0 + t1) > MAX_EXCESS)
+        if g0:
+            sharp[list(g0)] = False
+        bad[big] |= (bulge[big] > SHARP_BULGE) & (sharp[a] | sharp[b])
+        bad[big] |= (bulge[big] > EXCESS_BULGE) & (turn[big] - 0.5 * (turns[a] + turns[b]) > MAX_EXCESS)
     for e in folded:
         bad[(start == e) | ((start + 1) % len(ref_dev) == e)] = True
-    if curve is not None:
+    if curve is not None and not _sampled_curve_is_simple(curve):
         for s in self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed):
             bad[np.flatnonzero(start == s)] = True
     return np.flatnonzero(bad)
+
+
+def _sampled_curve_is_simple(curve):
+    """GEOS's simplicity test on the samples as they are: the segments' shared
+    end points repeat, which GEOS ignores, so the copy without them that
+    :func:`~stimuli.curves.metrics.self_crossing_segments` makes (and its
+    segment-by-segment search) is needed only when the curve does cross
+    itself (5x cheaper at N = 1000 on a simple curve)."""
+    import shapely
+
+    xy = np.column_stack((curve.x, curve.y))
+    if len(xy) < 4:
+        return False
+    return bool(shapely.is_simple(shapely.linearrings(xy) if curve.closed else shapely.linestrings(xy)))
 
 
 def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
