@@ -224,3 +224,48 @@ def test_robust_pieces_between_corners_are_the_open_g2_splines():
             np.testing.assert_allclose(sp.length[j], ref.length, rtol=1e-9)
             checked += 1
     assert checked >= 5
+
+
+def test_crossing_precheck_agrees_with_the_segment_search():
+    # the rule tests GEOS's simplicity on the samples as they are (shared end
+    # points repeated) and searches segment by segment only when that fails:
+    # a figure eight must be found, with the segments that cross, and a
+    # circle sampled the same way must not
+    from types import SimpleNamespace
+
+    from stimuli.curves.qic_rule import bad_segments
+
+    def sampled(points, per=5):
+        # straight segments between consecutive points, both ends included
+        t = np.linspace(0, 1, per)
+        P = np.asarray(points, float)
+        Q = np.roll(P, -1, axis=0)
+        xy = np.concatenate([P[i] + t[:, None] * (Q[i] - P[i]) for i in range(len(P))])
+        return SimpleNamespace(x=xy[:, 0], y=xy[:, 1], segment=np.repeat(np.arange(len(P)), per), closed=True)
+
+    a = (np.arange(12) + 0.5) * np.pi / 6
+    circle = np.c_[np.cos(a), np.sin(a)]
+    eight = np.c_[np.sin(a), np.sin(a) * np.cos(a)]  # crosses itself at the origin
+    seg = dict(start=np.arange(12), turn=np.zeros(12), chord_dev=np.zeros(12))
+    assert bad_segments(seg, sampled(circle), np.zeros(12)).size == 0
+    # the sides through the origin: a from 165 to 195 degrees (segment 5) and
+    # from 345 to 15 degrees (segment 11)
+    assert bad_segments(seg, sampled(eight), np.zeros(12)).tolist() == [5, 11]
+
+
+def test_segment_bulge_of_an_open_polyline():
+    # open points: the mean chord has N - 1 sides; a right-angled vee of
+    # sides 3 and 4 sampled straight has zero bulge, a half circle over the
+    # first side bulges by half of it
+    from types import SimpleNamespace
+
+    P = np.array([[0.0, 0.0], [3.0, 0.0], [3.0, 4.0]])
+    t = np.linspace(0, 1, 11)
+    xy = np.concatenate([P[0] + t[:, None] * (P[1] - P[0]), P[1] + t[:, None] * (P[2] - P[1])])
+    c = SimpleNamespace(x=xy[:, 0], y=xy[:, 1], segment=np.repeat([0, 1], 11))
+    np.testing.assert_allclose(segment_bulge(c, P, closed=False), 0.0, atol=1e-12)
+    u = np.linspace(np.pi, 0, 201)
+    arc = SimpleNamespace(x=1.5 + 1.5 * np.cos(u), y=-1.5 * np.sin(u), segment=np.zeros(201, int))
+    line = SimpleNamespace(x=np.full(11, 3.0), y=4 * t, segment=np.ones(11, int))
+    both = SimpleNamespace(x=np.r_[arc.x, line.x], y=np.r_[arc.y, line.y], segment=np.r_[arc.segment, line.segment])
+    np.testing.assert_allclose(segment_bulge(both, P, closed=False), [1.5 / 3.5, 0.0], atol=1e-12)
