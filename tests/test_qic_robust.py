@@ -74,7 +74,7 @@ def test_robust_qic_on_jagged_outlines(n):
         cc = polynomial_spline(P, 3).sample(16)
         dist_cubic.append(tree.query(np.c_[cc.x, cc.y])[0].max())
     # issue 9's limits are 10 / 10 / 5 % of the nodes on MPEG-7 outlines at
-    # N = 12 / 20 / 40 (benchmarks/validate_spline.py: 9.5 / 8.7 / 4.5 %).
+    # N = 12 / 20 / 40 (benchmarks/validate_spline.py: 9.7 / 8.9 / 4.6 %).
     # These synthetic outlines are more jagged than MPEG-7's at the same N
     # (polygon turns over 90 degrees: 31 % of the nodes at N = 20 against
     # 18 %, 25 % at N = 40 against 10 %), and the rule relaxes more of them:
@@ -290,3 +290,23 @@ def test_star_outlines_end_without_crossing(P):
     c = sp.sample(64)
     assert self_intersections(c.x, c.y) == 0
     assert segment_turning(c.s, c.curvature, c.segment, c.theta).max() <= np.pi
+
+
+def test_isolated_sharp_turn_becomes_a_g0_corner():
+    # MPEG-7 bat-4 reduced to 12 points (rounded to 0.1 px): the polygon turns
+    # by 108 and 124 degrees at nodes 3 and 9, below CORNER_TURN (126), but
+    # by more than 45 degrees more than at their neighbours (30 / 48 and
+    # 61 / 2): sharp nodes (a corner of the outline sampled by one point);
+    # the segments beside them bulge, and the rule makes both G0 corners
+    from stimuli.curves.qic_rule import CORNER_TURN, polygon_turns, sharp_nodes
+
+    P = np.array([[464.9, 401.2], [474.9, 263.6], [555.7, 107.2], [551.3, 7.4], [402.2, 64.7],
+                  [345.6, 212.9], [286.9, 201.2], [246.9, 242.2], [95.1, 231.4], [20.2, 345.6],
+                  [190.8, 344.8], [340.4, 350.0]])
+    turns = polygon_turns(P, True)
+    assert turns[[3, 9]].max() < CORNER_TURN
+    assert np.flatnonzero(sharp_nodes(turns)).tolist() == [0, 3, 9]
+    sp = qic_spline(P)
+    assert dict(zip(sp.corners, sp.corner_kinds)) == {3: "G0", 9: "G0"}
+    # with no G0 corners allowed the same rule holds node 3 at its bisector (G1) instead
+    assert "G0" not in qic_spline(P, corner_turn=np.pi).corner_kinds
