@@ -17,6 +17,10 @@ spline method. Per N and method the script prints:
   curve to the dense outline, divided by the outline's perimeter, and its
   ratio to scipy's periodic ``CubicSpline`` through the same points.
 
+With ``--halves`` every N also gets the rows of two fixed halves, the
+outlines at even and at odd places in the sorted folder (a check that a
+figure holds on outlines other than those a constant was chosen on).
+
 Targets (issue 9): cross <= 1 %, turn>pi = 0, extrema = 0, g2 <= 1e-10,
 corners <= 10 % at N = 12, 20 and <= 5 % at N = 40, p90 ratio <= 1.1.
 
@@ -31,7 +35,7 @@ spline on the same points (median of 7 runs; issue 9: robust <= 3x pure).
 Usage::
 
     python benchmarks/validate_spline.py [--data DIR] [--n 12 20 40 80] [--limit K]
-        [--every K [--rest]] [--methods qic qic-g2 cubic]
+        [--every K [--rest]] [--halves] [--methods qic qic-g2 cubic]
     python benchmarks/validate_spline.py --curved 600 [--seed 11]
     python benchmarks/validate_spline.py --jagged 100 [--seed 11]
 """
@@ -59,15 +63,15 @@ SAMPLES = 32
 
 
 def outlines(folder, limit=None, every=1, rest=False):
-    """(name, dense Contour) of every PNG mask in `folder`, sorted by name
-    (every `every`-th file, or with `rest` all the others; the first `limit`
-    of those)."""
-    files = sorted(Path(folder).glob("*.png"))
-    files = [f for i, f in enumerate(files) if i % every] if rest else files[::every]
+    """(position, name, dense Contour) of every PNG mask in `folder`, sorted
+    by name (every `every`-th file, or with `rest` all the others; the first
+    `limit` of those); position is the file's place in the sorted folder."""
+    files = list(enumerate(sorted(Path(folder).glob("*.png"))))
+    files = [(i, f) for i, f in files if i % every] if rest else files[::every]
     files = files[:limit]
-    for f in files:
+    for i, f in files:
         try:
-            yield f.name, extract(str(f), method="mask").contour
+            yield i, f.name, extract(str(f), method="mask").contour
         except InputError as exc:
             print(f"skip {f.name}: {exc}", file=sys.stderr)
 
@@ -153,6 +157,26 @@ def jagged_speed(k, seed, repeats=7):
           f"pure G2 {pure:.2f} ms, robust / pure {robust / pure:.1f}; {100 * relaxed:.1f}% of nodes relaxed")
 
 
+def report(n, label, rows, simple):
+    """One table row per method: the measures over `simple` shapes."""
+    ref = None
+    if "cubic" in rows:
+        ref = np.percentile([r["dist"] for r in rows["cubic"] if r], 90)
+    for m, found in rows.items():
+        ok = [r for r in found if r]
+        fail = len(found) - len(ok)
+        cross = 100.0 * sum(r["crosses"] for r in ok) / max(simple, 1)
+        turn = sum(r["turn"] > np.pi for r in ok)
+        ext = sum(r["extrema"] > 0 for r in ok)
+        g2 = max((r["g2"] for r in ok), default=0.0)
+        corners = 100.0 * sum(r["corners"] for r in ok) / max(n * len(ok), 1)
+        p90 = np.percentile([r["dist"] for r in ok], 90) if ok else float("nan")
+        ratio = p90 / ref if ref else float("nan")
+        ms = 1e3 * np.median([r["seconds"] for r in ok]) if ok else float("nan")
+        print(f"{n:>4} {label:>5} {m:>8} {simple:>6} {fail:>5} {cross:>6.1f}% {turn:>8} {ext:>8} {g2:>8.1e} "
+              f"{corners:>7.1f}% {p90:>9.4f} {ratio:>7.2f} {ms:>7.2f}", flush=True)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", default=str(Path(__file__).resolve().parents[1] / ".." / "shared" / "data" / "mpeg7"))
@@ -160,6 +184,8 @@ def main(argv=None):
     ap.add_argument("--limit", type=int, default=None, help="first K files only")
     ap.add_argument("--every", type=int, default=1, help="every K-th file only")
     ap.add_argument("--rest", action="store_true", help="with --every K: the files --every K leaves out")
+    ap.add_argument("--halves", action="store_true",
+                    help="also the measures on each of two fixed halves (even / odd places in the sorted folder)")
     ap.add_argument("--methods", nargs="+", default=["qic", "qic-g2", "cubic"])
     ap.add_argument("--curved", type=int, default=None, metavar="K",
                     help="measure attneave_curved's qic acceptance on K polygons instead")
@@ -178,38 +204,29 @@ def main(argv=None):
     header("validate_spline: splines through real outlines reduced to N points")
     t0 = time.perf_counter()
     shapes = []
-    for name, c in outlines(args.data, args.limit, args.every, args.rest):
+    for pos, name, c in outlines(args.data, args.limit, args.every, args.rest):
         dense = c.resample(spacing=0.25).points
-        shapes.append((name, c, cKDTree(dense), c.perimeter))
+        shapes.append((pos, c, cKDTree(dense), c.perimeter))
     print(f"{len(shapes)} outlines from {args.data} ({time.perf_counter() - t0:.1f} s)")
-    print(f"{'N':>4} {'method':>8} {'shapes':>6} {'fail':>5} {'cross':>7} {'turn>pi':>8} {'extrema':>8} "
+    subsets = {"all": lambda pos: True}
+    if args.halves:
+        # two fixed halves: the outlines at even and at odd places in the sorted folder
+        subsets.update({"even": lambda pos: pos % 2 == 0, "odd": lambda pos: pos % 2 == 1})
+    print(f"{'N':>4} {'set':>5} {'method':>8} {'shapes':>6} {'fail':>5} {'cross':>7} {'turn>pi':>8} {'extrema':>8} "
           f"{'g2':>8} {'corners':>8} {'p90 dist':>9} {'/cubic':>7} {'ms':>7}")
     for n in args.n:
         rows = {m: [] for m in args.methods}
-        simple = 0
-        for name, c, tree, per in shapes:
+        where = []
+        for pos, c, tree, per in shapes:
             P = c.resample(n).points
             if not shapely.is_simple(shapely.LinearRing(P)):
                 continue
-            simple += 1
+            where.append(pos)
             for m in args.methods:
                 rows[m].append(measure(P, tree, per, m))
-        ref = None
-        if "cubic" in rows:
-            ref = np.percentile([r["dist"] for r in rows["cubic"] if r], 90)
-        for m in args.methods:
-            ok = [r for r in rows[m] if r]
-            fail = len(rows[m]) - len(ok)
-            cross = 100.0 * sum(r["crosses"] for r in ok) / max(simple, 1)
-            turn = sum(r["turn"] > np.pi for r in ok)
-            ext = sum(r["extrema"] > 0 for r in ok)
-            g2 = max((r["g2"] for r in ok), default=0.0)
-            corners = 100.0 * sum(r["corners"] for r in ok) / max(n * len(ok), 1)
-            p90 = np.percentile([r["dist"] for r in ok], 90) if ok else float("nan")
-            ratio = p90 / ref if ref else float("nan")
-            ms = 1e3 * np.median([r["seconds"] for r in ok]) if ok else float("nan")
-            print(f"{n:>4} {m:>8} {simple:>6} {fail:>5} {cross:>6.1f}% {turn:>8} {ext:>8} {g2:>8.1e} "
-                  f"{corners:>7.1f}% {p90:>9.4f} {ratio:>7.2f} {ms:>7.2f}", flush=True)
+        for label, keep in subsets.items():
+            sel = [k for k, pos in enumerate(where) if keep(pos)]
+            report(n, label, {m: [r[k] for k in sel] for m, r in rows.items()}, len(sel))
     print(f"total {time.perf_counter() - t0:.0f} s")
 
 
