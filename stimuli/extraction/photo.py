@@ -50,6 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
 from stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
                                         largest_filled, to_bgr8)
 
@@ -58,9 +59,6 @@ __all__ = ["WORK_PIXELS", "BOX_BAND", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", 
 
 #: GrabCut runs on at most this many pixels (larger photos are reduced).
 WORK_PIXELS = 250_000
-#: Box mode: the fraction of the box's size along each of its sides held as probable background
-#: (a box drawn with a 5 % margin around the object leaves 0.05 / 1.1 of its size empty on each side).
-BOX_BAND = 0.045
 #: Scribble colours (RGB): object strokes pure red, background strokes pure blue.
 SCRIBBLE_OBJECT = (255, 0, 0)
 SCRIBBLE_BACKGROUND = (0, 0, 255)
@@ -168,19 +166,20 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         second = largest_filled(grabcut(small, labels=labels, iterations=iterations))
         mode = "scribbles" if box is None else "box+scribbles"
     elif sbox is not None:
-        # the answer: GrabCut in CIE Lab with the box's inner band held as
-        # probable background; the check: plain GrabCut on the RGB photo
-        lab = cv2.cvtColor(small, cv2.COLOR_BGR2LAB)
-        second = largest_filled(grabcut(lab, labels=box_labels(lab.shape, sbox, BOX_BAND), iterations=iterations))
-        first = largest_filled(grabcut(small, box=sbox, iterations=iterations))
-        if _degenerate(second, sbox) and not _degenerate(first, sbox):
-            # the band can leave a small object no room (nothing left), or
-            # Lab merge it into the background; the plain answer is then the better
-            second = first
-        if np.count_nonzero(second) < 0.01 * sbox[2] * sbox[3]:
-            # the colour models took (nearly) everything for background: a person's box
+        # several GrabCut hypotheses; the one whose outline separates colours
+        # best and reaches the box's sides is the answer (see boxcut)
+        masks = box_hypotheses(small, sbox, iterations)
+        chosen, scores = choose_hypothesis(small[:, :, ::-1], sbox, masks)
+        if chosen is None:
+            # every hypothesis took (nearly) nothing or the whole box: a person's box
             # is centred on the object, so its core is held as object
             second = largest_filled(grabcut(smooth, labels=_core_labels(smooth.shape, sbox), iterations=iterations))
+            first = second
+        else:
+            second = masks[chosen]
+            # the check: the next best hypothesis (or itself when it is the only one with a boundary)
+            rest = sorted((v, k) for k, v in scores.items() if k != chosen and np.isfinite(v))
+            first = masks[rest[0][1]] if rest else second
         mode = "box"
     else:
         # in CIE Lab: raised the median IoU on both halves of both groups of the development photos
@@ -208,13 +207,9 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         mask &= inside
     params = dict(mode=mode, box=None if box is None else list(box), scale=scale, iterations=int(iterations),
                   agreement=float(agreement), competing=competing)
+    if mode == "box":
+        params.update(hypothesis=chosen, scores=scores)
     return PhotoMask(mask, float(agreement), params)
-
-
-def _degenerate(mask, box):
-    """Whether a box-mode answer is empty or fills (nearly) its whole box, i.e. found no boundary."""
-    n = np.count_nonzero(mask)
-    return n == 0 or n >= 0.99 * box[2] * box[3]
 
 
 def _core_labels(shape, box, core=0.2):

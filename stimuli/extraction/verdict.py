@@ -79,13 +79,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "boundary_contrast", "photo_measures"]
+__all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "boundary_contrast", "photo_measures",
+           "box_verified"]
 
 #: Methods whose outlines are never ``ok`` (see the module notes).
 UNVERIFIABLE = ("photo", "grabcut", "model")
 #: Thresholds of the verdict's measures (see the module notes).
 THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=2.0, competing=0.5, agreement=0.95,
-                  box=0.05, box_gap=0.2, colour_error=0.15, edge_support=0.8)
+                  box=0.05, box_gap=0.2, colour_error=0.15, edge_support=0.8, box_ok_colour_error=0.031,
+                  box_ok_gap=0.114)
 #: The measures of :mod:`stimuli.extraction.quality` (None for outlines not from photographs).
 PHOTO_MEASURES = ("colour_error", "edge_support", "box_contact", "box_gap")
 
@@ -244,11 +246,45 @@ def judge(image, extraction, decoder=(), thresholds=None):
         reasons.append(f"only {100 * photo['edge_support']:.0f}% of the outline lies on an image edge")
     if decoder:
         reasons.append("decoder: " + " | ".join(decoder))
-    if method in UNVERIFIABLE:
+    if method in UNVERIFIABLE and not box_verified(p, photo, th):
         reasons.append(f"figure-ground of a photograph ({method}) cannot be verified: check the overlay")
     measures = dict(frame=frame, fill=fill, contrast=contrast, competing=competing, agreement=agreement,
                     **photo, decoder=list(decoder))
     return Verdict("suspect" if reasons else "ok", reasons, measures)
+
+
+def box_verified(params, measures, thresholds=None):
+    """Whether a box-mode photo outline passes the calibrated ``ok`` rule (see the module notes).
+
+    Parameters
+    ----------
+    params : dict
+        The extraction's parameters (``mode`` must be ``'box'``).
+    measures : dict
+        As :func:`photo_measures` gives.
+    thresholds : dict, optional
+        Overrides of :data:`THRESHOLDS` (``box_ok_colour_error``, ``box_ok_gap``).
+
+    Returns
+    -------
+    bool
+        True when the outline was found from a box alone and its colour
+        error and its gap to the box are both at most their ``box_ok_*``
+        thresholds; the other measures still give their own reasons.
+
+    Examples
+    --------
+    >>> box_verified({"mode": "box"}, {"colour_error": 0.02, "box_gap": 0.05})
+    True
+    >>> box_verified({"mode": "box"}, {"colour_error": 0.02, "box_gap": 0.2})  # a part may be missing
+    False
+    >>> box_verified({"mode": "auto"}, {"colour_error": 0.0, "box_gap": None})
+    False
+    """
+    th = {**THRESHOLDS, **(thresholds or {})}
+    ce, gap = measures.get("colour_error"), measures.get("box_gap")
+    return (params.get("mode") == "box" and ce is not None and gap is not None
+            and ce <= th["box_ok_colour_error"] and gap <= th["box_ok_gap"])
 
 
 def photo_measures(image, extraction):
