@@ -8,7 +8,9 @@ are reduced for the search and the mask brought back to full size):
 * automatic (no box, no scribbles): GrabCut (in CIE Lab) from the photo
   inset by 5 % is the answer; GrabCut again from the box around what it found (5 %
   margin) is a second hypothesis, and the agreement (IoU) of the two is a
-  measure of how sure the answer is (it feeds the verdict);
+  measure of how sure the answer is (it feeds the verdict); median IoU on
+  the development photos 0.725 horses (halves A / B 0.718 / 0.730) and
+  0.590 objects (0.688 / 0.414);
 * a box ``(x, y, width, height)``: outside is background; GrabCut runs
   from four starts (:mod:`stimuli.extraction.boxcut`: CIE Lab with a band
   of :data:`~stimuli.extraction.boxcut.BOX_BAND` of the box's size along
@@ -29,7 +31,8 @@ are reduced for the search and the mask brought back to full size):
   objects) are not met. Tried and dropped: guided-filter and SLIC
   superpixel snapping of the mask and 10 GrabCut iterations (51 photos:
   median level or lower), more starts (cores of 0.6 and 0.8, GrabCut on
-  a copy reduced to 0.7x: the choice no better), GrabCut on a copy
+  a copy reduced to 0.7x, Lab from the plain box: the choice no better;
+  RGB with the band: one objects photo better, level elsewhere), GrabCut on a copy
   enlarged 1.5-2x (13 horses: gains and losses of up to 0.4 IoU photo by
   photo, mean level).
   When every hypothesis finds (nearly) nothing or the whole box, GrabCut
