@@ -110,9 +110,8 @@ def hypothesis_score(image, mask, box):
     Examples
     --------
     >>> import numpy as np
-    >>> img = np.zeros((80, 80, 3), np.uint8); img[...] = (40, 120, 40)
-    >>> img[20:60, 20:60] = (220, 30, 30)
     >>> truth = np.zeros((80, 80), bool); truth[20:60, 20:60] = True
+    >>> img = np.where(truth, 230, 30).astype(np.uint8)  # a light square on a dark ground
     >>> float(hypothesis_score(img, truth, (18, 18, 44, 44)))
     0.0
     >>> # a box reaching 20 px further down: the outline falls 22 px (of 64) short of its bottom

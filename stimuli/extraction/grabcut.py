@@ -126,17 +126,15 @@ def core_labels(shape, box, core=0.7):
 
     Parameters
     ----------
-    shape : tuple
-        ``(H, W, ...)`` of the image.
-    box : (x, y, width, height)
-        Image pixels, inside the image (as :func:`check_box` gives).
+    shape, box
+        As for :func:`box_labels`.
     core : float
         The ellipse's axes as a fraction of the box's width and height.
 
     Returns
     -------
     (H, W) uint8 ndarray
-        ``BGD, FGD, PR_BGD, PR_FGD`` = 0, 1, 2, 3.
+        The labels, as :func:`box_labels` gives them.
 
     Examples
     --------
