@@ -16,9 +16,12 @@ measures and the half ``A``/``B`` the photo belongs to) and, per mode
    other half against the Must show of issue 10 (precision >= 0.9, no ok
    below IoU 0.5).
 
-A rule that holds on the half it was not chosen on, in both directions and
-both modes, is a candidate for the verdict; otherwise photographs stay
-``unverifiable`` (see :mod:`stimuli.extraction.verdict`).
+A rule that holds on the half it was not chosen on, in both directions, is
+a candidate for the verdict of that mode; otherwise its photographs stay
+``unverifiable`` (see :mod:`stimuli.extraction.verdict`). When both
+halves chose the same measures, the rule of the stricter threshold of
+each (an outline ok by it is ok by both) is printed with its figures on
+each half: that is the rule the verdict uses for box mode.
 
 Usage: python benchmarks/calibrate_verdict.py PHOTOS.csv [--max-measures 3] [--tune-precision 0.95]
        [--tune-min 0.6] [--min-ok 3] [--measures colour_error,box_gap]
@@ -81,7 +84,12 @@ def main(argv=None):
     import pandas as pd
     from scipy.stats import spearmanr
 
-    df = pd.read_csv(args.csv)
+    try:
+        df = pd.read_csv(args.csv)
+    except (OSError, ValueError) as exc:
+        print(f"calibrate_verdict: {args.csv}: cannot read ({exc}); expected the CSV of validate_photos.py --csv",
+              file=sys.stderr)
+        return 2
     missing = {"mode", "iou", "half"} - set(df.columns)
     if missing:
         print(f"calibrate_verdict: {args.csv}: no column(s) {', '.join(sorted(missing))}; "
@@ -95,6 +103,7 @@ def main(argv=None):
         print(f"== {mode}: {len(g)} outlines, {np.mean(g.iou >= 0.8):.2f} with IoU >= 0.8")
         rho = {m: spearmanr(g[m], g.iou, nan_policy="omit").statistic for m in measures}
         print("   Spearman rho with IoU: " + ", ".join(f"{m} {r:+.2f}" for m, r in rho.items()))
+        chosen = []
         for tune, check in (("A", "B"), ("B", "A")):
             t, c = g[g.half == tune], g[g.half == check]
             rule = best_rule(t, measures, args.max_measures, args.tune_precision, args.tune_min, args.min_ok)
@@ -103,6 +112,7 @@ def main(argv=None):
                 held = False
                 continue
             combo, ths, (n, prec, low) = rule
+            chosen.append(dict(zip(combo, ths)))
             sel = np.ones(len(c), bool)
             for m, th in zip(combo, ths):
                 sel &= passes(c[m].to_numpy(float), GOOD[m], th)
@@ -113,6 +123,16 @@ def main(argv=None):
             print(f"   tuned on {tune}: {text}: ok {n}/{len(t)}, precision {prec:.2f}, min IoU {low:.2f}; "
                   f"on {check}: ok {cn}/{len(c)}, precision {cprec:.2f}, min IoU {clow:.2f} "
                   f"-> {'holds' if ok else 'fails'}")
+        if len(chosen) == 2 and set(chosen[0]) == set(chosen[1]):
+            # both halves chose the same measures: the stricter threshold of each, checked on each half
+            strict = {m: min(chosen[0][m], chosen[1][m], key=lambda t: -GOOD[m] * t) for m in chosen[0]}
+            text = " and ".join(f"{m} {'>=' if GOOD[m] > 0 else '<='} {th:.3g}" for m, th in strict.items())
+            for half, c in g.groupby("half"):
+                sel = np.ones(len(c), bool)
+                for m, th in strict.items():
+                    sel &= passes(c[m].to_numpy(float), GOOD[m], th)
+                cn, cprec, clow = figures(sel, c.iou.to_numpy(float))
+                print(f"   both rules ({text}) on {half}: ok {cn}/{len(c)}, precision {cprec:.2f}, min IoU {clow:.2f}")
     print("verdict: a rule held on the unseen half in every case" if held else
           "verdict: no rule held on the unseen half in every case; photographs stay unverifiable")
     return 0

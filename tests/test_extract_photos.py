@@ -132,9 +132,14 @@ def test_box_and_automatic_recover_a_photographed_object():
     boxed = extract(img, method="auto", boxes=[(44, 24, 72, 62)])
     assert boxed.params["mode"] == "box"
     assert _iou(boxed.contour, truth) > 0.9
-    # a photograph's figure-ground is never certified (see stimuli.extraction.verdict)
-    v = judge(img, boxed)
+    # the automatic figure-ground of a photograph is never certified; from a box, an outline
+    # whose two sides' colours do not overlap and that reaches every side of the box passes
+    # the calibrated rule (see stimuli.extraction.verdict)
+    v = judge(img, auto)
     assert v.status == "suspect" and "cannot be verified" in v.reason and len(v.reasons) == 1
+    v = judge(img, boxed)
+    assert v.status == "ok", v.reason
+    assert v.measures["colour_error"] <= 0.031 and v.measures["box_gap"] == pytest.approx(6 / 62, abs=0.01)  # 6 px of the 62 rows
 
 
 def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):

@@ -93,12 +93,12 @@ def test_edge_support_on_and_off_a_rendered_edge():
     assert edge_support(img, d) == pytest.approx(np.pi / (np.pi + 2), abs=0.04)
 
 
-def _photo_extraction(mask, box=None):
+def _photo_extraction(mask, box=None, mode="auto"):
     from stimuli.extraction.outlines import Extraction
 
     ys, xs = np.nonzero(mask)
     c = _square(xs.min(), ys.min(), xs.max() + 1, ys.max() + 1).resample(spacing=0.5)
-    params = dict(method="auto", resolved="photo", objects="largest", box=box)
+    params = dict(method="auto", resolved="photo", objects="largest", box=box, mode=mode)
     return Extraction([c], [[]], mask, params)
 
 
@@ -120,6 +120,30 @@ def test_verdict_names_a_leaked_outline_and_a_box_that_cuts():
     v = judge(img, _photo_extraction(truth, box=(16, 16, 48, 80)))
     assert v.measures["box_gap"] == pytest.approx(36 / 80)
     assert "falls short of its box by 45%" in v.reason
+
+def test_box_outline_is_ok_only_when_its_colours_part_and_it_reaches_the_box():
+    img = _two_colour()
+    truth = np.zeros(img.shape[:2], bool)
+    truth[20:60, 20:60] = True
+    # the true outline in a box drawn 2 px around it (gap 2 / 44): the calibrated rule holds
+    v = judge(img, _photo_extraction(truth, box=(18, 18, 44, 44), mode="box"))
+    assert v.status == "ok" and v.reasons == []
+    # the same outline, found without a box, is not certified
+    v = judge(img, _photo_extraction(truth, box=None, mode="auto"))
+    assert v.status == "suspect" and "cannot be verified" in v.reason
+    # a box reaching 6 px further down (gap 8 / 50: above the rule's 0.114, below the 0.2 that
+    # names a missing part): not certified, and no other reason
+    v = judge(img, _photo_extraction(truth, box=(18, 18, 44, 50), mode="box"))
+    assert v.measures["box_gap"] == pytest.approx(8 / 50)
+    assert v.status == "suspect" and v.reasons == [
+        "figure-ground of a photograph (photo) cannot be verified: check the overlay"]
+    # an outline through one colour (the object's top half cut off, the box on what is left):
+    # colour error 0.5 of the half left inside and outside
+    half = truth.copy()
+    half[20:40] = False
+    v = judge(img, _photo_extraction(half, box=(18, 38, 44, 24), mode="box"))
+    assert v.measures["colour_error"] > 0.031 and v.status == "suspect"
+
 
 def test_silhouettes_get_no_photo_measures():
     from stimuli.extraction import extract

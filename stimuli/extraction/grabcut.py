@@ -18,7 +18,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "grabcut", "largest_filled"]
+__all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "core_labels", "grabcut", "largest_filled"]
 
 #: GrabCut's labels (as cv2.GC_BGD, GC_FGD, GC_PR_BGD, GC_PR_FGD).
 BGD, FGD, PR_BGD, PR_FGD = 0, 1, 2, 3
@@ -107,6 +107,54 @@ def box_labels(shape, box, band=0.0):
         labels[y + by : y + bh - by, x + bx : x + bw - bx] = PR_FGD
     else:
         labels[y : y + bh, x : x + bw] = PR_FGD
+    return labels
+
+
+def core_labels(shape, box, core=0.7):
+    """GrabCut labels for a box around an object that fills only part of it: sure background
+    outside, probably object on the central ellipse of `core` times the box's width and height,
+    probably background on the rest of the box.
+
+    GrabCut learns its first colour models from the initial labels; with
+    the whole box as probable object (:func:`box_labels`) an object that
+    fills a third of its box (a horse: legs apart, background between
+    them) gets an object model that is two thirds background, and the
+    background inside the box then stays object. Starting from the box's
+    centre instead, the object model begins mostly on the object, and the
+    iterations give its outer parts (legs, tail) back to it where their
+    colours are the object's.
+
+    Parameters
+    ----------
+    shape, box
+        As for :func:`box_labels`.
+    core : float
+        The ellipse's axes as a fraction of the box's width and height.
+
+    Returns
+    -------
+    (H, W) uint8 ndarray
+        The labels, as :func:`box_labels` gives them.
+
+    Examples
+    --------
+    >>> core_labels((7, 9), (1, 1, 7, 5), core=0.6)
+    array([[0, 0, 0, 0, 0, 0, 0, 0, 0],
+           [0, 2, 2, 2, 2, 2, 2, 2, 0],
+           [0, 2, 2, 2, 3, 3, 2, 2, 0],
+           [0, 2, 3, 3, 3, 3, 3, 2, 0],
+           [0, 2, 2, 2, 3, 3, 2, 2, 0],
+           [0, 2, 2, 2, 2, 2, 2, 2, 0],
+           [0, 0, 0, 0, 0, 0, 0, 0, 0]], dtype=uint8)
+    """
+    import cv2
+
+    labels = np.full(shape[:2], BGD, np.uint8)
+    x, y, bw, bh = box
+    labels[y : y + bh, x : x + bw] = PR_BGD
+    centre = (x + bw // 2, y + bh // 2)
+    axes = (max(1, int(core * bw / 2)), max(1, int(core * bh / 2)))
+    cv2.ellipse(labels, centre, axes, 0, 0, 360, PR_FGD, thickness=-1)
     return labels
 
 

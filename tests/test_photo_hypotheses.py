@@ -1,0 +1,62 @@
+"""Box mode's hypotheses and the choice among them (stimuli.extraction.boxcut), on
+constructed photos whose true object is known."""
+
+import numpy as np
+
+from stimuli.extraction.boxcut import HYPOTHESES, box_hypotheses, choose_hypothesis, hypothesis_score
+from stimuli.extraction.grabcut import to_bgr8
+from stimuli.extraction.photo import box_around, mask_iou, segment_photo
+
+
+def _two_colour():
+    img = np.empty((80, 100, 3), np.uint8)
+    img[...] = (40, 120, 40)
+    img[20:60, 30:70] = (220, 30, 30)
+    truth = np.zeros(img.shape[:2], bool)
+    truth[20:60, 30:70] = True
+    return img, truth
+
+
+def test_the_true_outline_is_chosen_over_a_missing_part_and_the_whole_box():
+    img, truth = _two_colour()
+    box = (28, 18, 44, 44)
+    short = truth.copy()
+    short[45:] = False  # the lower part missing: 15 of 44 rows short of the box
+    whole = np.zeros_like(truth)
+    whole[18:62, 28:72] = True  # no boundary found
+    masks = dict(short=short, whole=whole, true=truth)
+    name, scores = choose_hypothesis(img, box, masks)
+    assert name == "true" and scores["true"] == 0.0
+    assert scores["whole"] == np.inf
+    # the missing part: its outline's colours part cleanly (error 0 near the outline's sides
+    # and top), but on the cut the object's red lies on both sides
+    assert scores["short"] > 0.5 * (17 / 44 - 0.12)
+    # nothing found by any hypothesis: no choice
+    assert choose_hypothesis(img, box, dict(none=np.zeros_like(truth), whole=whole))[0] is None
+
+
+def test_score_penalises_only_a_gap_beyond_the_free_margin():
+    img, truth = _two_colour()
+    # the true outline in boxes of growing height below it: no penalty up to 12 % of the box
+    near = hypothesis_score(img, truth, (28, 18, 44, 46))  # 4 of 46 rows below
+    far = hypothesis_score(img, truth, (28, 18, 44, 60))  # 18 of 60 rows below
+    assert near == 0.0
+    assert far == np.float64(0.5 * (18 / 60 - 0.12))
+
+
+def test_box_mode_runs_every_hypothesis_and_records_its_choice():
+    # the two-colour photo with noise of 10 grey levels on every channel
+    clean, truth = _two_colour()
+    noise = np.random.default_rng(3).normal(0, 10, clean.shape)
+    img = np.clip(clean + noise, 0, 255).astype(np.uint8)
+    box = box_around(truth, 0.05)
+    masks = box_hypotheses(to_bgr8(img), box)
+    assert set(masks) == set(HYPOTHESES)
+    assert all(mask_iou(m, truth) > 0.95 for m in masks.values())
+    res = segment_photo(img, box=box)
+    assert res.params["hypothesis"] in HYPOTHESES
+    assert set(res.params["scores"]) == set(HYPOTHESES)
+    assert mask_iou(res.mask, truth) > 0.95 and res.agreement > 0.95
+    x, y, w, h = box
+    assert not res.mask[:, : x].any() and not res.mask[:, x + w :].any()
+    assert not res.mask[: y].any() and not res.mask[y + h :].any()
