@@ -12,9 +12,9 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
-from stimuli.render import kernel
+from stimuli.render import kernel, raster
 from stimuli.render.discs import disc_accumulation
-from stimuli.render.raster import box_coverage, ring_accumulation, sum_dtype, winding
+from stimuli.render.raster import box_coverage, ring_accumulation, ring_stream, sum_dtype, winding
 from stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
@@ -104,6 +104,32 @@ def _paint(box, h, w, figure, ground, dtype):
     return img
 
 
+def level_tables(figure, ground):
+    """None for black on white (the kernel paints 255 - level, much faster
+    than a table), else the (channels, 256) uint8 colour of each coverage
+    level ``rint(255 * coverage)``: ``rint(255 * (ground + level / 255 *
+    (figure - ground)))``."""
+    if len(figure) == 1 and figure == (0.0,) and ground == (1.0,):
+        return None
+    k = np.arange(256.0)
+    return np.array([np.rint(255.0 * g + (f - g) * k) for f, g in zip(figure, ground)], np.uint8)
+
+
+def silhouette_u8(rings, oriented, orient, h, w, figure, ground):
+    """(img, area): rings as an 8-bit image through the compiled kernel,
+    which paints every pixel band by band (see :mod:`.kernel`); one ring
+    goes straight from its points, several through the stream of
+    :func:`ring_stream` (oriented by nesting unless `oriented`)."""
+    n = len(figure)
+    img = np.empty((h, w) if n == 1 else (h, w, n), np.uint8)
+    luts = level_tables(figure, ground)
+    if len(rings) == 1:
+        ring = np.ascontiguousarray(rings[0], np.float64)
+        return img, kernel.ring_u8(ring, orient and not oriented, img, luts)
+    p, bridge, _ = ring_stream(rings, oriented, orient)
+    return img, kernel.stream_u8(p, bridge, img, luts)
+
+
 def _paint_uint8(acc, h, w, figure, ground):
     """Fast 8-bit image straight from the winding integral.
 
@@ -117,11 +143,7 @@ def _paint_uint8(acc, h, w, figure, ground):
 
     n = len(figure)
     img = np.empty((h, w) if n == 1 else (h, w, n), np.uint8)
-    if n == 1 and figure == (0.0,) and ground == (1.0,):
-        luts = None  # black on white, the usual case: 255 - v, much faster than a LUT
-    else:
-        k = np.arange(256.0)
-        luts = [np.rint(255.0 * g + (f - g) * k).astype(np.uint8) for f, g in zip(figure, ground)]
+    luts = level_tables(figure, ground)
     for ch in range(n):
         fill = 255 if luts is None else luts[ch][0]
         if n == 1:
@@ -146,7 +168,7 @@ def _paint_uint8(acc, h, w, figure, ground):
         cv2.convertScaleAbs(win, sub, 255.0)
         if luts is None:
             cv2.bitwise_not(sub, dst=sub)
-        elif not np.array_equal(luts[0], k):
+        elif not np.array_equal(luts[0], np.arange(256)):
             cv2.LUT(sub, luts[0], dst=sub)
     else:
         u = cv2.convertScaleAbs(win, alpha=255.0)
@@ -232,9 +254,12 @@ def render_silhouette(
     f, g = colours(figure, ground)
     dt = resolve_dtype(dtype)
     rings, oriented = as_rings(contour_or_points, "contour_or_points")
-    acc = ring_accumulation(rings, h, w, oriented=oriented, orient=orient, dtype=sum_dtype(dt, h, w))
-    area = 0.0 if acc is None else acc[3]
-    img = paint_image(acc, h, w, f, g, dt)
+    if dt == np.uint8 and raster.LIB is not None:
+        img, area = silhouette_u8(rings, oriented, bool(orient), h, w, f, g)
+    else:
+        acc = ring_accumulation(rings, h, w, oriented=oriented, orient=orient, dtype=sum_dtype(dt, h, w))
+        area = 0.0 if acc is None else acc[3]
+        img = paint_image(acc, h, w, f, g, dt)
     return result_record("silhouette", img, h, w, f, g, dt, rings=rings, orient=bool(orient), area=area)
 
 
