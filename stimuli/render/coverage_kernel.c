@@ -68,7 +68,7 @@ struct grid {
     long blocks;            /* a multiple of 8, read 8 flags at a time */
 };
 
-/* Columns per dirty bit: 8 doubles, one cache line, two AVX2 vectors. */
+/* Columns per dirty flag: 8 doubles, one cache line, two AVX2 vectors. */
 #define BLOCK 8
 
 /* One piece inside one pixel: deposit it and add its share of the area. */
@@ -460,7 +460,7 @@ PIXEL_LOOPS static void paint_band(const struct image *im, double *buf, unsigned
 /* Bytes of deposits per band: small enough to stay in the L1/L2 cache
  * while it is filled, summed and painted. */
 #ifndef BAND_BYTES
-#define BAND_BYTES 65536
+#define BAND_BYTES 32768
 #endif
 
 /*
@@ -549,6 +549,27 @@ static double render_parts(const struct part *parts, long np, double yhi, const 
 #define IMAGE_ARGS unsigned char *img, long h, long w, long row_step, long pix_step, \
                    long channels, const unsigned char *luts
 
+/* Whether the ring of n points is one render_silhouette takes as it is: n
+ * finite points, the first not repeated at the end, at least 3 distinct
+ * (else the caller takes its validating path, stimuli.render.rings). */
+static int plain_ring(const double *pts, long n)
+{
+    if (n < 3 || (pts[0] == pts[2 * n - 2] && pts[1] == pts[2 * n - 1]))
+        return 0;
+    for (long i = 0; i < 2 * n; i++)
+        if (!isfinite(pts[i]))
+            return 0;
+    long k = 1;
+    while (k < n && pts[2 * k] == pts[0] && pts[2 * k + 1] == pts[1])
+        k++;
+    for (long j = k + 1; j < n; j++) {
+        const double *q = pts + 2 * j;
+        if ((q[0] != pts[0] || q[1] != pts[1]) && (q[0] != pts[2 * k] || q[1] != pts[2 * k + 1]))
+            return 1;
+    }
+    return 0;
+}
+
 /*
  * One closed ring of n points (x, y interleaved, float64, not shifted, the
  * first point not repeated) as an 8-bit image: img (h x w, channels
@@ -556,12 +577,14 @@ static double render_parts(const struct part *parts, long np, double yhi, const 
  * luts[256 * ch + level] in channel ch, or 255 - level when luts is NULL.
  * Returns the winding integral over the image (with `oriented`, that of the
  * ring turned to a positive shoelace sum, as raster.ring_area gives), or
- * NAN if memory ran out.
+ * NAN if the ring is not plain (see plain_ring) or memory ran out.
  */
 double attneave_ring_u8(const double *pts, long n, int oriented, IMAGE_ARGS)
 {
     struct image im = {img, h, w, row_step, pix_step, channels, luts};
     double W = (double)w, H = (double)h;
+    if (!plain_ring(pts, n))
+        return NAN;
     struct part *parts = malloc(sizeof(struct part) * (size_t)(3 * n));
     if (parts == NULL)
         return NAN;

@@ -135,15 +135,17 @@ def ring_u8(ring, oriented, img, luts=None):
     """Paint one closed ring into the 8-bit image `img`, every pixel of it.
 
     `ring` is a C-contiguous (n, 2) float64 array of ``(x, y)`` points
-    (image pixels, pixel centres at integers, first point not repeated),
-    `img` a C-contiguous (h, w) or (h, w, c) uint8 array, `luts` None (grey,
-    black on white: 255 - level) or a C-contiguous (c, 256) uint8 array of
-    each channel's colour per coverage level ``rint(255 * coverage)``.
-    Returns the winding integral over the image; with `oriented`, that of
-    the ring turned to a positive shoelace sum (see
-    :func:`stimuli.render.raster.ring_area`).
+    (image pixels, pixel centres at integers), `img` a C-contiguous (h, w)
+    or (h, w, c) uint8 array, `luts` None (grey, black on white: 255 -
+    level) or a C-contiguous (c, 256) uint8 array of each channel's colour
+    per coverage level ``rint(255 * coverage)``. Returns the winding
+    integral over the image; with `oriented`, that of the ring turned to a
+    positive shoelace sum (see :func:`stimuli.render.raster.ring_area`).
+    Returns NaN, `img` undefined, unless the ring is plain: finite, at least
+    3 distinct points, the first not repeated at the end (the caller then
+    takes its validating path), or if memory ran out.
     """
-    return _checked(LIB.attneave_ring_u8(_address(ring), len(ring), oriented, *_image_u8(img, luts)))
+    return LIB.attneave_ring_u8(_address(ring), len(ring), oriented, *_image_u8(img, luts))
 
 
 def stream_u8(p, bridge, img, luts=None):
