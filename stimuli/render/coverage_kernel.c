@@ -71,53 +71,60 @@ struct grid {
 /* Columns per dirty flag: 8 doubles, one cache line, two AVX2 vectors. */
 #define BLOCK 8
 
-/* One piece inside one pixel: deposit it and add its share of the area. */
-static inline void deposit(struct grid *g, const double *a, const double *b)
+/* One piece inside pixel (r, c): deposit it. Cutting knows the pixel, and
+ * the area is added per segment (integral of (h - y) dx; see part_area). */
+static inline void deposit(struct grid *g, const double *a, const double *b, long r, long c)
 {
     double dx = b[0] - a[0];
     if (dx == 0.0)
         return;
-    double ym = 0.5 * (a[1] + b[1]);
-    double row = floor0(ym);
-    if (row >= (double)g->h)
-        return; /* on the bottom edge: outside the image */
-    long r = (long)row - g->r0, c = (long)floor0(0.5 * (a[0] + b[0])) - g->c0;
-    double f = ym - row;
-    /* round-off can put a midpoint a hair outside the box: never write
-     * outside the buffer */
+    double f = 0.5 * (a[1] + b[1]) - (double)r;
+    r -= g->r0, c -= g->c0;
+    /* never write outside the buffer, whatever the round-off */
     r = r < 0 ? 0 : (r >= g->bh ? g->bh - 1 : r);
     c = c < 0 ? 0 : (c >= g->stride ? g->stride - 1 : c);
     double *cell = g->acc + r * g->stride + c;
     cell[0] += dx - dx * f;
     cell[g->stride] += dx * f;
-    g->area += dx * ((double)g->h - ym);
     if (g->dirty) {
         unsigned char *m = g->dirty + r * g->blocks + (unsigned long)c / BLOCK;
         m[0] = m[g->blocks] = 1;
     }
 }
 
-/* Cut a piece a -> b (inside one row of pixels) where it crosses the
- * column lines and deposit the parts. Crossing points have integral x, y
- * interpolated from a. */
-static void cut_columns(struct grid *g, const double *a, const double *b)
+/* Cut a piece a -> b of row r where it crosses the column lines and
+ * deposit the parts. Crossing points have integral x, y interpolated from
+ * a. A vertical piece adds nothing. */
+static void cut_columns(struct grid *g, const double *a, const double *b, long r)
 {
     double a0 = a[0], a1 = b[0];
-    if (a0 == a1 || floor0(a0) == floor0(a1)) {
-        deposit(g, a, b);
+    if (a0 == a1)
+        return;
+    if (floor0(a0) == floor0(a1)) {
+        deposit(g, a, b, r, (long)a0);
         return;
     }
     double slope = (b[1] - a[1]) / (a1 - a0);
     double p[2] = {a[0], a[1]}, q[2];
-    double step = a1 > a0 ? 1.0 : -1.0;
-    double line = a1 > a0 ? floor0(a0) + 1.0 : ceil0(a0) - 1.0;
-    for (; step > 0.0 ? line < a1 : line > a1; line += step) {
-        q[0] = line;
-        q[1] = a[1] + (line - a0) * slope;
-        deposit(g, p, q);
-        p[0] = q[0], p[1] = q[1];
+    if (a1 > a0) {
+        long c = (long)a0;
+        for (double line = floor0(a0) + 1.0; line < a1; line += 1.0, c++) {
+            q[0] = line;
+            q[1] = a[1] + (line - a0) * slope;
+            deposit(g, p, q, r, c);
+            p[0] = q[0], p[1] = q[1];
+        }
+        deposit(g, p, b, r, c);
+    } else {
+        long c = (long)ceil0(a0) - 1;
+        for (double line = ceil0(a0) - 1.0; line > a1; line -= 1.0, c--) {
+            q[0] = line;
+            q[1] = a[1] + (line - a0) * slope;
+            deposit(g, p, q, r, c);
+            p[0] = q[0], p[1] = q[1];
+        }
+        deposit(g, p, b, r, c);
     }
-    deposit(g, p, b);
 }
 
 /* The point of a -> b at row line y = v (x interpolated from a). */
@@ -138,7 +145,7 @@ static void cut_rows(struct grid *g, const double *a, const double *b, double lo
     if (a0 == a1 || floor0(a0) == floor0(a1)) {
         double row = floor0(0.5 * (a0 + a1));
         if (row >= lo && row < hi)
-            cut_columns(g, a, b);
+            cut_columns(g, a, b, (long)row);
         return;
     }
     double slope = (b[0] - a[0]) / (a1 - a0);
@@ -152,14 +159,15 @@ static void cut_rows(struct grid *g, const double *a, const double *b, double lo
             return;
         if (rs > first)
             at_row(a, slope, rs, p);
-        for (double line = rs + 1.0; line <= re; line += 1.0) {
+        long r = (long)rs;
+        for (double line = rs + 1.0; line <= re; line += 1.0, r++) {
             at_row(a, slope, line, q);
-            cut_columns(g, p, q);
+            cut_columns(g, p, q, r);
             p[0] = q[0], p[1] = q[1];
         }
         if (re < last)
             at_row(a, slope, re + 1.0, q);
-        cut_columns(g, p, re < last ? q : b);
+        cut_columns(g, p, re < last ? q : b, r);
     } else {
         /* rows ceil(a0) - 1 down to floor(a1); the piece of row r runs
          * from y = min(a0, r + 1) to y = max(a1, r) */
@@ -169,14 +177,15 @@ static void cut_rows(struct grid *g, const double *a, const double *b, double lo
             return;
         if (rs < first)
             at_row(a, slope, rs + 1.0, p);
-        for (double line = rs; line > re; line -= 1.0) {
+        long r = (long)rs;
+        for (double line = rs; line > re; line -= 1.0, r--) {
             at_row(a, slope, line, q);
-            cut_columns(g, p, q);
+            cut_columns(g, p, q, r);
             p[0] = q[0], p[1] = q[1];
         }
         if (re > last)
             at_row(a, slope, re, q);
-        cut_columns(g, p, re > last ? q : b);
+        cut_columns(g, p, re > last ? q : b, r);
     }
 }
 
@@ -186,6 +195,13 @@ struct part {
     double a[2], b[2];
     long rlo, rhi;
 };
+
+/* A part's share of the winding integral over the image: the integral of
+ * (h - y) dx along it, the sum of dx * (h - ym) over its pieces. */
+static inline double part_area(const struct part *p, double H)
+{
+    return (p->b[0] - p->a[0]) * (H - 0.5 * (p->a[1] + p->b[1]));
+}
 
 /* The point of a segment where coordinate a (x or y) takes the value v. */
 static inline double at(double a0, double b0, double a1, double b1, double v)
@@ -268,8 +284,10 @@ double attneave_deposit(const double *x, const double *y, long n,
         if (bridge && bridge[i])
             continue;
         int k = clip_segment(x[i], y[i], x[i + 1], y[i + 1], (double)w, (double)h, parts);
-        for (int j = 0; j < k; j++)
+        for (int j = 0; j < k; j++) {
             cut_rows(&g, parts[j].a, parts[j].b, 0.0, (double)h);
+            g.area += part_area(parts + j, (double)h);
+        }
     }
     return g.area;
 }
@@ -478,9 +496,10 @@ static double render_parts(const struct part *parts, long np, double yhi, const 
         return 0.0;
     }
     long rlo = parts[0].rlo, rhi = parts[0].rhi;
-    double xmin = parts[0].a[0], xmax = xmin;
+    double xmin = parts[0].a[0], xmax = xmin, area = 0.0;
     for (long i = 0; i < np; i++) {
         const struct part *p = parts + i;
+        area += part_area(p, (double)im->h);
         rlo = p->rlo < rlo ? p->rlo : rlo;
         rhi = p->rhi > rhi ? p->rhi : rhi;
         double u = p->a[0] < p->b[0] ? p->a[0] : p->b[0], v = p->a[0] < p->b[0] ? p->b[0] : p->a[0];
@@ -542,7 +561,7 @@ static double render_parts(const struct part *parts, long np, double yhi, const 
     }
     fill_ground(im, rhi + 1, im->h, 0, im->w);
     free(buf);
-    return g.area;
+    return area;
 }
 
 /* The rest of both 8-bit entries' arguments. */
