@@ -71,25 +71,33 @@ struct grid {
 /* Columns per dirty flag: 8 doubles, one cache line, two AVX2 vectors. */
 #define BLOCK 8
 
-/* One piece inside pixel (r, c): deposit it. Cutting knows the pixel, and
- * the area is added per segment (integral of (h - y) dx; see part_area). */
-static inline void deposit(struct grid *g, const double *a, const double *b, long r, long c)
+/* One piece inside pixel (r, c) (`cells`: the buffer's row r): deposit
+ * it. Cutting knows the pixel, and the area is added per segment (the
+ * integral of (h - y) dx; see part_area). */
+static inline void deposit(const struct grid *g, double *cells, double r, const double *a,
+                           const double *b, long c)
 {
     double dx = b[0] - a[0];
     if (dx == 0.0)
         return;
-    double f = 0.5 * (a[1] + b[1]) - (double)r;
-    r -= g->r0, c -= g->c0;
-    /* never write outside the buffer, whatever the round-off */
-    r = r < 0 ? 0 : (r >= g->bh ? g->bh - 1 : r);
-    c = c < 0 ? 0 : (c >= g->stride ? g->stride - 1 : c);
-    double *cell = g->acc + r * g->stride + c;
+    double f = 0.5 * (a[1] + b[1]) - r;
+    c -= g->c0;
+    c = c < 0 ? 0 : (c >= g->stride ? g->stride - 1 : c); /* never outside the buffer */
+    double *cell = cells + c;
     cell[0] += dx - dx * f;
     cell[g->stride] += dx * f;
-    if (g->dirty) {
-        unsigned char *m = g->dirty + r * g->blocks + (unsigned long)c / BLOCK;
-        m[0] = m[g->blocks] = 1;
-    }
+}
+
+/* Flag the blocks of columns c .. d (either order) of buffer row i and the
+ * row below, which a row piece deposited into. */
+static inline void flag(const struct grid *g, long i, long c, long d)
+{
+    long lo = (c < d ? c : d) - g->c0, hi = (c < d ? d : c) - g->c0;
+    lo = lo < 0 ? 0 : lo;
+    hi = hi >= g->stride ? g->stride - 1 : hi;
+    unsigned char *m = g->dirty + i * g->blocks;
+    for (long k = lo / BLOCK; k <= hi / BLOCK; k++)
+        m[k] = m[k + g->blocks] = 1;
 }
 
 /* Cut a piece a -> b of row r where it crosses the column lines and
@@ -100,31 +108,37 @@ static void cut_columns(struct grid *g, const double *a, const double *b, long r
     double a0 = a[0], a1 = b[0];
     if (a0 == a1)
         return;
+    long i = r - g->r0;
+    i = i < 0 ? 0 : (i >= g->bh ? g->bh - 1 : i); /* never outside the buffer */
+    double *cells = g->acc + i * g->stride, fr = (double)r;
+    long first, c;
     if (floor0(a0) == floor0(a1)) {
-        deposit(g, a, b, r, (long)a0);
-        return;
-    }
-    double slope = (b[1] - a[1]) / (a1 - a0);
-    double p[2] = {a[0], a[1]}, q[2];
-    if (a1 > a0) {
-        long c = (long)a0;
-        for (double line = floor0(a0) + 1.0; line < a1; line += 1.0, c++) {
-            q[0] = line;
-            q[1] = a[1] + (line - a0) * slope;
-            deposit(g, p, q, r, c);
-            p[0] = q[0], p[1] = q[1];
-        }
-        deposit(g, p, b, r, c);
+        first = c = (long)a0;
+        deposit(g, cells, fr, a, b, c);
     } else {
-        long c = (long)ceil0(a0) - 1;
-        for (double line = ceil0(a0) - 1.0; line > a1; line -= 1.0, c--) {
-            q[0] = line;
-            q[1] = a[1] + (line - a0) * slope;
-            deposit(g, p, q, r, c);
-            p[0] = q[0], p[1] = q[1];
+        double slope = (b[1] - a[1]) / (a1 - a0);
+        double p[2] = {a[0], a[1]}, q[2];
+        if (a1 > a0) {
+            first = c = (long)a0;
+            for (double line = floor0(a0) + 1.0; line < a1; line += 1.0, c++) {
+                q[0] = line;
+                q[1] = a[1] + (line - a0) * slope;
+                deposit(g, cells, fr, p, q, c);
+                p[0] = q[0], p[1] = q[1];
+            }
+        } else {
+            first = c = (long)ceil0(a0) - 1;
+            for (double line = ceil0(a0) - 1.0; line > a1; line -= 1.0, c--) {
+                q[0] = line;
+                q[1] = a[1] + (line - a0) * slope;
+                deposit(g, cells, fr, p, q, c);
+                p[0] = q[0], p[1] = q[1];
+            }
         }
-        deposit(g, p, b, r, c);
+        deposit(g, cells, fr, p, b, c);
     }
+    if (g->dirty)
+        flag(g, i, first, c);
 }
 
 /* The point of a -> b at row line y = v (x interpolated from a). */
