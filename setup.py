@@ -11,7 +11,8 @@ setup(
     ext_modules=[
         Extension(
             "stimuli.render.coverage_kernel",
-            ["stimuli/render/coverage_kernel.c"],
+            ["stimuli/render/coverage_kernel.c", "stimuli/render/coverage_bands.c"],
+            depends=["stimuli/render/coverage_kernel.h"],
             extra_compile_args=["-O3", "-std=c99", "-fno-trapping-math"],
             optional=True,
         )
