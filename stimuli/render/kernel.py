@@ -1,10 +1,14 @@
 """The compiled kernel of the exact rasteriser, if it was built.
 
 ``coverage_kernel.c`` (plain C99, built at install by ``setup.py`` as an
-optional extension) walks a stream's pieces across the pixel cells and
-deposits their area and cover exactly as :func:`stimuli.render.raster.accumulate`
-does, then takes the column prefix sum and paints 8-bit pixels in one pass.
-It is loaded with ctypes; if it was not built, cannot be loaded, or
+optional extension with ``coverage_bands.c``) walks a stream's pieces
+across the pixel cells and deposits their area and cover exactly as
+:func:`stimuli.render.raster.accumulate` does, then takes the column prefix
+sum and paints 8-bit pixels in one pass. 8-bit silhouettes
+(:func:`ring_u8`, :func:`stream_u8`) are painted band by band of rows,
+every pixel of the image in one call, so that the working set stays in the
+cache (see ``coverage_bands.c``). It is loaded with ctypes; if it was not
+built, cannot be loaded, lacks an entry (a stale build), or
 ``ATTNEAVE_NUMPY_RENDER=1`` is set, :data:`KERNEL` is ``'numpy'`` and the
 numpy path, the reference, is used.
 """
