@@ -121,7 +121,8 @@ def test_shapes_off_the_image_add_nothing():
 
 def test_band_seams_of_wide_images_agree():
     """8-bit images of wide shapes are painted in bands of a few rows (the
-    band buffer holds 32 KB of deposits); shapes crossing many band seams
+    band buffer holds 128 KB of deposits: 18-27 rows here); shapes crossing
+    many band seams
     and the image's border must agree with the numpy path, area included."""
     rng = np.random.default_rng(21)
     levels = np.arange(256.0)

@@ -106,8 +106,9 @@ static inline void at_row(const double *a, double slope, double v, double *q)
  * Every crossing point is computed from a and the segment's slope whatever
  * the window, so a segment cut in bands gives the very pieces it gives
  * whole. */
-void coverage_cut_rows(struct grid *g, const double *a, const double *b, double lo, double hi)
+void coverage_cut_rows(struct grid *g, const struct part *part, double lo, double hi)
 {
+    const double *a = part->a, *b = part->b;
     double a0 = a[1], a1 = b[1];
     if (a0 == a1 || floor0(a0) == floor0(a1)) {
         double row = floor0(0.5 * (a0 + a1));
@@ -115,7 +116,7 @@ void coverage_cut_rows(struct grid *g, const double *a, const double *b, double 
             cut_columns(g, a, b, (long)row);
         return;
     }
-    double slope = (b[0] - a[0]) / (a1 - a0);
+    double slope = part->slope;
     double p[2] = {a[0], a[1]}, q[2];
     if (a1 > a0) {
         /* rows floor(a0) .. ceil(a1) - 1; the piece of row r runs from
@@ -212,6 +213,7 @@ int coverage_clip_segment(double x0, double y0, double x1, double y1, double W, 
             continue; /* on the bottom edge: adds nothing */
         if (p->rhi >= (long)H)
             p->rhi = (long)H - 1;
+        p->slope = y0c != y1c ? (p->b[0] - p->a[0]) / (y1c - y0c) : 0.0;
         n++;
     }
     return n;
@@ -238,7 +240,7 @@ double attneave_deposit(const double *x, const double *y, long n,
             continue;
         int k = coverage_clip_segment(x[i], y[i], x[i + 1], y[i + 1], (double)w, (double)h, parts);
         for (int j = 0; j < k; j++) {
-            coverage_cut_rows(&g, parts[j].a, parts[j].b, 0.0, (double)h);
+            coverage_cut_rows(&g, parts + j, 0.0, (double)h);
             g.area += part_area(parts + j, (double)h);
         }
     }

@@ -58,6 +58,7 @@ struct grid {
 struct part {
     double a[2], b[2];
     long rlo, rhi;
+    double slope; /* dx / dy (0 if horizontal), once rather than per band */
 };
 
 /* A part's share of the winding integral over the image: the integral of
@@ -67,9 +68,9 @@ static inline double part_area(const struct part *p, double H)
     return (p->b[0] - p->a[0]) * (H - 0.5 * (p->a[1] + p->b[1]));
 }
 
-/* Cut a clipped segment at the row lines and deposit the pieces whose row
- * lies in [lo, hi) (coverage_kernel.c). */
-void coverage_cut_rows(struct grid *g, const double *a, const double *b, double lo, double hi);
+/* Cut a part at the row lines and deposit the pieces whose row lies in
+ * [lo, hi) (coverage_kernel.c). */
+void coverage_cut_rows(struct grid *g, const struct part *part, double lo, double hi);
 
 /* Clip a segment to the image: up to three parts, their count returned
  * (coverage_kernel.c). */
