@@ -42,10 +42,10 @@ numpy functions are the reference and the fallback, held to 1e-12 by a test.
 8-bit silhouettes are painted band by band of rows (``coverage_bands.c``),
 one plain float64 ring in one ctypes call. ``bench_render.py --n 1000``
 (512 x 512 8-bit images, 500-vertex polygons, 2-core AMD EPYC, medians of
-thread CPU time, three runs at load 1.1-1.4): rendering plus ``cv2.imwrite``
-is 1.06-1.11x (blob) and 1.15-1.17x (spiky star) ``cv2.fillPoly(LINE_AA)``
-plus ``cv2.imwrite``; the renderer takes 0.11 / 0.40 ms per image there
-(callgrind: 2.2 / 4.5 M instructions per step, as fillPoly's). The numpy path
+thread CPU time, three runs at load 1.1-1.3): rendering plus ``cv2.imwrite``
+is 1.05-1.14x (blob) and 1.10-1.12x (spiky star) ``cv2.fillPoly(LINE_AA)``
+plus ``cv2.imwrite``; the renderer takes 0.10 / 0.34 ms per image there
+(callgrind: 2.3 / 4.5 M instructions per step, as fillPoly's). The numpy path
 gave 1.74 / 1.82 when last measured (load 8-11): its time goes to a hundred
 numpy calls, several microseconds each with cold caches.
 
