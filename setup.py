@@ -14,8 +14,9 @@ FLAGS = ["-O3", "-std=c99", "-fno-trapping-math"]
 
 setup(
     ext_modules=[
-        Extension("stimuli.render.coverage_kernel", ["stimuli/render/coverage_kernel.c"],
-                  extra_compile_args=FLAGS, optional=True),
+        Extension("stimuli.render.coverage_kernel",
+                  ["stimuli/render/coverage_kernel.c", "stimuli/render/coverage_bands.c"],
+                  depends=["stimuli/render/coverage_kernel.h"], extra_compile_args=FLAGS, optional=True),
         # sin, cos, atan2: libm, which Windows has in its C runtime
         Extension("stimuli.curves.qic_solve", ["stimuli/curves/qic_solve.c", "stimuli/curves/clothoid_moments.c"],
                   extra_compile_args=FLAGS,

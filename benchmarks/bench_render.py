@@ -21,7 +21,7 @@ Why the ratio differs between machines and stacks
 With R the renderer, F fillPoly and W the PNG encoder (``cv2.imwrite``),
 the target ratio is ``(R + W) / (F + W)``. F is small (under 0.1 ms for a
 blob, 0.25 ms for a spiky star), so the ratio runs from about 1 where the
-encoder dominates to R / F (about 7 for a blob) where it is free. W is
+encoder dominates to R / F (about 1.5 for both kinds) where it is free. W is
 zlib's deflate inside OpenCV's libpng, the same for both images to within
 a few per cent, and it depends on the build (zlib or zlib-ng, compression
 defaults, CPU): on this project's 2-core AMD EPYC with the OpenCV 5.0 wheels
@@ -38,12 +38,21 @@ printed (``stimuli.render.KERNEL``): the compiled kernel, or the numpy path
 small numpy calls slow more than the encoder when other work has evicted
 the caches, which callgrind's counts do not see (numpy path: blob 11.8 M
 instructions against 10.1 M, ratio 1.17, spiky 22.3 M against 16.0 M,
-ratio 1.39, while CPU time gave 1.74 and 1.82 at load 8-11; the kernel:
-12.1 M against 10.0 M, 1.21, and 17.4 M against 16.0 M, 1.09, while CPU
-time gave 1.34 and 1.25 at load 1.3-2.5, medians of three runs of
-``--n 1000``). So the split is
-printed, with the ratio the measured R and F would give at half and a
-quarter of the measured W.
+ratio 1.39, while CPU time gave 1.74 and 1.82 at load 8-11). The cold
+caches are also why the kernel paints 8-bit images band by band of rows
+in a 128 KB buffer instead of over the shape's whole box (1.3 MB of
+deposits, which evicted the encoder's tables and then ran cold itself),
+and why one plain float64 ring goes to it in one ctypes call (a dozen
+small Python calls took as long as the kernel with cold caches). Measured
+with the kernel (``--n 1000``, three runs, load 1.1-1.3, CPU medians):
+1.14 / 1.05 / 1.06 (blob) and 1.12 / 1.10 / 1.11 (spiky), renderer 0.10 /
+0.34 ms per image, fillPoly 0.065 / 0.227 ms, imwrite 0.52 / 1.00 ms;
+callgrind (``--instructions 20``): render step 2.28 / 4.49 M instructions,
+fillPoly step 2.18 / 4.48 M (polygon generation included in both),
+project+imwrite against opencv 10.13 / 10.03 M (1.01) and 16.04 / 16.02 M
+(1.00); before the bands, 1.39 / 1.35 / 1.36 and 1.25 / 1.28 / 1.23
+(load 1.1-1.6). So the split is printed, with the ratio the measured R and
+F would give at half and a quarter of the measured W.
 
 Each method is timed both by wall clock and by the CPU time of the calling
 thread (``time.thread_time``): on a loaded machine the wall clock of a

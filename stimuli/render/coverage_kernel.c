@@ -4,8 +4,8 @@
  * Loaded through ctypes by stimuli/render/kernel.py; the numpy functions of
  * stimuli/render/raster.py are the reference, and this file follows them:
  *
- * - the stream is the one of raster._stream: x and y rows already shifted
- *   by +0.5, so that pixel (r, c) is the square [c, c+1] x [r, r+1];
+ * - coordinates are shifted by +0.5, so that pixel (r, c) is the square
+ *   [c, c+1] x [r, r+1];
  * - every piece between grid lines adds dx * (1 - f) to its pixel and
  *   dx * f to the pixel below, f = its mean height in the pixel minus the
  *   pixel's row (the signed area between the piece and the pixel's bottom
@@ -14,108 +14,148 @@
  *   flattened onto its top edge, pieces below it onto its bottom edge;
  * - a column prefix sum then gives the winding integral of every pixel.
  *
+ * This file cuts segments into pieces and deposits them; attneave_deposit
+ * fills a buffer over the shape's whole box (float, 16-bit and disc images
+ * need the integral there). The 8-bit renderers of coverage_bands.c
+ * (attneave_ring_u8, attneave_stream_u8) cut the same pieces band by band.
+ *
  * No Python C-API: plain functions on pointers, so the file builds with any
  * C99 compiler and its loading cannot break the interpreter.
  */
-#include <math.h>
-#include <string.h>
+#include "coverage_kernel.h"
 
-/* floor and ceil of x >= 0 (every coordinate once clipped to the image):
- * libm's calls are not inlined on baseline x86-64, and this loop is hot. */
-static inline double floor0(double x) { return (double)(long)x; }
-static inline double ceil0(double x)
-{
-    double t = (double)(long)x;
-    return t < x ? t + 1.0 : t;
-}
-
-/* Round 0 <= x < 2^51 half to even (the default rounding mode), as
- * OpenCV's saturate_cast does: adding and removing 2^52 leaves no bits
- * below the unit. Unlike nearbyint it is inlined (build without -ffast-math). */
-static inline double round_even(double x)
-{
-    const double big = 4503599627370496.0; /* 2^52 */
-    return (x + big) - big;
-}
-
-/* The per-pixel loops also get an AVX2 clone, chosen at load time on CPUs
- * that have it (GCC on x86-64 Linux; about 1.7x faster there); elsewhere
- * the baseline build alone. */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && defined(__linux__)
-#define PIXEL_LOOPS __attribute__((target_clones("avx2", "default")))
-#else
-#define PIXEL_LOOPS
-#endif
-
-/* The box of pixels being deposited into, and the area so far. */
-struct grid {
-    double *acc;            /* (bh + 1) x stride deposits from pixel (r0, c0) */
-    long stride, r0, c0, h; /* h: the image's height */
-    long bh;                /* rows of the box */
-    double area;            /* the winding integral over the image so far */
-};
-
-/* One piece inside one pixel: deposit it and add its share of the area. */
-static inline void deposit(struct grid *g, const double *a, const double *b)
+/* One piece inside pixel (r, c) (`cells`: the buffer's row r): deposit
+ * it. Cutting knows the pixel, and the area is added per segment (the
+ * integral of (h - y) dx; see part_area). */
+static inline void deposit(const struct grid *g, double *cells, double r, const double *a,
+                           const double *b, long c)
 {
     double dx = b[0] - a[0];
     if (dx == 0.0)
         return;
-    double ym = 0.5 * (a[1] + b[1]);
-    double row = floor0(ym);
-    if (row >= (double)g->h)
-        return; /* on the bottom edge: outside the image */
-    long r = (long)row - g->r0, c = (long)floor0(0.5 * (a[0] + b[0])) - g->c0;
-    double f = ym - row;
-    /* round-off can put a midpoint a hair outside the box: never write
-     * outside the buffer */
-    r = r < 0 ? 0 : (r >= g->bh ? g->bh - 1 : r);
-    c = c < 0 ? 0 : (c >= g->stride ? g->stride - 1 : c);
-    double *cell = g->acc + r * g->stride + c;
+    double f = 0.5 * (a[1] + b[1]) - r;
+    c -= g->c0;
+    c = c < 0 ? 0 : (c >= g->stride ? g->stride - 1 : c); /* never outside the buffer */
+    double *cell = cells + c;
     cell[0] += dx - dx * f;
     cell[g->stride] += dx * f;
-    g->area += dx * ((double)g->h - ym);
 }
 
-static void cut_columns(struct grid *g, const double *a, const double *b);
-
-/* A piece between two grid lines of `axis`: cut it at the columns next
- * (after the rows), or deposit it (after the columns). */
-static inline void piece(struct grid *g, int axis, const double *a, const double *b)
+/* Flag the blocks of columns c .. d (either order) of buffer row i and the
+ * row below, which a row piece deposited into. */
+static inline void flag(const struct grid *g, long i, long c, long d)
 {
-    if (axis == 1)
-        cut_columns(g, a, b);
-    else
-        deposit(g, a, b);
+    long lo = (c < d ? c : d) - g->c0, hi = (c < d ? d : c) - g->c0;
+    lo = lo < 0 ? 0 : lo;
+    hi = hi >= g->stride ? g->stride - 1 : hi;
+    unsigned char *m = g->dirty + i * g->blocks;
+    for (long k = lo / BLOCK; k <= hi / BLOCK; k++)
+        m[k] = m[k + g->blocks] = 1;
 }
 
-/* Cut the segment a -> b ((x, y) inside [0, w] x [0, h]) where it crosses
- * the grid lines of `axis` (1: rows, then columns; 0: columns). Crossing
- * points are integral on `axis`, the other coordinate interpolated from a. */
-static inline void cut(struct grid *g, int axis, const double *a, const double *b)
+/* Cut a piece a -> b of row r where it crosses the column lines and
+ * deposit the parts. Crossing points have integral x, y interpolated from
+ * a. A vertical piece adds nothing. */
+static void cut_columns(struct grid *g, const double *a, const double *b, long r)
 {
-    double a0 = a[axis], a1 = b[axis];
+    double a0 = a[0], a1 = b[0];
+    if (a0 == a1)
+        return;
+    long i = r - g->r0;
+    i = i < 0 ? 0 : (i >= g->bh ? g->bh - 1 : i); /* never outside the buffer */
+    double *cells = g->acc + i * g->stride, fr = (double)r;
+    long first, c;
+    if (floor0(a0) == floor0(a1)) {
+        first = c = (long)a0;
+        deposit(g, cells, fr, a, b, c);
+    } else {
+        double slope = (b[1] - a[1]) / (a1 - a0);
+        double p[2] = {a[0], a[1]}, q[2];
+        if (a1 > a0) {
+            first = c = (long)a0;
+            for (double line = floor0(a0) + 1.0; line < a1; line += 1.0, c++) {
+                q[0] = line;
+                q[1] = a[1] + (line - a0) * slope;
+                deposit(g, cells, fr, p, q, c);
+                p[0] = q[0], p[1] = q[1];
+            }
+        } else {
+            first = c = (long)ceil0(a0) - 1;
+            for (double line = ceil0(a0) - 1.0; line > a1; line -= 1.0, c--) {
+                q[0] = line;
+                q[1] = a[1] + (line - a0) * slope;
+                deposit(g, cells, fr, p, q, c);
+                p[0] = q[0], p[1] = q[1];
+            }
+        }
+        deposit(g, cells, fr, p, b, c);
+    }
+    if (g->dirty)
+        flag(g, i, first, c);
+}
+
+/* The point of a -> b at row line y = v (x interpolated from a). */
+static inline void at_row(const double *a, double slope, double v, double *q)
+{
+    q[0] = a[0] + (v - a[1]) * slope;
+    q[1] = v;
+}
+
+/* Cut a segment a -> b (inside [0, w] x [0, h]) where it crosses the row
+ * lines, and pass the pieces whose row lies in [lo, hi) to cut_columns.
+ * Every crossing point is computed from a and the segment's slope whatever
+ * the window, so a segment cut in bands gives the very pieces it gives
+ * whole. */
+void coverage_cut_rows(struct grid *g, const struct part *part, double lo, double hi)
+{
+    const double *a = part->a, *b = part->b;
+    double a0 = a[1], a1 = b[1];
     if (a0 == a1 || floor0(a0) == floor0(a1)) {
-        piece(g, axis, a, b);
+        double row = floor0(0.5 * (a0 + a1));
+        if (row >= lo && row < hi)
+            cut_columns(g, a, b, (long)row);
         return;
     }
-    int other = 1 - axis;
-    double slope = (b[other] - a[other]) / (a1 - a0);
+    double slope = part->slope;
     double p[2] = {a[0], a[1]}, q[2];
-    double step = a1 > a0 ? 1.0 : -1.0;
-    double line = a1 > a0 ? floor0(a0) + 1.0 : ceil0(a0) - 1.0;
-    for (; step > 0.0 ? line < a1 : line > a1; line += step) {
-        q[axis] = line;
-        q[other] = a[other] + (line - a0) * slope;
-        piece(g, axis, p, q);
-        p[0] = q[0], p[1] = q[1];
+    if (a1 > a0) {
+        /* rows floor(a0) .. ceil(a1) - 1; the piece of row r runs from
+         * y = max(a0, r) to y = min(a1, r + 1) */
+        double first = floor0(a0), last = ceil0(a1) - 1.0;
+        double rs = first > lo ? first : lo, re = last < hi - 1.0 ? last : hi - 1.0;
+        if (rs > re)
+            return;
+        if (rs > first)
+            at_row(a, slope, rs, p);
+        long r = (long)rs;
+        for (double line = rs + 1.0; line <= re; line += 1.0, r++) {
+            at_row(a, slope, line, q);
+            cut_columns(g, p, q, r);
+            p[0] = q[0], p[1] = q[1];
+        }
+        if (re < last)
+            at_row(a, slope, re + 1.0, q);
+        cut_columns(g, p, re < last ? q : b, r);
+    } else {
+        /* rows ceil(a0) - 1 down to floor(a1); the piece of row r runs
+         * from y = min(a0, r + 1) to y = max(a1, r) */
+        double first = ceil0(a0) - 1.0, last = floor0(a1);
+        double rs = first < hi - 1.0 ? first : hi - 1.0, re = last > lo ? last : lo;
+        if (rs < re)
+            return;
+        if (rs < first)
+            at_row(a, slope, rs + 1.0, p);
+        long r = (long)rs;
+        for (double line = rs; line > re; line -= 1.0, r--) {
+            at_row(a, slope, line, q);
+            cut_columns(g, p, q, r);
+            p[0] = q[0], p[1] = q[1];
+        }
+        if (re > last)
+            at_row(a, slope, re, q);
+        cut_columns(g, p, re > last ? q : b, r);
     }
-    piece(g, axis, p, b);
 }
-
-/* cut() for each axis, so that the compiler specialises it for both */
-static void cut_columns(struct grid *g, const double *a, const double *b) { cut(g, 0, a, b); }
-static void cut_rows(struct grid *g, const double *a, const double *b) { cut(g, 1, a, b); }
 
 /* The point of a segment where coordinate a (x or y) takes the value v. */
 static inline double at(double a0, double b0, double a1, double b1, double v)
@@ -123,39 +163,60 @@ static inline double at(double a0, double b0, double a1, double b1, double v)
     return b0 + (v - a0) * ((b1 - b0) / (a1 - a0));
 }
 
-/* Clip a segment to 0 <= y <= h: the part above is flattened onto y = 0,
- * the part below onto y = h (which adds nothing); walk the pieces. */
-static void clip_rows(struct grid *g, double x0, double y0, double x1, double y1)
+static inline double clamp(double v, double lo, double hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+/* Clip the segment (x0, y0) -> (x1, y1) to the image: the part left or
+ * right of it adds nothing and is dropped, the part above it is flattened
+ * onto y = 0, the part below onto y = h (where it adds nothing and is
+ * dropped). Writes up to three parts, in the order of the segment, and
+ * returns their count. */
+int coverage_clip_segment(double x0, double y0, double x1, double y1, double W, double H,
+                          struct part *out)
 {
-    double H = (double)g->h;
-    double ya = y0 < 0.0 ? 0.0 : (y0 > H ? H : y0);
-    double yb = y1 < 0.0 ? 0.0 : (y1 > H ? H : y1);
-    if (ya == y0 && yb == y1) {
-        double a[2] = {x0, y0}, b[2] = {x1, y1};
-        cut_rows(g, a, b);
-        return;
-    }
-    /* up to three parts, in the order of the segment: cut at y = 0 and y = h */
+    if ((x0 <= 0.0 && x1 <= 0.0) || (x0 >= W && x1 >= W) || x0 == x1)
+        return 0;
+    double xa = x0, ya = y0, xb = x1, yb = y1;
+    double lo = x0 < x1 ? 0.0 : W, hi = x0 < x1 ? W : 0.0;
+    if ((x0 < x1 && x0 < 0.0) || (x0 > x1 && x0 > W))
+        ya = at(x0, y0, x1, y1, lo), xa = lo;
+    if ((x0 < x1 && x1 > W) || (x0 > x1 && x1 < 0.0))
+        yb = at(x0, y0, x1, y1, hi), xb = hi;
+    /* cut at y = 0 and y = h, in the order of the segment */
     double xs[4], ys[4];
     int k = 0;
-    xs[k] = x0, ys[k++] = y0;
-    if (y1 != y0) {
+    xs[k] = xa, ys[k++] = ya;
+    if (ya != yb && (ya < 0.0 || ya > H || yb < 0.0 || yb > H)) {
         double cuts[2] = {0.0, H};
-        if (y1 < y0)
+        if (yb < ya)
             cuts[0] = H, cuts[1] = 0.0;
         for (int i = 0; i < 2; i++) {
-            double g = cuts[i];
-            if ((y0 < g && g < y1) || (y1 < g && g < y0))
-                xs[k] = at(y0, x0, y1, x1, g), ys[k++] = g;
+            double c = cuts[i];
+            if ((ya < c && c < yb) || (yb < c && c < ya))
+                xs[k] = at(ya, xa, yb, xb, c), ys[k++] = c;
         }
     }
-    xs[k] = x1, ys[k++] = y1;
+    xs[k] = xb, ys[k++] = yb;
+    int n = 0;
     for (int i = 0; i + 1 < k; i++) {
-        double a = ys[i] < 0.0 ? 0.0 : (ys[i] > H ? H : ys[i]);
-        double b = ys[i + 1] < 0.0 ? 0.0 : (ys[i + 1] > H ? H : ys[i + 1]);
-        double p[2] = {xs[i], a}, q[2] = {xs[i + 1], b};
-        cut_rows(g, p, q);
+        struct part *p = out + n;
+        p->a[0] = xs[i], p->a[1] = clamp(ys[i], 0.0, H);
+        p->b[0] = xs[i + 1], p->b[1] = clamp(ys[i + 1], 0.0, H);
+        double y0c = p->a[1], y1c = p->b[1];
+        /* the rows of coverage_cut_rows() */
+        if (y0c == y1c || floor0(y0c) == floor0(y1c))
+            p->rlo = p->rhi = (long)floor0(0.5 * (y0c + y1c));
+        else if (y1c > y0c)
+            p->rlo = (long)floor0(y0c), p->rhi = (long)ceil0(y1c) - 1;
+        else
+            p->rlo = (long)floor0(y1c), p->rhi = (long)ceil0(y0c) - 1;
+        if (p->rlo >= (long)H)
+            continue; /* on the bottom edge: adds nothing */
+        if (p->rhi >= (long)H)
+            p->rhi = (long)H - 1;
+        p->slope = y0c != y1c ? (p->b[0] - p->a[0]) / (y1c - y0c) : 0.0;
+        n++;
     }
+    return n;
 }
 
 /*
@@ -169,25 +230,19 @@ double attneave_deposit(const double *x, const double *y, long n,
                         const unsigned char *bridge, long h, long w,
                         long r0, long c0, long bh, long bw, double *acc)
 {
-    double W = (double)w;
-    struct grid g = {acc, bw, r0, c0, h, bh, 0.0};
+    struct grid g = {acc, bw, r0, c0, h, bh, 0.0, NULL, 0};
+    struct part parts[3];
     if (bh <= 0 || bw <= 0)
         return 0.0;
     memset(acc, 0, sizeof(double) * (size_t)(bh + 1) * (size_t)bw);
     for (long i = 0; i + 1 < n; i++) {
         if (bridge && bridge[i])
             continue;
-        double x0 = x[i], y0 = y[i], x1 = x[i + 1], y1 = y[i + 1];
-        /* the part left or right of the image adds nothing: keep 0 <= x <= w */
-        if ((x0 <= 0.0 && x1 <= 0.0) || (x0 >= W && x1 >= W) || x0 == x1)
-            continue;
-        double xa = x0, ya = y0, xb = x1, yb = y1;
-        double lo = x0 < x1 ? 0.0 : W, hi = x0 < x1 ? W : 0.0;
-        if ((x0 < x1 && x0 < 0.0) || (x0 > x1 && x0 > W))
-            ya = at(x0, y0, x1, y1, lo), xa = lo;
-        if ((x0 < x1 && x1 > W) || (x0 > x1 && x1 < 0.0))
-            yb = at(x0, y0, x1, y1, hi), xb = hi;
-        clip_rows(&g, xa, ya, xb, yb);
+        int k = coverage_clip_segment(x[i], y[i], x[i + 1], y[i + 1], (double)w, (double)h, parts);
+        for (int j = 0; j < k; j++) {
+            coverage_cut_rows(&g, parts + j, 0.0, (double)h);
+            g.area += part_area(parts + j, (double)h);
+        }
     }
     return g.area;
 }
@@ -207,43 +262,17 @@ PIXEL_LOOPS void attneave_integrate(double *acc, long rows, long cols)
  * 8-bit pixels from deposits (integrate = 1: the column prefix sum is taken
  * on the way, in run, cols doubles of scratch; acc is left as it is) or
  * from the winding integral (integrate = 0): with
- * level = rint(255 * min(|win|, 1)) (half to even, as OpenCV's
- * convertScaleAbs rounds), img[i * row_step + j * pix_step] = lut[level],
- * or 255 - level when lut is NULL (black on white), over rows x cols.
- * levels is scratch space for one row of cols ints.
+ * level = rint(255 * min(|win|, 1)), img[i * row_step + j * pix_step] =
+ * lut[level], or 255 - level when lut is NULL (black on white), over
+ * rows x cols. levels is scratch space for one row of cols ints.
  */
 PIXEL_LOOPS void attneave_paint_u8(const double *acc, long rows, long cols, int integrate,
-                       unsigned char *img, long row_step, long pix_step,
-                       const unsigned char *lut, int *levels, double *run)
+                                   unsigned char *img, long row_step, long pix_step,
+                                   const unsigned char *lut, int *levels, double *run)
 {
     memset(run, 0, sizeof(double) * (size_t)cols);
     for (long i = 0; i < rows; i++) {
-        const double *row = acc + i * cols;
-        unsigned char *out = img + i * row_step;
-        /* simple loops, which the compiler vectorises (-fno-trapping-math) */
-        if (integrate) {
-            for (long j = 0; j < cols; j++) {
-                double s = run[j] + row[j];
-                run[j] = s;
-                double v = fabs(s);
-                v = v < 1.0 ? v : 1.0;
-                levels[j] = (int)round_even(255.0 * v);
-            }
-        } else {
-            for (long j = 0; j < cols; j++) {
-                double v = fabs(row[j]);
-                v = v < 1.0 ? v : 1.0;
-                levels[j] = (int)round_even(255.0 * v);
-            }
-        }
-        if (lut == NULL && pix_step == 1)
-            for (long j = 0; j < cols; j++)
-                out[j] = (unsigned char)(255 - levels[j]);
-        else if (lut == NULL)
-            for (long j = 0; j < cols; j++)
-                out[j * pix_step] = (unsigned char)(255 - levels[j]);
-        else
-            for (long j = 0; j < cols; j++)
-                out[j * pix_step] = lut[levels[j]];
+        row_levels((double *)acc + i * cols, cols, integrate, run, levels, 0);
+        write_levels(levels, cols, img + i * row_step, pix_step, lut);
     }
 }

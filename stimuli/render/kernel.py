@@ -1,10 +1,14 @@
 """The compiled kernel of the exact rasteriser, if it was built.
 
 ``coverage_kernel.c`` (plain C99, built at install by ``setup.py`` as an
-optional extension) walks a stream's pieces across the pixel cells and
-deposits their area and cover exactly as :func:`stimuli.render.raster.accumulate`
-does, then takes the column prefix sum and paints 8-bit pixels in one pass.
-It is loaded with ctypes; if it was not built, cannot be loaded, or
+optional extension with ``coverage_bands.c``) walks a stream's pieces
+across the pixel cells and deposits their area and cover exactly as
+:func:`stimuli.render.raster.accumulate` does, then takes the column prefix
+sum and paints 8-bit pixels in one pass. 8-bit silhouettes
+(:func:`ring_u8`, :func:`stream_u8`) are painted band by band of rows,
+every pixel of the image in one call, so that the working set stays in the
+cache (see ``coverage_bands.c``). It is loaded with ctypes; if it was not
+built, cannot be loaded, lacks an entry (a stale build), or
 ``ATTNEAVE_NUMPY_RENDER=1`` is set, :data:`KERNEL` is ``'numpy'`` and the
 numpy path, the reference, is used.
 """
@@ -27,6 +31,13 @@ def _load():
     lib = load_library(_HERE, "coverage_kernel", "ATTNEAVE_NUMPY_RENDER")
     if lib is None:
         return None
+    try:
+        return _declare(lib)
+    except AttributeError:  # a stale build without every entry: use numpy
+        return None
+
+
+def _declare(lib):
     dp, lg, vp = ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p
     lib.attneave_deposit.restype = ctypes.c_double
     lib.attneave_deposit.argtypes = [dp, dp, lg, vp, lg, lg, lg, lg, lg, lg, dp]
@@ -34,6 +45,11 @@ def _load():
     lib.attneave_integrate.argtypes = [dp, lg, lg]
     lib.attneave_paint_u8.restype = None
     lib.attneave_paint_u8.argtypes = [dp, lg, lg, ctypes.c_int, vp, lg, lg, vp, vp, dp]
+    image = [vp, lg, lg, lg, lg, lg, vp]  # img, h, w, row_step, pix_step, channels, luts
+    lib.attneave_ring_u8.restype = ctypes.c_double
+    lib.attneave_ring_u8.argtypes = [dp, lg, ctypes.c_int, *image]
+    lib.attneave_stream_u8.restype = ctypes.c_double
+    lib.attneave_stream_u8.argtypes = [dp, dp, lg, vp, *image]
     return lib
 
 
@@ -88,3 +104,46 @@ def paint_u8(a, integrated, out, lut=None):
         _address(out), row_step, pix_step, None if lut is None else _address(lut),
         _address(levels), _address(run),
     )
+
+
+def _image_u8(img, luts):
+    """The image arguments of the 8-bit renderers: `img` (h, w) or (h, w, c)
+    C-contiguous uint8, `luts` None or a C-contiguous (c, 256) uint8 array."""
+    h, w = img.shape[:2]
+    channels = 1 if img.ndim == 2 else img.shape[2]
+    return (_address(img), h, w, img.strides[0], img.strides[1], channels,
+            None if luts is None else _address(luts))
+
+
+def _checked(area):
+    if area != area:  # NaN: the kernel could not allocate its buffers
+        raise MemoryError("the render kernel could not allocate its scratch buffers")
+    return area
+
+
+def ring_u8(ring, oriented, img, luts=None):
+    """Paint one closed ring into the 8-bit image `img`, every pixel of it.
+
+    `ring` is a C-contiguous (n, 2) float64 array of ``(x, y)`` points
+    (image pixels, pixel centres at integers), `img` a C-contiguous (h, w)
+    or (h, w, c) uint8 array, `luts` None (grey, black on white: 255 -
+    level) or a C-contiguous (c, 256) uint8 array of each channel's colour
+    per coverage level ``rint(255 * coverage)``. Returns the winding
+    integral over the image; with `oriented`, that of the ring turned to a
+    positive shoelace sum (see :func:`stimuli.render.raster.ring_area`).
+    Returns NaN, `img` undefined, unless the ring is plain: finite, at least
+    3 distinct points, the first not repeated at the end (the caller then
+    takes its validating path), or if memory ran out.
+    """
+    return LIB.attneave_ring_u8(_address(ring), len(ring), oriented, *_image_u8(img, luts))
+
+
+def stream_u8(p, bridge, img, luts=None):
+    """Paint a stream (see :mod:`stimuli.render.raster`) into `img` as
+    :func:`ring_u8` does; returns the winding integral over the image."""
+    x, y = np.ascontiguousarray(p[0], np.float64), np.ascontiguousarray(p[1], np.float64)
+    flags = None if bridge is None else np.ascontiguousarray(bridge, np.uint8)  # kept alive
+    return _checked(LIB.attneave_stream_u8(
+        _address(x), _address(y), x.size, None if flags is None else _address(flags),
+        *_image_u8(img, luts),
+    ))

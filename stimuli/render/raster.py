@@ -39,15 +39,15 @@ temporaries live in per-thread scratch buffers (:mod:`.workspace`).
 Speed. The deposits and the 8-bit painting also exist in C (:mod:`.kernel`,
 float64 throughout; ``stimuli.render.KERNEL`` says which path runs): the
 numpy functions are the reference and the fallback, held to 1e-12 by a test.
-``benchmarks/bench_render.py --n 1000`` (512 x 512 8-bit images of
-500-vertex polygons, 2-core AMD EPYC shared with other work, load 1.3-2.5,
-CPU medians of three runs): rendering plus ``cv2.imwrite`` is 1.34x (blob;
-target 1.3 not met) and 1.25x (spiky star) ``cv2.fillPoly(LINE_AA)`` plus
-``cv2.imwrite``; the renderer takes 0.20 / 0.40 ms per image in the bench
-(0.10 / 0.26 ms with warm caches; callgrind: 4.2 / 5.9 M instructions).
-The numpy path gave 1.74 / 1.82 (0.57 / 1.23 ms at load 8-11; 4.0 / 10.8 M
-instructions): its time went to a hundred numpy calls, several
-microseconds each with cold caches.
+8-bit silhouettes are painted band by band of rows (``coverage_bands.c``),
+one plain float64 ring in one ctypes call. ``bench_render.py --n 1000``
+(512 x 512 8-bit images, 500-vertex polygons, 2-core AMD EPYC, medians of
+thread CPU time, three runs at load 1.1-1.3): rendering plus ``cv2.imwrite``
+is 1.05-1.14x (blob) and 1.10-1.12x (spiky star) ``cv2.fillPoly(LINE_AA)``
+plus ``cv2.imwrite``; the renderer takes 0.10 / 0.34 ms per image there
+(callgrind: 2.3 / 4.5 M instructions per step, as fillPoly's). The numpy path
+gave 1.74 / 1.82 when last measured (load 8-11): its time goes to a hundred
+numpy calls, several microseconds each with cold caches.
 
 References
 ----------
