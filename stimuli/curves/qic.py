@@ -48,8 +48,10 @@ from stimuli.curves.qic_rule import (
     CORNER_TURN,
     MAX_TANGENT_DEVIATION,
     bad_segments,
+    crossing_segments,
     folded_corners,
     hold_straying_nodes,
+    mean_side,
     polygon_is_simple,
     polygon_turns,
     reference_deviation,
@@ -370,6 +372,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     turns = polygon_turns(P, closed)
     check_crossings = polygon_is_simple(P, closed)
     ref_dev = reference_deviation(P, tangents)
+    mean_chord = mean_side(P, closed)
     corner_turn = CORNER_TURN if corner_turn is None else float(corner_turn)
     given = set(g0)
 
@@ -378,11 +381,23 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
 
     def evaluate(fit, sp, g0, crossings=True):
         # the bad segments of a fit (step 3 of the rule); the crossing test (GEOS, the dearest part)
-        # only where asked
-        samples = sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)
-        return bad_segments(fit.seg, samples if crossings and check_crossings else None, ref_dev,
-                            segment_bulge(samples, P, closed), folded_corners(fit.seg, g0, P, closed),
-                            turns, corner_turn, g0)
+        # only where asked. The samples (sample_by_turn's) are made once for the bulge and the
+        # crossing test: by the kernel, only x, y and each segment's distance from its chord
+        sample = lambda: sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)  # noqa: E731
+        if qic_kernel.LIB is not None:
+            end = P[(sp.start + 1) % N]
+            xy, dist = qic_kernel.turn_samples(_CROSS_STEP, _CROSS_SAMPLES, sp.x0, sp.y0, sp.theta0, sp.k0, sp.dk,
+                                               sp.length, end[:, 0], end[:, 1])
+            bulge = dist / mean_chord
+        else:
+            curve = sample()
+            xy = np.column_stack((curve.x, curve.y))
+            bulge = segment_bulge(curve, P, closed)
+        bad = bad_segments(fit.seg, None, ref_dev, bulge, folded_corners(fit.seg, g0, P, closed), turns,
+                           corner_turn, g0)
+        if crossings and check_crossings:
+            bad = np.union1d(bad, crossing_segments(sp.start, xy, closed, sample))
+        return bad
 
     def fit_state(g0, held):
         fit = _Fit(P, closed, sorted(g0), held, ts, te, tol, min(max_iter, 30), _ROBUST_HALVINGS, pieces=pieces)

@@ -29,7 +29,8 @@ import numpy as np
 from stimuli.compiled import address as _address
 from stimuli.compiled import load_library
 
-__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments"]
+__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments",
+           "turn_samples"]
 
 _HERE = Path(__file__).resolve().parent
 #: Status codes of :func:`solve_piece` (0: solved).
@@ -48,6 +49,8 @@ def _load():
     lib.attneave_clothoid_points.argtypes = [lg] + [vp] * 8
     lib.attneave_sample_segments.restype = lg
     lib.attneave_sample_segments.argtypes = [lg, vp, db, lg] + [vp] * 8 + [db, lg, vp]
+    lib.attneave_turn_samples.restype = lg
+    lib.attneave_turn_samples.argtypes = [lg, db, lg, lg, vp, vp]
     return lib
 
 
@@ -137,3 +140,21 @@ def sample_segments(counts, max_step, max_samples, x0, y0, theta0, k0, dk, L, xe
     total = LIB.attneave_sample_segments(m, _address(counts), max_step, int(max_samples), *(_address(a) for a in rows),
                                          sign, cap, _address(out))
     return counts, out[:, :total]
+
+
+def turn_samples(max_step, max_samples, x0, y0, theta0, k0, dk, L, xe, ye):
+    """The points of :func:`sample_segments` with ``counts=None`` (as
+    :meth:`~stimuli.curves.qic_result.QICSpline.sample_by_turn` chooses
+    them), for the robust rule's checks: only x and y, as rows of an
+    (n, 2) array (GEOS's layout), and per segment the largest distance of
+    its samples from the line through its chord ``(x0, y0) -> (xe, ye)``,
+    computed as :func:`stimuli.curves.qic_rule.segment_bulge` does before
+    its division by the mean chord (bit for bit: ``tests/test_qic_kernel.py``).
+    The segments' arrays are 1-D float64 of one length m (views will do)."""
+    m = L.size
+    cap = m * max(int(max_samples), 3)
+    # one buffer in, one out: each array's address costs about a microsecond, a copy of all less
+    seg = np.concatenate((x0, y0, theta0, k0, dk, L, xe, ye))
+    out = np.empty(2 * cap + m)
+    total = LIB.attneave_turn_samples(m, max_step, int(max_samples), cap, _address(seg), _address(out))
+    return out[: 2 * total].reshape(total, 2), out[2 * cap :]

@@ -153,8 +153,10 @@ __all__ = [
     "MAX_RUN",
     "reference_deviation",
     "segment_bulge",
+    "mean_side",
     "folded_corners",
     "bad_segments",
+    "crossing_segments",
     "straying_nodes",
     "hold_straying_nodes",
     "relax_bad_runs",
@@ -219,6 +221,15 @@ def _sides(P, closed):
     np.subtract(y[1:], y[:-1], out=dy[:-1])
     dx[-1], dy[-1] = x[0] - x[-1], y[0] - y[-1]
     return dx, dy
+
+
+def mean_side(P, closed, r=None):
+    """The mean length of the polygon's sides (`r`: their lengths, if known),
+    the scale of :func:`segment_bulge`."""
+    if r is None:
+        dx, dy = _sides(P, closed)
+        r = np.hypot(dx, dy)
+    return float(np.add.reduce(r)) / r.size
 
 
 def _side_angles(P, closed):
@@ -290,7 +301,7 @@ def segment_bulge(curve, P, closed=True):
     starts = np.flatnonzero(np.diff(seg, prepend=-1))
     dx, dy = _sides(P, closed)
     r = np.hypot(dx, dy)
-    h = float(np.add.reduce(r)) / r.size
+    h = mean_side(P, closed, r)
     # per sample, the chord of its segment (1-D gathers: cheaper than rows of P)
     cx, cy, ux, uy = P[:, 0][seg], P[:, 1][seg], (dx / r)[seg], (dy / r)[seg]
     # |cross product with the unit chord| is the distance from the chord's line
@@ -401,24 +412,31 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
         bad[big] |= (bulge[big] > EXCESS_BULGE) & (turn[big] - 0.5 * (turns[a] + turns[b]) > MAX_EXCESS)
     for e in folded:
         bad[(start == e) | ((start + 1) % len(ref_dev) == e)] = True
-    if curve is not None and not _sampled_curve_is_simple(curve):
-        for s in self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed):
-            bad[np.flatnonzero(start == s)] = True
+    if curve is not None:
+        xy = np.column_stack((curve.x, curve.y))
+        bad[crossing_segments(start, xy, curve.closed, lambda: curve)] = True
     return np.flatnonzero(bad)
 
 
-def _sampled_curve_is_simple(curve):
-    """GEOS's simplicity test on the samples as they are: the segments' shared
-    end points repeat, which GEOS ignores, so the copy without them that
+def crossing_segments(start, xy, closed, sample):
+    """Indices (into the segment arrays, whose start nodes are `start`) of
+    the segments that cross another segment (step 3c).
+
+    GEOS's simplicity test runs on the samples `xy` ((n, 2), segment by
+    segment in order) as they are: the segments' shared end points repeat,
+    which GEOS ignores, so the copy without them that
     :func:`~stimuli.curves.metrics.self_crossing_segments` makes (and its
-    segment-by-segment search) is needed only when the curve does cross
-    itself (5x cheaper at N = 1000 on a simple curve)."""
+    segment-by-segment search on the SampledCurve that ``sample()`` gives)
+    is needed only when the curve does cross itself (5x cheaper at N = 1000
+    on a simple curve).
+    """
     import shapely
 
-    xy = np.column_stack((curve.x, curve.y))
-    if len(xy) < 4:
-        return False
-    return bool(shapely.is_simple(shapely.linearrings(xy) if curve.closed else shapely.linestrings(xy)))
+    if len(xy) >= 4 and shapely.is_simple(shapely.linearrings(xy) if closed else shapely.linestrings(xy)):
+        return np.empty(0, np.intp)
+    curve = sample()
+    hits = self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed)
+    return np.flatnonzero(np.isin(start, np.fromiter(hits, dtype=np.intp, count=len(hits))))
 
 
 def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
