@@ -191,9 +191,7 @@ def test_turn_samples_match_sample_by_turn_and_segment_bulge():
     circle = np.c_[7 + 5 * np.cos(t), 3 - 5 * np.sin(t)]
     fits += [(qic_spline(circle), circle, True)]
     for sp, P, closed in fits:
-        end = P[(sp.start + 1) % len(P)]
-        xy, dist = qic_kernel.turn_samples(0.15, 12, sp.x0, sp.y0, sp.theta0, sp.k0, sp.dk, sp.length,
-                                           end[:, 0], end[:, 1])
+        xy, dist = qic_kernel.turn_samples(0.15, 12, P, sp.start, sp.theta0, sp.k0, sp.dk, sp.length)
         curve = sp.sample_by_turn(0.15, 12)
         np.testing.assert_array_equal(xy, np.c_[curve.x, curve.y])
         ref = numpy_path(lambda: segment_bulge(curve, P, closed))

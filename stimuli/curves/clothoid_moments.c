@@ -248,25 +248,28 @@ long attneave_sample_segments(long m, int64_t *counts, double max_step, long max
 }
 
 /* The robust rule's checks on the samples of attneave_sample_segments with max_step > 0 (the same
-   points), without the rows it does not need. seg holds 8 rows of m: x0, y0, theta0, k0, dk, L, xe,
-   ye. Written to out: x, y interleaved (2 x cap doubles, cap >= the total; the layout GEOS takes),
-   then per segment the largest distance of its samples from the line through its chord (x0, y0) ->
-   (xe, ye) (m doubles; the bulge before division by the mean chord), computed as segment_bulge in
-   qic_rule.py does, operation for operation. Returns the total. */
-long attneave_turn_samples(long m, double max_step, long max_samples, long cap, const double *seg, double *out)
+   points), without the rows it does not need. Segment j runs from point start[j] of the n points P
+   (x, y interleaved) to the next (cyclic); seg holds 4 rows of m: theta0, k0, dk, L. Written to out:
+   x, y interleaved (2 x cap doubles, cap >= the total; the layout GEOS takes), then per segment the
+   largest distance of its samples from the line through its chord (m doubles; the bulge before
+   division by the mean chord), computed as segment_bulge in qic_rule.py does, operation for
+   operation. Returns the total. */
+long attneave_turn_samples(long m, double max_step, long max_samples, long cap, const double *P, long n,
+                           const int64_t *start, const double *seg, double *out)
 {
-    const double *x0 = seg, *y0 = seg + m, *theta0 = seg + 2 * m, *k0 = seg + 3 * m, *dk = seg + 4 * m,
-                 *L = seg + 5 * m, *xe = seg + 6 * m, *ye = seg + 7 * m;
+    const double *theta0 = seg, *k0 = seg + m, *dk = seg + 2 * m, *L = seg + 3 * m;
     double *dist = out + 2 * cap;
     long i = 0;
     for (long j = 0; j < m; j++) {
+        long a = (long)start[j], b = (a + 1) % n;
+        double x0 = P[2 * a], y0 = P[2 * a + 1], xe = P[2 * b], ye = P[2 * b + 1];
         long c = turn_count(k0[j], dk[j], L[j], max_step, max_samples);
         double *x = out + 2 * i, *y = x + 1;
-        segment_points(x0[j], y0[j], theta0[j], k0[j], dk[j], L[j], xe[j], ye[j], c, x, y, 2);
-        double dx = xe[j] - x0[j], dy = ye[j] - y0[j], r = hypot(dx, dy), ux = dx / r, uy = dy / r;
+        segment_points(x0, y0, theta0[j], k0[j], dk[j], L[j], xe, ye, c, x, y, 2);
+        double dx = xe - x0, dy = ye - y0, r = hypot(dx, dy), ux = dx / r, uy = dy / r;
         double big = 0.0;
         for (long q = 0; q < c; q++) {
-            double cr = fabs((x[2 * q] - x0[j]) * uy - (y[2 * q] - y0[j]) * ux);
+            double cr = fabs((x[2 * q] - x0) * uy - (y[2 * q] - y0) * ux);
             if (cr > big || cr != cr)
                 big = cr;
         }

@@ -50,7 +50,7 @@ def _load():
     lib.attneave_sample_segments.restype = lg
     lib.attneave_sample_segments.argtypes = [lg, vp, db, lg] + [vp] * 8 + [db, lg, vp]
     lib.attneave_turn_samples.restype = lg
-    lib.attneave_turn_samples.argtypes = [lg, db, lg, lg, vp, vp]
+    lib.attneave_turn_samples.argtypes = [lg, db, lg, lg, vp, lg, vp, vp, vp]
     return lib
 
 
@@ -142,19 +142,24 @@ def sample_segments(counts, max_step, max_samples, x0, y0, theta0, k0, dk, L, xe
     return counts, out[:, :total]
 
 
-def turn_samples(max_step, max_samples, x0, y0, theta0, k0, dk, L, xe, ye):
+def turn_samples(max_step, max_samples, P, start, theta0, k0, dk, L):
     """The points of :func:`sample_segments` with ``counts=None`` (as
     :meth:`~stimuli.curves.qic_result.QICSpline.sample_by_turn` chooses
     them), for the robust rule's checks: only x and y, as rows of an
     (n, 2) array (GEOS's layout), and per segment the largest distance of
-    its samples from the line through its chord ``(x0, y0) -> (xe, ye)``,
-    computed as :func:`stimuli.curves.qic_rule.segment_bulge` does before
-    its division by the mean chord (bit for bit: ``tests/test_qic_kernel.py``).
-    The segments' arrays are 1-D float64 of one length m (views will do)."""
+    its samples from the line through its chord, computed as
+    :func:`stimuli.curves.qic_rule.segment_bulge` does before its division
+    by the mean chord (bit for bit: ``tests/test_qic_kernel.py``).
+
+    Segment j runs from point ``start[j]`` of `P` ((N, 2) float64) to the
+    next (cyclic); the segments' arrays are 1-D float64 of one length m."""
     m = L.size
     cap = m * max(int(max_samples), 3)
-    # one buffer in, one out: each array's address costs about a microsecond, a copy of all less
-    seg = np.concatenate((x0, y0, theta0, k0, dk, L, xe, ye))
+    # one buffer per kind: each array's address costs about a microsecond, a copy of all less
+    seg = np.concatenate((theta0, k0, dk, L))
+    P = np.ascontiguousarray(P, np.float64)
+    start = np.ascontiguousarray(start, np.int64)
     out = np.empty(2 * cap + m)
-    total = LIB.attneave_turn_samples(m, max_step, int(max_samples), cap, _address(seg), _address(out))
+    total = LIB.attneave_turn_samples(m, max_step, int(max_samples), cap, _address(P), len(P), _address(start),
+                                      _address(seg), _address(out))
     return out[: 2 * total].reshape(total, 2), out[2 * cap :]

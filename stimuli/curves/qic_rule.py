@@ -154,6 +154,7 @@ __all__ = [
     "reference_deviation",
     "segment_bulge",
     "mean_side",
+    "polygon_measures",
     "folded_corners",
     "bad_segments",
     "crossing_segments",
@@ -191,16 +192,17 @@ FOLD_MARGIN = 0.05
 MAX_RUN = 2
 
 
-def polygon_turns(P, closed):
+def polygon_turns(P, closed, phi=None):
     """Absolute turning angle of the polygon at every node (radians; 0 at the
-    ends of an open curve).
+    ends of an open curve); `phi`: its sides' directions, if known.
 
     Examples
     --------
     >>> polygon_turns(np.array([[0, 0], [1, 0], [1, 1], [0, 1.]]), True).round(4).tolist()
     [1.5708, 1.5708, 1.5708, 1.5708]
     """
-    phi = _side_angles(P, closed)
+    if phi is None:
+        phi = _side_angles(P, closed)
     if closed:
         d = np.empty_like(phi)
         d[1:] = phi[1:] - phi[:-1]
@@ -232,6 +234,19 @@ def mean_side(P, closed, r=None):
     return float(np.add.reduce(r)) / r.size
 
 
+def polygon_measures(P, closed, tangents):
+    """:func:`polygon_turns`, :func:`reference_deviation` and :func:`mean_side`
+    of the points at once, the sides and their directions computed once
+    (the same values: where the polygon is open its turns take their own
+    directions, as numpy's arctan2 may round the last element of an array
+    differently from the same element of a longer one)."""
+    dx, dy = _sides(P, True)
+    phi = np.arctan2(dy, dx)
+    turns = polygon_turns(P, closed, phi if closed else None)
+    r = np.hypot(dx, dy) if closed else np.hypot(dx[:-1], dy[:-1])
+    return turns, reference_deviation(P, tangents, phi), mean_side(P, closed, r)
+
+
 def _side_angles(P, closed):
     """Direction (radians) of every side of the polygon (see :func:`_sides`)."""
     dx, dy = _sides(P, closed)
@@ -246,11 +261,12 @@ def polygon_is_simple(P, closed):
     return bool(shapely.is_simple(shapely.linearrings(P) if closed else shapely.linestrings(P)))
 
 
-def reference_deviation(P, tangents):
+def reference_deviation(P, tangents, phi=None):
     """Per node of a closed polygon (or of an open one, its last value
     unused): the larger angle between the chord from it to the next point
     and the bisector tangents at the chord's ends, the deviation from the
     chord that no smooth curve with those tangents can avoid (step 3b).
+    `phi`: the directions of the closed polygon's sides, if known.
 
     Examples
     --------
@@ -261,10 +277,16 @@ def reference_deviation(P, tangents):
     >>> reference_deviation(P, bisector_tangents(P, True)).round(4).tolist()
     [0.7854, 0.7854, 0.7854, 0.7854]
     """
-    phi = _side_angles(P, True)
-    nxt = np.empty_like(tangents)
-    nxt[:-1], nxt[-1] = tangents[1:], tangents[0]
-    return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(nxt - phi)))
+    if phi is None:
+        phi = _side_angles(P, True)
+    n = len(tangents)
+    # both ends' angles to the chord in one array: one wrap_angle (elementwise exact) instead of two
+    d = np.empty(2 * n)
+    np.subtract(tangents, phi, out=d[:n])
+    np.subtract(tangents[1:], phi[:-1], out=d[n:-1])
+    d[-1] = tangents[0] - phi[-1]
+    d = np.abs(wrap_angle(d))
+    return np.maximum(d[:n], d[n:])
 
 
 def segment_bulge(curve, P, closed=True):
@@ -418,9 +440,11 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
     return np.flatnonzero(bad)
 
 
-def crossing_segments(start, xy, closed, sample):
+def crossing_segments(start, xy, closed, sample, polygon_simple=None):
     """Indices (into the segment arrays, whose start nodes are `start`) of
-    the segments that cross another segment (step 3c).
+    the segments that cross another segment (step 3c); none where
+    ``polygon_simple()`` (asked only when the curve crosses itself) is
+    False: the polygon of the points crosses itself too.
 
     GEOS's simplicity test runs on the samples `xy` ((n, 2), segment by
     segment in order) as they are: the segments' shared end points repeat,
@@ -433,6 +457,8 @@ def crossing_segments(start, xy, closed, sample):
     import shapely
 
     if len(xy) >= 4 and shapely.is_simple(shapely.linearrings(xy) if closed else shapely.linestrings(xy)):
+        return np.empty(0, np.intp)
+    if polygon_simple is not None and not polygon_simple():
         return np.empty(0, np.intp)
     curve = sample()
     hits = self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed)
@@ -450,6 +476,8 @@ def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
         dev[list(relaxed)] = 0.0
     if not closed:
         dev[0] = dev[-1] = 0.0
+    if not np.maximum.reduce(dev) > max_dev:
+        return np.empty(0, np.intp)  # the common case, found by one reduction
     # a peak: above max_dev and at least its neighbours' (cyclic)
     prev, nxt = np.empty_like(dev), np.empty_like(dev)
     prev[1:], prev[0] = dev[:-1], dev[-1]
