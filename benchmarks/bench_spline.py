@@ -174,7 +174,7 @@ def real_rows(folder, every, repeat=3):
     if lib is None or not Path(folder).is_dir():
         print(f"real outlines: skipped ({'no kernel' if lib is None else folder + ' not found'})")
         return
-    shapes = [c for _, c in outlines(folder, every=every)]
+    shapes = [c for _, _, c in outlines(folder, every=every)]
     print(f"real outlines: {len(shapes)} from {folder}, CPU ms (kernel vs numpy path)")
     for n in (12, 20, 40):
         t = {key: [] for key in ("robust c", "robust np", "pure c", "pure np")}
