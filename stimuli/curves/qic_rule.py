@@ -343,17 +343,16 @@ def folded_corners(seg, g0, P, closed):
     theta_end = seg["theta0"] + seg["k0"] * L + 0.5 * seg["dk"] * L * L
     D = P[(start + 1) % N] - P[start]
     phi = np.arctan2(D[:, 1], D[:, 0])
-    out = []
-    for e in g0:
-        j_out = np.flatnonzero(start == e)
-        j_in = np.flatnonzero(start == (e - 1) % N) if (closed or e > 0) else j_out[:0]
-        if not (j_in.size and j_out.size):
-            continue
-        i, o = int(j_in[0]), int(j_out[0])
-        turn = wrap_angle(phi[o] - phi[i]) + wrap_angle(seg["theta0"][o] - phi[o]) - wrap_angle(theta_end[i] - phi[i])
-        if abs(turn) > np.pi - FOLD_MARGIN:
-            out.append(int(e))
-    return sorted(out)
+    # all corners at once (a loop over them cost a fifth of the rule's time on jagged polygons): the
+    # segment leaving each corner (o) and the one entering it (i), where both exist
+    pos = np.full(N, -1)
+    pos[start] = np.arange(start.size)  # a node starts at most one segment
+    e = np.array(sorted(g0))
+    o, i = pos[e], pos[(e - 1) % N]
+    has = (o >= 0) & (i >= 0) & (closed | (e > 0))
+    e, o, i = e[has], o[has], i[has]
+    turn = wrap_angle(phi[o] - phi[i]) + wrap_angle(seg["theta0"][o] - phi[o]) - wrap_angle(theta_end[i] - phi[i])
+    return e[np.abs(turn) > np.pi - FOLD_MARGIN].tolist()
 
 
 def sharp_nodes(turns, corner_turn=CORNER_TURN):
