@@ -22,53 +22,61 @@ printed first (``benchmarks/_machine.py``), and which QIC solver ran: the
 compiled kernel (``stimuli/curves/qic_solve.c``, ``KERNEL == 'c'``) or the
 numpy reference (``ATTNEAVE_NUMPY_SPLINE=1``, or no C compiler at install).
 
-Measured (load average 5.3-5.9 on 2 shared cpus, AMD EPYC; three runs of
-this script each, alternating between commit 4bedff8, before the kernel, and
-commit 1e22b6d, with it; every figure a median of its run, ranges over the
-three runs):
+Measured, issue 9's speed round of the robust mode (load average 1.1-1.2 on
+2 shared cpus, AMD EPYC; five runs of this script each, alternating between
+commit 524127d, before, and commit 6e0e5a4, after; every figure a median of
+its run, ranges over the five runs):
 
 =====================  ===============  ===============
-                       before (numpy)   after (kernel)
+                       before           after
 =====================  ===============  ===============
-pure, N = 30           0.202-0.215 ms   0.043-0.045 ms
-libspiro, N = 30       0.068-0.071 ms   0.063-0.065 ms
-pure / libspiro        2.99-3.01        0.67-0.69
-pure, N = 1000         0.48-0.51 ms     0.25-0.26 ms
-pure / libspiro        0.36-0.39        0.19-0.20
-robust, N = 30         0.47-0.53 ms     0.23-0.25 ms
-robust, N = 1000       1.34-1.44 ms     0.87-0.93 ms
-robust / pure, N = 30  2.33-2.47        5.34-5.40
-robust / pure, 1000    2.82-2.85        3.43-3.60
+pure, N = 30           0.040-0.041 ms   0.040-0.041 ms
+robust, N = 30         0.147-0.149 ms   0.097-0.100 ms
+robust / pure, N = 30  3.62-3.67        2.45-2.48
+pure, N = 1000         0.238-0.243 ms   0.237-0.247 ms
+robust, N = 1000       0.619-0.635 ms   0.490-0.520 ms
+robust / pure, 1000    2.60-2.61        2.07-2.10
 =====================  ===============  ===============
 
+Targets: robust / pure <= 3 (aim 2.5) at N = 30, <= 2.5 at N = 1000: met.
 Instruction counts (``valgrind --tool=callgrind``, per call, the difference
 of a run with 300 (N = 30) or 20 (N = 1000) calls and one with none, after
-``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): pure
-1.90 M -> 0.385 M at N = 30 (libspiro through this script's ctypes wrapper
-0.97 M: 1.95 -> 0.40 x) and 5.9 M -> 2.9 M at N = 1000 (libspiro 22 M);
-robust 4.29 M -> 2.16 M and 17.9 M -> 10.9 M.
+``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): robust
+1.528 M -> 1.004 M at N = 30 (pure 0.385 M -> 0.386 M: 3.97 -> 2.60 x) and
+8.31 M -> 6.64 M at N = 1000 (pure 2.885 M -> 2.882 M: 2.88 -> 2.30 x; at
+commit 447e9d1). The real-outline rows
+(every 5th MPEG-7 mask, 70, at N = 12 / 20 / 40, 3 interleaved fits each,
+thread CPU time; there the rule relaxes nodes and fits several times):
+robust / pure 5.9 / 3.3-4.0 / 3.1-3.2 -> 4.4-4.5 / 2.5-2.7 / 2.3-2.4
+(robust 0.35 / 0.24-0.29 / 0.26-0.27 -> 0.26-0.27 / 0.17-0.19 / 0.19-0.20
+ms). On 100 jagged Attneave polygons (``validate_spline.py --jagged 100``,
+half of the nodes relaxed; three runs each, alternating, commit 524127d
+against 447e9d1, load 2.3-2.4) robust 4.44-4.47 -> 3.60-3.65 ms per curve,
+robust / pure 21.3-21.7 -> 17.7-18.0 (the pure spline fails fast there;
+0.2 ms); a third of what remains is the segment-by-segment crossing search
+(``stimuli.curves.metrics.self_crossing_segments``, shapely's STRtree),
+another module's.
 
-On real outlines (the last rows: every 5th of the 350 MPEG-7 masks, 70,
-reduced to N = 12 / 20 / 40 points, 3 interleaved fits each, CPU time, same
-three runs): robust 0.47-0.48 / 0.45-0.48 / 0.42-0.48 ms with the kernel
-against 1.41-1.48 / 0.91-1.03 / 0.95-1.09 ms on the numpy path, pure
-0.065-0.099 ms against 0.39-0.47 ms. The robust fits are the same: before
-and after the kernel, on every 3rd outline at N = 12 / 20 / 40, robust and
-pure (684 fits), the same corners and kinds everywhere, segments within
-1.2e-14, Newton iterations different in one fit.
+How: the rule's samples are made once per fit by the kernel
+(``qic_kernel.turn_samples``: x, y in GEOS's layout and each segment's
+distance from its chord, one buffer in and one out), shared by the bulge
+and the crossing test; the polygon's turns, reference deviations and mean
+chord come from one pass over its sides; the polygon's simplicity is asked
+only when a curve crosses itself; straying nodes are sought only where one
+reduction finds a deviation above the limit; no ``dataclasses.replace``
+after a single fit; G0 corners' folds tested all at once. The results are
+the same: robust fits on the 350 MPEG-7 outlines at N = 12 / 20 / 40 / 80,
+300 Attneave polygons and 20 smooth shapes (1720 fits, kernel) and on
+every 2nd outline with the numpy path (1020 fits) have the same corners,
+kinds and segments bit for bit, and ``validate_spline.py --halves`` prints
+the same tables.
 
-The pure target is met with margin at both N. The robust / pure target
-(<= 3) is not, although the robust mode runs the same kernel and its time
-halved: the pure fit is now ~0.04 ms at N = 30, and the robust mode adds the
-robust rule's checks on the fit (``stimuli/curves/qic_rule.py``: polygon
-turns, reference deviations, segment bulge, the crossing test, straying
-nodes), its samples and the bisector tangents. Replacing each call in turn
-by a cached result (thread CPU time, load ~8, at commit 6180f5d) put the
-rule's checks at ~0.14 ms of the robust fit's ~0.22 ms at N = 30 (numpy
-calls on arrays of 30: mostly ``np.roll`` and small reductions) and the
-bulge and crossing tests at ~0.3 ms of ~0.87 ms at N = 1000. Reaching 3 x
-needs those checks vectorised without ``np.roll``, or compiled; the rule is
-another module's (issue 9's robust part).
+The kernel round before (commit 1e22b6d against 4bedff8, numpy solve, load
+5.3-5.9): pure 0.202-0.215 -> 0.043-0.045 ms at N = 30 (libspiro
+0.063-0.071 ms: 0.67-0.69 x, target 2 x) and 0.48-0.51 -> 0.25-0.26 ms at N
+= 1000 (0.19-0.20 x libspiro, target 1 x); pure 1.90 M -> 0.385 M
+instructions at N = 30 (libspiro through this script's ctypes wrapper 0.97
+M) and 5.9 M -> 2.9 M at N = 1000 (libspiro 22 M).
 
 Usage::
 

@@ -321,8 +321,11 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     starts from the small-angle G2 spline (:mod:`stimuli.curves.qic_newton`)
     and costs O(N) per iteration (a cyclic tridiagonal solve, LAPACK
     ``dgtsv``), each piece in one call of the compiled kernel where it was
-    built (:data:`stimuli.curves.qic_kernel.KERNEL`); the robust rule adds a
-    crossing test per round (GEOS).
+    built (:data:`stimuli.curves.qic_kernel.KERNEL`); the robust rule adds
+    its checks per round, on samples the kernel makes once per fit, and a
+    crossing test (GEOS): on smooth curves, where one fit passes them all,
+    about 2.5 x the pure spline's time at N = 30 and 2.1 x at N = 1000
+    (:mod:`stimuli.curves.qic_rule`'s notes).
 
     References
     ----------

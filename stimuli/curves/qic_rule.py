@@ -116,11 +116,26 @@ the whole segment where the cubic concentrates it at the node; a segment
 family that can concentrate it (per-segment alpha of log-aesthetic curves)
 is the likely remedy.
 
-Cost: on smooth curves (nothing relaxed) the rule's own checks take ~50 us
-at N = 30 and ~150 us at N = 1000 (thread CPU medians): each runs on 1-D
-arrays, the crossing test asks GEOS once about the samples as they are and
-searches segment by segment only when that fails, and steps 3d-e look only
-at segments that bulge by more than the smaller of their limits.
+Cost: on smooth curves (nothing relaxed: one fit, every check passed) the
+robust mode costs ~2.5 x the pure spline at N = 30 and ~2.1 x at N = 1000
+(``benchmarks/bench_spline.py``; 3.6 x and 2.6 x before issue 9's speed
+round). The checks (:mod:`stimuli.curves.qic_measures`) run cheapest first and share their inputs: the polygon's
+turns, reference deviations and mean chord come from one pass over its sides
+(:func:`polygon_measures`); the samples are made once, by the compiled
+kernel where it was built (``qic_kernel.turn_samples``: only x and y, in
+GEOS's layout, with each segment's distance from its chord, so that
+:func:`segment_bulge` needs no numpy pass), and serve both the bulge and the
+crossing test; the crossing test asks GEOS once about the samples as they
+are (:func:`crossing_segments`), whether the polygon itself is simple only
+when the curve crosses itself, and searches segment by segment only then;
+steps 3d-e look only at segments that bulge by more than the smaller of
+their limits; straying nodes are sought only where one reduction finds a
+deviation above the limit. What remains at N = 30 (thread CPU medians, ~55
+us over the pure fit): the bisector tangents and polygon measures (~18 us),
+the samples (~11 us, half of it the call's overhead), GEOS (~4 us), the
+rule's numpy checks (~8 us) and the driver's bookkeeping. On jagged polygons
+(many rounds) a third of the time is the segment-by-segment crossing search
+(:func:`~stimuli.curves.metrics.self_crossing_segments`, shapely's STRtree).
 
 References
 ----------
@@ -134,7 +149,15 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.curves.euler import wrap_angle
-from stimuli.curves.metrics import self_crossing_segments
+from stimuli.curves.qic_measures import (
+    crossing_segments,
+    mean_side,
+    polygon_is_simple,
+    polygon_measures,
+    polygon_turns,
+    reference_deviation,
+    segment_bulge,
+)
 
 __all__ = [
     "MAX_CHORD_ANGLE",
@@ -190,145 +213,6 @@ FOLD_MARGIN = 0.05
 #: A run of consecutive bad segments gets one relaxation per stretch of at
 #: most this many segments in each round (step 3).
 MAX_RUN = 2
-
-
-def polygon_turns(P, closed, phi=None):
-    """Absolute turning angle of the polygon at every node (radians; 0 at the
-    ends of an open curve); `phi`: its sides' directions, if known.
-
-    Examples
-    --------
-    >>> polygon_turns(np.array([[0, 0], [1, 0], [1, 1], [0, 1.]]), True).round(4).tolist()
-    [1.5708, 1.5708, 1.5708, 1.5708]
-    """
-    if phi is None:
-        phi = _side_angles(P, closed)
-    if closed:
-        d = np.empty_like(phi)
-        d[1:] = phi[1:] - phi[:-1]
-        d[0] = phi[0] - phi[-1]
-        return np.abs(wrap_angle(d))
-    return np.r_[0.0, np.abs(wrap_angle(np.diff(phi))), 0.0]
-
-
-def _sides(P, closed):
-    """x and y steps of every side of the polygon, from each point to the
-    next (N sides when closed, N - 1 when open), by 1-D slices: np.roll on
-    (N, 2) arrays costs more than the arithmetic at the sizes the rule sees."""
-    x, y = P[:, 0], P[:, 1]
-    if not closed:
-        return x[1:] - x[:-1], y[1:] - y[:-1]
-    dx, dy = np.empty_like(x), np.empty_like(y)
-    np.subtract(x[1:], x[:-1], out=dx[:-1])
-    np.subtract(y[1:], y[:-1], out=dy[:-1])
-    dx[-1], dy[-1] = x[0] - x[-1], y[0] - y[-1]
-    return dx, dy
-
-
-def mean_side(P, closed, r=None):
-    """The mean length of the polygon's sides (`r`: their lengths, if known),
-    the scale of :func:`segment_bulge`."""
-    if r is None:
-        dx, dy = _sides(P, closed)
-        r = np.hypot(dx, dy)
-    return float(np.add.reduce(r)) / r.size
-
-
-def polygon_measures(P, closed, tangents):
-    """:func:`polygon_turns`, :func:`reference_deviation` and :func:`mean_side`
-    of the points at once, the sides and their directions computed once
-    (the same values: where the polygon is open its turns take their own
-    directions, as numpy's arctan2 may round the last element of an array
-    differently from the same element of a longer one)."""
-    dx, dy = _sides(P, True)
-    phi = np.arctan2(dy, dx)
-    turns = polygon_turns(P, closed, phi if closed else None)
-    r = np.hypot(dx, dy) if closed else np.hypot(dx[:-1], dy[:-1])
-    return turns, reference_deviation(P, tangents, phi), mean_side(P, closed, r)
-
-
-def _side_angles(P, closed):
-    """Direction (radians) of every side of the polygon (see :func:`_sides`)."""
-    dx, dy = _sides(P, closed)
-    return np.arctan2(dy, dx)
-
-
-def polygon_is_simple(P, closed):
-    """Whether the polygon (closed) or polyline of the points is simple (GEOS)."""
-    import shapely
-
-    # the vectorised constructors: the geometry classes cost more than GEOS's test at N = 30
-    return bool(shapely.is_simple(shapely.linearrings(P) if closed else shapely.linestrings(P)))
-
-
-def reference_deviation(P, tangents, phi=None):
-    """Per node of a closed polygon (or of an open one, its last value
-    unused): the larger angle between the chord from it to the next point
-    and the bisector tangents at the chord's ends, the deviation from the
-    chord that no smooth curve with those tangents can avoid (step 3b).
-    `phi`: the directions of the closed polygon's sides, if known.
-
-    Examples
-    --------
-    On a square the bisector tangents make pi/4 with every side:
-
-    >>> from stimuli.curves.points import bisector_tangents
-    >>> P = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
-    >>> reference_deviation(P, bisector_tangents(P, True)).round(4).tolist()
-    [0.7854, 0.7854, 0.7854, 0.7854]
-    """
-    if phi is None:
-        phi = _side_angles(P, True)
-    n = len(tangents)
-    # both ends' angles to the chord in one array: one wrap_angle (elementwise exact) instead of two
-    d = np.empty(2 * n)
-    np.subtract(tangents, phi, out=d[:n])
-    np.subtract(tangents[1:], phi[:-1], out=d[n:-1])
-    d[-1] = tangents[0] - phi[-1]
-    d = np.abs(wrap_angle(d))
-    return np.maximum(d[:n], d[n:])
-
-
-def segment_bulge(curve, P, closed=True):
-    """Largest distance of each segment's samples from the straight line
-    through its end points (its chord), divided by the mean chord length.
-
-    Parameters
-    ----------
-    curve : SampledCurve
-        Samples of a spline through `P`, segment by segment in order, each
-        labelled by the index of the point where it starts.
-    P : ndarray, shape (N, 2)
-        The points.
-    closed : bool
-        Whether the polygon of the points is closed (its mean chord then
-        includes the side from the last point to the first).
-
-    Returns
-    -------
-    ndarray
-        One value per segment, in order of appearance.
-
-    Examples
-    --------
-    A half circle over its diameter bulges by half the chord:
-
-    >>> from types import SimpleNamespace
-    >>> t = np.linspace(np.pi, 0, 101)
-    >>> c = SimpleNamespace(x=np.cos(t), y=np.sin(t), segment=np.zeros(101, int))
-    >>> segment_bulge(c, np.array([[-1.0, 0.0], [1.0, 0.0]]), closed=False).round(6).tolist()
-    [0.5]
-    """
-    seg = np.asarray(curve.segment)
-    starts = np.flatnonzero(np.diff(seg, prepend=-1))
-    dx, dy = _sides(P, closed)
-    r = np.hypot(dx, dy)
-    h = mean_side(P, closed, r)
-    # per sample, the chord of its segment (1-D gathers: cheaper than rows of P)
-    cx, cy, ux, uy = P[:, 0][seg], P[:, 1][seg], (dx / r)[seg], (dy / r)[seg]
-    # |cross product with the unit chord| is the distance from the chord's line
-    cross = np.abs((curve.x - cx) * uy - (curve.y - cy) * ux)
-    return np.maximum.reduceat(cross, starts) / h
 
 
 def folded_corners(seg, g0, P, closed):
@@ -437,31 +321,6 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
         xy = np.column_stack((curve.x, curve.y))
         bad[crossing_segments(start, xy, curve.closed, lambda: curve)] = True
     return np.flatnonzero(bad)
-
-
-def crossing_segments(start, xy, closed, sample, polygon_simple=None):
-    """Indices (into the segment arrays, whose start nodes are `start`) of
-    the segments that cross another segment (step 3c); none where
-    ``polygon_simple()`` (asked only when the curve crosses itself) is
-    False: the polygon of the points crosses itself too.
-
-    GEOS's simplicity test runs on the samples `xy` ((n, 2), segment by
-    segment in order) as they are: the segments' shared end points repeat,
-    which GEOS ignores, so the copy without them that
-    :func:`~stimuli.curves.metrics.self_crossing_segments` makes (and its
-    segment-by-segment search on the SampledCurve that ``sample()`` gives)
-    is needed only when the curve does cross itself (5x cheaper at N = 1000
-    on a simple curve).
-    """
-    import shapely
-
-    if len(xy) >= 4 and shapely.is_simple(shapely.linearrings(xy) if closed else shapely.linestrings(xy)):
-        return np.empty(0, np.intp)
-    if polygon_simple is not None and not polygon_simple():
-        return np.empty(0, np.intp)
-    curve = sample()
-    hits = self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed)
-    return np.flatnonzero(np.isin(start, np.fromiter(hits, dtype=np.intp, count=len(hits))))
 
 
 def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
