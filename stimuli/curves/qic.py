@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
 
@@ -388,15 +389,15 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         # the bad segments of a fit (step 3 of the rule); the crossing test (GEOS, the dearest part)
         # only where asked. The samples (sample_by_turn's) are made once for the bulge and the
         # crossing test: by the kernel, only x, y and each segment's distance from its chord
-        sample = lambda: sp.sample_by_turn(_CROSS_STEP, _CROSS_SAMPLES)  # noqa: E731
+        sample = partial(sp.sample_by_turn, _CROSS_STEP, _CROSS_SAMPLES)
         if qic_kernel.LIB is not None:
             xy, dist = qic_kernel.turn_samples(_CROSS_STEP, _CROSS_SAMPLES, P, sp.start, sp.theta0, sp.k0, sp.dk,
                                                sp.length)
             bulge = dist / mean_chord
         else:
-            curve = sample()
-            xy = np.column_stack((curve.x, curve.y))
-            bulge = segment_bulge(curve, P, closed)
+            sample = sample()  # made anyway: the crossing search takes it as it is
+            xy = np.column_stack((sample.x, sample.y))
+            bulge = segment_bulge(sample, P, closed)
         bad = bad_segments(fit.seg, None, ref_dev, bulge, folded_corners(fit.seg, g0, P, closed), turns,
                            corner_turn, g0)
         if crossings:

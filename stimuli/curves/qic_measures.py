@@ -188,7 +188,8 @@ def segment_bulge(curve, P, closed=True):
 
 def crossing_segments(start, xy, closed, sample, polygon_simple=None):
     """Indices (into the segment arrays, whose start nodes are `start`) of
-    the segments that cross another segment (step 3c); none where
+    the segments that cross another segment (step 3c; `sample`: the
+    samples as a SampledCurve, or a callable that makes it); none where
     ``polygon_simple()`` (asked only when the curve crosses itself) is
     False: the polygon of the points crosses itself too.
 
@@ -217,6 +218,6 @@ def crossing_segments(start, xy, closed, sample, polygon_simple=None):
         return np.empty(0, np.intp)
     if polygon_simple is not None and not polygon_simple():
         return np.empty(0, np.intp)
-    curve = sample()
+    curve = sample() if callable(sample) else sample
     hits = self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed)
     return np.flatnonzero(np.isin(start, np.fromiter(hits, dtype=np.intp, count=len(hits))))

@@ -319,7 +319,7 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
         bad[(start == e) | ((start + 1) % len(ref_dev) == e)] = True
     if curve is not None:
         xy = np.column_stack((curve.x, curve.y))
-        bad[crossing_segments(start, xy, curve.closed, lambda: curve)] = True
+        bad[crossing_segments(start, xy, curve.closed, curve)] = True
     return np.flatnonzero(bad)
 
 
