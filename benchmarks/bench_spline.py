@@ -22,38 +22,37 @@ printed first (``benchmarks/_machine.py``), and which QIC solver ran: the
 compiled kernel (``stimuli/curves/qic_solve.c``, ``KERNEL == 'c'``) or the
 numpy reference (``ATTNEAVE_NUMPY_SPLINE=1``, or no C compiler at install).
 
-Measured, issue 9's speed round of the robust mode (load average 1.1-1.2 on
-2 shared cpus, AMD EPYC; five runs of this script each, alternating between
-commit 524127d, before, and commit 6e0e5a4, after; every figure a median of
-its run, ranges over the five runs):
+Measured, issue 9's speed round of the robust mode (load average 1.55-1.80
+on 2 shared cpus, AMD EPYC; five runs of this script each, alternating
+between commit 524127d, before, and commit 6199f78, after; every figure a
+median of its run, ranges over the five runs):
 
 =====================  ===============  ===============
                        before           after
 =====================  ===============  ===============
-pure, N = 30           0.040-0.041 ms   0.040-0.041 ms
-robust, N = 30         0.147-0.149 ms   0.097-0.100 ms
-robust / pure, N = 30  3.62-3.67        2.45-2.48
-pure, N = 1000         0.238-0.243 ms   0.237-0.247 ms
-robust, N = 1000       0.619-0.635 ms   0.490-0.520 ms
-robust / pure, 1000    2.60-2.61        2.07-2.10
+pure, N = 30           0.041 ms         0.040-0.041 ms
+robust, N = 30         0.149-0.151 ms   0.095-0.097 ms
+robust / pure, N = 30  3.64-3.65        2.39-2.41
+pure, N = 1000         0.242-0.249 ms   0.239-0.241 ms
+robust, N = 1000       0.631-0.649 ms   0.415-0.419 ms
+robust / pure, 1000    2.60-2.61        1.74-1.75
 =====================  ===============  ===============
 
 Targets: robust / pure <= 3 (aim 2.5) at N = 30, <= 2.5 at N = 1000: met.
 Instruction counts (``valgrind --tool=callgrind``, per call, the difference
 of a run with 300 (N = 30) or 20 (N = 1000) calls and one with none, after
 ``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): robust
-1.528 M -> 1.004 M at N = 30 (pure 0.385 M -> 0.386 M: 3.97 -> 2.60 x) and
-8.31 M -> 6.64 M at N = 1000 (pure 2.885 M -> 2.882 M: 2.88 -> 2.30 x; at
-commit 447e9d1). The real-outline rows
+1.528 M -> 0.970 M at N = 30 (pure 0.385 M -> 0.387 M: 3.97 -> 2.51 x) and
+8.31 M -> 5.45 M at N = 1000 (pure 2.885 M -> 2.887 M: 2.88 -> 1.89 x). The real-outline rows
 (every 5th MPEG-7 mask, 70, at N = 12 / 20 / 40, 3 interleaved fits each,
 thread CPU time; there the rule relaxes nodes and fits several times):
-robust / pure 5.9 / 3.3-4.0 / 3.1-3.2 -> 4.4-4.5 / 2.5-2.7 / 2.3-2.4
-(robust 0.35 / 0.24-0.29 / 0.26-0.27 -> 0.26-0.27 / 0.17-0.19 / 0.19-0.20
+robust / pure 5.8-5.9 / 3.4-3.8 / 3.0-3.1 -> 4.3-4.5 / 2.5-2.9 / 2.2-2.3
+(robust 0.36-0.37 / 0.24-0.28 / 0.26-0.27 -> 0.27 / 0.17-0.23 / 0.19-0.20
 ms). On 100 jagged Attneave polygons (``validate_spline.py --jagged 100``,
-half of the nodes relaxed; three runs each, alternating, commit 524127d
-against 447e9d1, load 2.3-2.4) robust 4.44-4.47 -> 3.60-3.65 ms per curve,
-robust / pure 21.3-21.7 -> 17.7-18.0 (the pure spline fails fast there;
-0.2 ms); a third of what remains is the segment-by-segment crossing search
+half of the nodes relaxed; three runs each, alternating, same commits, load
+1.3-1.6) robust 4.32-4.39 -> 3.61-3.63 ms per curve, robust / pure
+21.4-21.5 -> 17.7-17.8 (the pure spline fails fast there; 0.2 ms); a third
+of what remains is the segment-by-segment crossing search
 (``stimuli.curves.metrics.self_crossing_segments``, shapely's STRtree),
 another module's.
 
@@ -64,7 +63,10 @@ and the crossing test; the polygon's turns, reference deviations and mean
 chord come from one pass over its sides; the polygon's simplicity is asked
 only when a curve crosses itself; straying nodes are sought only where one
 reduction finds a deviation above the limit; no ``dataclasses.replace``
-after a single fit; G0 corners' folds tested all at once. The results are
+after a single fit; G0 corners' folds tested all at once; a segment's first
+and last sample without the clothoid integral (the start, and the next
+point where it is put anyway: two of three integrals on smooth curves, bit
+for bit the same samples). The results are
 the same: robust fits on the 350 MPEG-7 outlines at N = 12 / 20 / 40 / 80,
 300 Attneave polygons and 20 smooth shapes (1720 fits, kernel) and on
 every 2nd outline with the numpy path (1020 fits) have the same corners,

@@ -325,7 +325,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     built (:data:`stimuli.curves.qic_kernel.KERNEL`); the robust rule adds
     its checks per round, on samples the kernel makes once per fit, and a
     crossing test (GEOS): on smooth curves, where one fit passes them all,
-    about 2.5 x the pure spline's time at N = 30 and 2.1 x at N = 1000
+    about 2.4 x the pure spline's time at N = 30 and 1.75 x at N = 1000
     (:mod:`stimuli.curves.qic_rule`'s notes).
 
     References

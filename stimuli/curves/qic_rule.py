@@ -117,23 +117,25 @@ family that can concentrate it (per-segment alpha of log-aesthetic curves)
 is the likely remedy.
 
 Cost: on smooth curves (nothing relaxed: one fit, every check passed) the
-robust mode costs ~2.5 x the pure spline at N = 30 and ~2.1 x at N = 1000
+robust mode costs ~2.4 x the pure spline at N = 30 and ~1.75 x at N = 1000
 (``benchmarks/bench_spline.py``; 3.6 x and 2.6 x before issue 9's speed
-round). The checks (:mod:`stimuli.curves.qic_measures`) run cheapest first and share their inputs: the polygon's
-turns, reference deviations and mean chord come from one pass over its sides
-(:func:`polygon_measures`); the samples are made once, by the compiled
-kernel where it was built (``qic_kernel.turn_samples``: only x and y, in
-GEOS's layout, with each segment's distance from its chord, so that
-:func:`segment_bulge` needs no numpy pass), and serve both the bulge and the
-crossing test; the crossing test asks GEOS once about the samples as they
-are (:func:`crossing_segments`), whether the polygon itself is simple only
-when the curve crosses itself, and searches segment by segment only then;
-steps 3d-e look only at segments that bulge by more than the smaller of
-their limits; straying nodes are sought only where one reduction finds a
-deviation above the limit. What remains at N = 30 (thread CPU medians, ~55
+round). The checks (:mod:`stimuli.curves.qic_measures`) run cheapest first
+and share their inputs: the polygon's turns, reference deviations and mean
+chord come from one pass over its sides (:func:`polygon_measures`); the
+samples are made once, by the compiled kernel where it was built
+(``qic_kernel.turn_samples``: only x and y, in GEOS's layout, with each
+segment's distance from its chord, so that :func:`segment_bulge` needs no
+numpy pass), and serve both the bulge and the crossing test; the crossing
+test asks GEOS once about the samples as they are
+(:func:`crossing_segments`), whether the polygon itself is simple only when
+the curve crosses itself, and searches segment by segment only then; steps
+3d-e look only at segments that bulge by more than the smaller of their
+limits; straying nodes are sought only where one reduction finds a
+deviation above the limit. What remains at N = 30 (thread CPU medians, ~52
 us over the pure fit): the bisector tangents and polygon measures (~18 us),
-the samples (~11 us, half of it the call's overhead), GEOS (~4 us), the
-rule's numpy checks (~8 us) and the driver's bookkeeping. On jagged polygons
+the samples (~9 us, half of it the call's overhead), GEOS (~4 us), the
+rule's numpy checks (~8 us) and the driver's bookkeeping; at N = 1000
+(~170 us over the pure fit) the samples take ~60 us. On jagged polygons
 (many rounds) a third of the time is the segment-by-segment crossing search
 (:func:`~stimuli.curves.metrics.self_crossing_segments`, shapely's STRtree).
 
