@@ -22,53 +22,63 @@ printed first (``benchmarks/_machine.py``), and which QIC solver ran: the
 compiled kernel (``stimuli/curves/qic_solve.c``, ``KERNEL == 'c'``) or the
 numpy reference (``ATTNEAVE_NUMPY_SPLINE=1``, or no C compiler at install).
 
-Measured (load average 5.3-5.9 on 2 shared cpus, AMD EPYC; three runs of
-this script each, alternating between commit 4bedff8, before the kernel, and
-commit 1e22b6d, with it; every figure a median of its run, ranges over the
-three runs):
+Measured, issue 9's speed round of the robust mode (load average 1.55-1.80
+on 2 shared cpus, AMD EPYC; five runs of this script each, alternating
+between commit 524127d, before, and commit 6199f78, after; every figure a
+median of its run, ranges over the five runs):
 
 =====================  ===============  ===============
-                       before (numpy)   after (kernel)
+                       before           after
 =====================  ===============  ===============
-pure, N = 30           0.202-0.215 ms   0.043-0.045 ms
-libspiro, N = 30       0.068-0.071 ms   0.063-0.065 ms
-pure / libspiro        2.99-3.01        0.67-0.69
-pure, N = 1000         0.48-0.51 ms     0.25-0.26 ms
-pure / libspiro        0.36-0.39        0.19-0.20
-robust, N = 30         0.47-0.53 ms     0.23-0.25 ms
-robust, N = 1000       1.34-1.44 ms     0.87-0.93 ms
-robust / pure, N = 30  2.33-2.47        5.34-5.40
-robust / pure, 1000    2.82-2.85        3.43-3.60
+pure, N = 30           0.041 ms         0.040-0.041 ms
+robust, N = 30         0.149-0.151 ms   0.095-0.097 ms
+robust / pure, N = 30  3.64-3.65        2.39-2.41
+pure, N = 1000         0.242-0.249 ms   0.239-0.241 ms
+robust, N = 1000       0.631-0.649 ms   0.415-0.419 ms
+robust / pure, 1000    2.60-2.61        1.74-1.75
 =====================  ===============  ===============
 
+Targets: robust / pure <= 3 (aim 2.5) at N = 30, <= 2.5 at N = 1000: met.
 Instruction counts (``valgrind --tool=callgrind``, per call, the difference
 of a run with 300 (N = 30) or 20 (N = 1000) calls and one with none, after
-``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): pure
-1.90 M -> 0.385 M at N = 30 (libspiro through this script's ctypes wrapper
-0.97 M: 1.95 -> 0.40 x) and 5.9 M -> 2.9 M at N = 1000 (libspiro 22 M);
-robust 4.29 M -> 2.16 M and 17.9 M -> 10.9 M.
+``gc.freeze()``, ``OPENBLAS_NUM_THREADS=1``, ``PYTHONHASHSEED=0``): robust
+1.528 M -> 0.970 M at N = 30 (pure 0.385 M -> 0.387 M: 3.97 -> 2.51 x) and
+8.31 M -> 5.45 M at N = 1000 (pure 2.885 M -> 2.887 M: 2.88 -> 1.89 x). The real-outline rows
+(every 5th MPEG-7 mask, 70, at N = 12 / 20 / 40, 3 interleaved fits each,
+thread CPU time; there the rule relaxes nodes and fits several times):
+robust / pure 5.8-5.9 / 3.4-3.8 / 3.0-3.1 -> 4.3-4.5 / 2.5-2.9 / 2.2-2.3
+(robust 0.36-0.37 / 0.24-0.28 / 0.26-0.27 -> 0.27 / 0.17-0.23 / 0.19-0.20
+ms). On 100 jagged Attneave polygons (``validate_spline.py --jagged 100``,
+half of the nodes relaxed; three runs each, alternating, same commits, load
+1.3-1.6) robust 4.32-4.39 -> 3.61-3.63 ms per curve, robust / pure
+21.4-21.5 -> 17.7-17.8 (the pure spline fails fast there; 0.2 ms); a third
+of what remains is the segment-by-segment crossing search
+(``stimuli.curves.metrics.self_crossing_segments``, shapely's STRtree),
+another module's.
 
-On real outlines (the last rows: every 5th of the 350 MPEG-7 masks, 70,
-reduced to N = 12 / 20 / 40 points, 3 interleaved fits each, CPU time, same
-three runs): robust 0.47-0.48 / 0.45-0.48 / 0.42-0.48 ms with the kernel
-against 1.41-1.48 / 0.91-1.03 / 0.95-1.09 ms on the numpy path, pure
-0.065-0.099 ms against 0.39-0.47 ms. The robust fits are the same: before
-and after the kernel, on every 3rd outline at N = 12 / 20 / 40, robust and
-pure (684 fits), the same corners and kinds everywhere, segments within
-1.2e-14, Newton iterations different in one fit.
+How: the rule's samples are made once per fit by the kernel
+(``qic_kernel.turn_samples``: x, y in GEOS's layout and each segment's
+distance from its chord, one buffer in and one out), shared by the bulge
+and the crossing test; the polygon's turns, reference deviations and mean
+chord come from one pass over its sides; the polygon's simplicity is asked
+only when a curve crosses itself; straying nodes are sought only where one
+reduction finds a deviation above the limit; no ``dataclasses.replace``
+after a single fit; G0 corners' folds tested all at once; a segment's first
+and last sample without the clothoid integral (the start, and the next
+point where it is put anyway: two of three integrals on smooth curves, bit
+for bit the same samples). The results are
+the same: robust fits on the 350 MPEG-7 outlines at N = 12 / 20 / 40 / 80,
+300 Attneave polygons and 20 smooth shapes (1720 fits, kernel) and on
+every 2nd outline with the numpy path (1020 fits) have the same corners,
+kinds and segments bit for bit, and ``validate_spline.py --halves`` prints
+the same tables.
 
-The pure target is met with margin at both N. The robust / pure target
-(<= 3) is not, although the robust mode runs the same kernel and its time
-halved: the pure fit is now ~0.04 ms at N = 30, and the robust mode adds the
-robust rule's checks on the fit (``stimuli/curves/qic_rule.py``: polygon
-turns, reference deviations, segment bulge, the crossing test, straying
-nodes), its samples and the bisector tangents. Replacing each call in turn
-by a cached result (thread CPU time, load ~8, at commit 6180f5d) put the
-rule's checks at ~0.14 ms of the robust fit's ~0.22 ms at N = 30 (numpy
-calls on arrays of 30: mostly ``np.roll`` and small reductions) and the
-bulge and crossing tests at ~0.3 ms of ~0.87 ms at N = 1000. Reaching 3 x
-needs those checks vectorised without ``np.roll``, or compiled; the rule is
-another module's (issue 9's robust part).
+The kernel round before (commit 1e22b6d against 4bedff8, numpy solve, load
+5.3-5.9): pure 0.202-0.215 -> 0.043-0.045 ms at N = 30 (libspiro
+0.063-0.071 ms: 0.67-0.69 x, target 2 x) and 0.48-0.51 -> 0.25-0.26 ms at N
+= 1000 (0.19-0.20 x libspiro, target 1 x); pure 1.90 M -> 0.385 M
+instructions at N = 30 (libspiro through this script's ctypes wrapper 0.97
+M) and 5.9 M -> 2.9 M at N = 1000 (libspiro 22 M).
 
 Usage::
 
@@ -174,7 +184,7 @@ def real_rows(folder, every, repeat=3):
     if lib is None or not Path(folder).is_dir():
         print(f"real outlines: skipped ({'no kernel' if lib is None else folder + ' not found'})")
         return
-    shapes = [c for _, c in outlines(folder, every=every)]
+    shapes = [c for _, _, c in outlines(folder, every=every)]
     print(f"real outlines: {len(shapes)} from {folder}, CPU ms (kernel vs numpy path)")
     for n in (12, 20, 40):
         t = {key: [] for key in ("robust c", "robust np", "pure c", "pure np")}

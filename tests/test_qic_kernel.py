@@ -174,3 +174,30 @@ def test_clothoid_points_match_numpy_and_quadrature(scale):
         cx = quad(lambda u: np.cos(phase(u)), 0, s[i], epsabs=1e-14, epsrel=1e-12, limit=lim)[0]
         cy = quad(lambda u: np.sin(phase(u)), 0, s[i], epsabs=1e-14, epsrel=1e-12, limit=lim)[0]
         assert abs(x[i] - x0[i] - cx) < 1e-13 and abs(y[i] - y0[i] - cy) < 1e-13
+
+
+def test_turn_samples_match_sample_by_turn_and_segment_bulge():
+    # the robust rule's samples by the kernel (qic_kernel.turn_samples) are sample_by_turn's points bit
+    # for bit, and each segment's distance from its chord is segment_bulge's (numpy) times the mean chord
+    from stimuli.curves.qic_rule import mean_side, segment_bulge
+
+    rng = np.random.default_rng(91)
+    fits = [(qic_spline(P), P, True) for P in [smooth(rng, 30), jagged(rng, 12), jagged(rng, 40)]]
+    P = jagged(rng, 20)
+    fits += [(qic_spline(P, corners=[3, 11]), P, True)]  # pieces between G0 corners
+    Q = smooth(rng, 9, closed=False)
+    fits += [(qic_spline(Q, closed=False), Q, False)]
+    t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    circle = np.c_[7 + 5 * np.cos(t), 3 - 5 * np.sin(t)]
+    fits += [(qic_spline(circle), circle, True)]
+    for sp, P, closed in fits:
+        xy, dist = qic_kernel.turn_samples(0.15, 12, P, sp.start, sp.theta0, sp.k0, sp.dk, sp.length)
+        curve = sp.sample_by_turn(0.15, 12)
+        np.testing.assert_array_equal(xy, np.c_[curve.x, curve.y])
+        ref = numpy_path(lambda: segment_bulge(curve, P, closed))
+        np.testing.assert_array_equal(dist / mean_side(P, closed), ref)
+    # on a circle of radius 5 through 16 points every segment is an arc of half-angle a = pi / 16; its
+    # samples (4: it turns by 0.39 rad, at most 0.15 between samples) nearest the middle are a / 3 from
+    # it, at 5 (cos(a / 3) - cos(a)) from the chord
+    assert curve.segment.size == 4 * 16
+    np.testing.assert_allclose(dist, 5 * (np.cos(np.pi / 48) - np.cos(np.pi / 16)), rtol=1e-9)

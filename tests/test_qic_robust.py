@@ -152,6 +152,9 @@ def test_robust_equals_pure_where_pure_is_fine():
     a, b = qic_spline(P), qic_spline(P, robust=False)
     assert a.corners == () and a.method == "qic" and b.method == "qic-g2"
     np.testing.assert_array_equal(a.theta0, b.theta0)
+    np.testing.assert_array_equal(a.length, b.length)
+    # one fit passed every check: its own Newton iterations and time, set without copying the result
+    assert a.iterations == b.iterations >= 1 and a.seconds > 0
 
 
 def near(curve, polygon, slack=0.1):
@@ -251,6 +254,19 @@ def test_crossing_precheck_agrees_with_the_segment_search():
     # the sides through the origin: a from 165 to 195 degrees (segment 5) and
     # from 345 to 15 degrees (segment 11)
     assert bad_segments(seg, sampled(eight), np.zeros(12)).tolist() == [5, 11]
+    # a crossing the polygon of the points has too is not the curve's doing: none then, and whether the
+    # polygon is simple is asked only once the samples cross
+    from stimuli.curves.qic_rule import crossing_segments
+
+    asked = []
+    c = sampled(eight)
+    xy = np.c_[c.x, c.y]
+    assert crossing_segments(np.arange(12), xy, True, lambda: c, lambda: asked.append(1) or False).size == 0
+    assert crossing_segments(np.arange(12), xy, True, lambda: c, lambda: True).tolist() == [5, 11]
+    assert asked == [1]
+    ring = np.c_[np.cos(a), np.sin(a)][np.r_[0:12, 0]]  # a simple closed curve: GEOS alone answers
+    assert crossing_segments(np.arange(12), ring, True, None, lambda: asked.append(2)).size == 0
+    assert asked == [1]
 
 
 def test_segment_bulge_of_an_open_polyline():

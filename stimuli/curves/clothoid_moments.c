@@ -185,13 +185,48 @@ void attneave_clothoid_points(long n, const double *x0, const double *y0, const 
     }
 }
 
-/* The samples of QICSpline.sample and sample_by_turn: counts[j] >= 2 points equally spaced in
-   arc length on segment j (x0, y0, theta0, k0, dk, L), its last one put on (xe[j], ye[j]), the
-   next point, exactly. With max_step > 0 the counts are chosen here, as few as keep the tangent's
-   change between neighbours at most max_step (curvature is linear on a segment: |k| at an end
-   bounds it), at least 3 and at most max(max_samples, 3), and written to counts. Rows of out
-   (5 x cap, cap >= the total): s from the first point, x, y, tangent angle and sign * curvature.
-   Returns the total. */
+/* The number of samples sample_by_turn gives a segment: as few as keep the tangent's change between
+   neighbours at most max_step (curvature is linear on a segment: |k| at an end bounds it), at least
+   3 and at most max(max_samples, 3). */
+static long turn_count(double k0, double dk, double L, double max_step, long max_samples)
+{
+    long hi = max_samples > 3 ? max_samples : 3;
+    double kmax = fmax(fabs(k0), fabs(k0 + dk * L));
+    long c = (long)ceil(fmin(L * kmax / max_step, (double)max_samples)) + 1;
+    return c < 3 ? 3 : (c > hi ? hi : c);
+}
+
+/* c points of one segment, equally spaced in arc length, to x[q * stride], y[q * stride]; the last
+   one put on (xe, ye) exactly. Each sample from the one before: the integral over the step turns by
+   about the tangent's change between samples, a cheap sum, where from the segment's start it would
+   turn by up to the whole segment's (an error of ~1e-16 of the step per step). The first sample is
+   the start (a step of length 0 adds +0.0) and the last is put on (xe, ye): neither needs the
+   integral, which on smooth curves (3 samples a segment) saves two of its three evaluations. */
+static void segment_points(double x0, double y0, double theta0, double k0, double dk, double L,
+                           double xe, double ye, long c, double *x, double *y, long stride)
+{
+    double px = 0.0, py = 0.0, ps = 0.0; /* from the start: rounding at the segment's scale */
+    x[0] = x0 + px;
+    y[0] = y0 + py;
+    for (long q = 1; q < c - 1; q++) {
+        double u = (double)q / (double)(c - 1), sl = L * u, X, Y, d = sl - ps;
+        double tprev = theta0 + k0 * ps + 0.5 * dk * ps * ps;
+        attneave_moments(dk * d * d, (k0 + dk * ps) * d, tprev, 1, &X, &Y);
+        px += X * d;
+        py += Y * d;
+        ps = sl;
+        x[q * stride] = x0 + px;
+        y[q * stride] = y0 + py;
+    }
+    x[(c - 1) * stride] = xe;
+    y[(c - 1) * stride] = ye;
+}
+
+/* The samples of QICSpline.sample and sample_by_turn: counts[j] (>= 2) points on segment j
+   (x0, y0, theta0, k0, dk, L) equally spaced in arc
+   length, the last one on the next point, exactly. With max_step > 0 the counts are chosen here
+   (turn_count) and written to counts. Rows of out (5 x cap, cap >= the total): s from the first
+   point, x, y, tangent angle and sign * curvature. Returns the total. */
 long attneave_sample_segments(long m, int64_t *counts, double max_step, long max_samples,
                               const double *x0, const double *y0, const double *theta0,
                               const double *k0, const double *dk, const double *L,
@@ -199,35 +234,51 @@ long attneave_sample_segments(long m, int64_t *counts, double max_step, long max
 {
     double *s = out, *x = out + cap, *y = out + 2 * cap, *th = out + 3 * cap, *kk = out + 4 * cap;
     double offset = 0.0;
-    long i = 0, hi = max_samples > 3 ? max_samples : 3;
+    long i = 0;
     for (long j = 0; j < m; j++) {
-        if (max_step > 0.0) {
-            double kmax = fmax(fabs(k0[j]), fabs(k0[j] + dk[j] * L[j]));
-            double steps = ceil(fmin(L[j] * kmax / max_step, (double)max_samples));
-            long c = (long)steps + 1;
-            counts[j] = c < 3 ? 3 : (c > hi ? hi : c);
-        }
+        if (max_step > 0.0)
+            counts[j] = turn_count(k0[j], dk[j], L[j], max_step, max_samples);
         long c = (long)counts[j];
-        /* each sample from the one before: the integral over the step turns by about the
-           tangent's change between samples, a cheap sum, where from the segment's start it
-           would turn by up to the whole segment's (an error of ~1e-16 of the step per step) */
-        double px = 0.0, py = 0.0, ps = 0.0; /* from the start: rounding at the segment's scale */
+        segment_points(x0[j], y0[j], theta0[j], k0[j], dk[j], L[j], xe[j], ye[j], c, x + i, y + i, 1);
         for (long q = 0; q < c; q++, i++) {
-            double u = (double)q / (double)(c - 1), sl = L[j] * u, X, Y, d = sl - ps;
-            double tprev = theta0[j] + k0[j] * ps + 0.5 * dk[j] * ps * ps;
-            attneave_moments(dk[j] * d * d, (k0[j] + dk[j] * ps) * d, tprev, 1, &X, &Y);
-            px += X * d;
-            py += Y * d;
-            ps = sl;
+            double sl = L[j] * ((double)q / (double)(c - 1));
             s[i] = offset + sl;
-            x[i] = x0[j] + px;
-            y[i] = y0[j] + py;
             th[i] = theta0[j] + k0[j] * sl + 0.5 * dk[j] * sl * sl;
             kk[i] = sign * (k0[j] + dk[j] * sl);
         }
-        x[i - 1] = xe[j];
-        y[i - 1] = ye[j];
         offset += L[j];
+    }
+    return i;
+}
+
+/* The robust rule's checks on the samples of attneave_sample_segments with max_step > 0 (the same
+   points), without the rows it does not need. Segment j runs from point start[j] of the n points P
+   (x, y interleaved) to the next (cyclic); seg holds 4 rows of m: theta0, k0, dk, L. Written to out:
+   x, y interleaved (2 x cap doubles, cap >= the total; the layout GEOS takes), then per segment the
+   largest distance of its samples from the line through its chord (m doubles; the bulge before
+   division by the mean chord), computed as segment_bulge in qic_rule.py does, operation for
+   operation. Returns the total. */
+long attneave_turn_samples(long m, double max_step, long max_samples, long cap, const double *P, long n,
+                           const int64_t *start, const double *seg, double *out)
+{
+    const double *theta0 = seg, *k0 = seg + m, *dk = seg + 2 * m, *L = seg + 3 * m;
+    double *dist = out + 2 * cap;
+    long i = 0;
+    for (long j = 0; j < m; j++) {
+        long a = (long)start[j], b = (a + 1) % n;
+        double x0 = P[2 * a], y0 = P[2 * a + 1], xe = P[2 * b], ye = P[2 * b + 1];
+        long c = turn_count(k0[j], dk[j], L[j], max_step, max_samples);
+        double *x = out + 2 * i, *y = x + 1;
+        segment_points(x0, y0, theta0[j], k0[j], dk[j], L[j], xe, ye, c, x, y, 2);
+        double dx = xe - x0, dy = ye - y0, r = hypot(dx, dy), ux = dx / r, uy = dy / r;
+        double big = 0.0;
+        for (long q = 0; q < c; q++) {
+            double cr = fabs((x[2 * q] - x0) * uy - (y[2 * q] - y0) * ux);
+            if (cr > big || cr != cr)
+                big = cr;
+        }
+        dist[j] = big;
+        i += c;
     }
     return i;
 }

@@ -29,7 +29,8 @@ import numpy as np
 from stimuli.compiled import address as _address
 from stimuli.compiled import load_library
 
-__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments"]
+__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments",
+           "turn_samples"]
 
 _HERE = Path(__file__).resolve().parent
 #: Status codes of :func:`solve_piece` (0: solved).
@@ -48,6 +49,8 @@ def _load():
     lib.attneave_clothoid_points.argtypes = [lg] + [vp] * 8
     lib.attneave_sample_segments.restype = lg
     lib.attneave_sample_segments.argtypes = [lg, vp, db, lg] + [vp] * 8 + [db, lg, vp]
+    lib.attneave_turn_samples.restype = lg
+    lib.attneave_turn_samples.argtypes = [lg, db, lg, lg, vp, lg, vp, vp, vp]
     return lib
 
 
@@ -137,3 +140,26 @@ def sample_segments(counts, max_step, max_samples, x0, y0, theta0, k0, dk, L, xe
     total = LIB.attneave_sample_segments(m, _address(counts), max_step, int(max_samples), *(_address(a) for a in rows),
                                          sign, cap, _address(out))
     return counts, out[:, :total]
+
+
+def turn_samples(max_step, max_samples, P, start, theta0, k0, dk, L):
+    """The points of :func:`sample_segments` with ``counts=None`` (as
+    :meth:`~stimuli.curves.qic_result.QICSpline.sample_by_turn` chooses
+    them), for the robust rule's checks: only x and y, as rows of an
+    (n, 2) array (GEOS's layout), and per segment the largest distance of
+    its samples from the line through its chord, computed as
+    :func:`stimuli.curves.qic_rule.segment_bulge` does before its division
+    by the mean chord (bit for bit: ``tests/test_qic_kernel.py``).
+
+    Segment j runs from point ``start[j]`` of `P` ((N, 2) float64) to the
+    next (cyclic); the segments' arrays are 1-D float64 of one length m."""
+    m = L.size
+    cap = m * max(int(max_samples), 3)
+    # one buffer per kind: each array's address costs about a microsecond, a copy of all less
+    seg = np.concatenate((theta0, k0, dk, L))
+    P = np.ascontiguousarray(P, np.float64)
+    start = np.ascontiguousarray(start, np.int64)
+    out = np.empty(2 * cap + m)
+    total = LIB.attneave_turn_samples(m, max_step, int(max_samples), cap, _address(P), len(P), _address(start),
+                                      _address(seg), _address(out))
+    return out[: 2 * total].reshape(total, 2), out[2 * cap :]

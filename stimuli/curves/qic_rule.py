@@ -116,11 +116,28 @@ the whole segment where the cubic concentrates it at the node; a segment
 family that can concentrate it (per-segment alpha of log-aesthetic curves)
 is the likely remedy.
 
-Cost: on smooth curves (nothing relaxed) the rule's own checks take ~50 us
-at N = 30 and ~150 us at N = 1000 (thread CPU medians): each runs on 1-D
-arrays, the crossing test asks GEOS once about the samples as they are and
-searches segment by segment only when that fails, and steps 3d-e look only
-at segments that bulge by more than the smaller of their limits.
+Cost: on smooth curves (nothing relaxed: one fit, every check passed) the
+robust mode costs ~2.4 x the pure spline at N = 30 and ~1.75 x at N = 1000
+(``benchmarks/bench_spline.py``; 3.6 x and 2.6 x before issue 9's speed
+round). The checks (:mod:`stimuli.curves.qic_measures`) run cheapest first
+and share their inputs: the polygon's turns, reference deviations and mean
+chord come from one pass over its sides (:func:`polygon_measures`); the
+samples are made once, by the compiled kernel where it was built
+(``qic_kernel.turn_samples``: only x and y, in GEOS's layout, with each
+segment's distance from its chord, so that :func:`segment_bulge` needs no
+numpy pass), and serve both the bulge and the crossing test; the crossing
+test asks GEOS once about the samples as they are
+(:func:`crossing_segments`), whether the polygon itself is simple only when
+the curve crosses itself, and searches segment by segment only then; steps
+3d-e look only at segments that bulge by more than the smaller of their
+limits; straying nodes are sought only where one reduction finds a
+deviation above the limit. What remains at N = 30 (thread CPU medians, ~52
+us over the pure fit): the bisector tangents and polygon measures (~18 us),
+the samples (~9 us, half of it the call's overhead), GEOS (~4 us), the
+rule's numpy checks (~8 us) and the driver's bookkeeping; at N = 1000
+(~170 us over the pure fit) the samples take ~60 us. On jagged polygons
+(many rounds) a third of the time is the segment-by-segment crossing search
+(:func:`~stimuli.curves.metrics.self_crossing_segments`, shapely's STRtree).
 
 References
 ----------
@@ -134,7 +151,15 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.curves.euler import wrap_angle
-from stimuli.curves.metrics import self_crossing_segments
+from stimuli.curves.qic_measures import (
+    crossing_segments,
+    mean_side,
+    polygon_is_simple,
+    polygon_measures,
+    polygon_turns,
+    reference_deviation,
+    segment_bulge,
+)
 
 __all__ = [
     "MAX_CHORD_ANGLE",
@@ -153,8 +178,11 @@ __all__ = [
     "MAX_RUN",
     "reference_deviation",
     "segment_bulge",
+    "mean_side",
+    "polygon_measures",
     "folded_corners",
     "bad_segments",
+    "crossing_segments",
     "straying_nodes",
     "hold_straying_nodes",
     "relax_bad_runs",
@@ -189,115 +217,6 @@ FOLD_MARGIN = 0.05
 MAX_RUN = 2
 
 
-def polygon_turns(P, closed):
-    """Absolute turning angle of the polygon at every node (radians; 0 at the
-    ends of an open curve).
-
-    Examples
-    --------
-    >>> polygon_turns(np.array([[0, 0], [1, 0], [1, 1], [0, 1.]]), True).round(4).tolist()
-    [1.5708, 1.5708, 1.5708, 1.5708]
-    """
-    phi = _side_angles(P, closed)
-    if closed:
-        d = np.empty_like(phi)
-        d[1:] = phi[1:] - phi[:-1]
-        d[0] = phi[0] - phi[-1]
-        return np.abs(wrap_angle(d))
-    return np.r_[0.0, np.abs(wrap_angle(np.diff(phi))), 0.0]
-
-
-def _sides(P, closed):
-    """x and y steps of every side of the polygon, from each point to the
-    next (N sides when closed, N - 1 when open), by 1-D slices: np.roll on
-    (N, 2) arrays costs more than the arithmetic at the sizes the rule sees."""
-    x, y = P[:, 0], P[:, 1]
-    if not closed:
-        return x[1:] - x[:-1], y[1:] - y[:-1]
-    dx, dy = np.empty_like(x), np.empty_like(y)
-    np.subtract(x[1:], x[:-1], out=dx[:-1])
-    np.subtract(y[1:], y[:-1], out=dy[:-1])
-    dx[-1], dy[-1] = x[0] - x[-1], y[0] - y[-1]
-    return dx, dy
-
-
-def _side_angles(P, closed):
-    """Direction (radians) of every side of the polygon (see :func:`_sides`)."""
-    dx, dy = _sides(P, closed)
-    return np.arctan2(dy, dx)
-
-
-def polygon_is_simple(P, closed):
-    """Whether the polygon (closed) or polyline of the points is simple (GEOS)."""
-    import shapely
-
-    # the vectorised constructors: the geometry classes cost more than GEOS's test at N = 30
-    return bool(shapely.is_simple(shapely.linearrings(P) if closed else shapely.linestrings(P)))
-
-
-def reference_deviation(P, tangents):
-    """Per node of a closed polygon (or of an open one, its last value
-    unused): the larger angle between the chord from it to the next point
-    and the bisector tangents at the chord's ends, the deviation from the
-    chord that no smooth curve with those tangents can avoid (step 3b).
-
-    Examples
-    --------
-    On a square the bisector tangents make pi/4 with every side:
-
-    >>> from stimuli.curves.points import bisector_tangents
-    >>> P = np.array([[0, 0], [1, 0], [1, 1], [0, 1.]])
-    >>> reference_deviation(P, bisector_tangents(P, True)).round(4).tolist()
-    [0.7854, 0.7854, 0.7854, 0.7854]
-    """
-    phi = _side_angles(P, True)
-    nxt = np.empty_like(tangents)
-    nxt[:-1], nxt[-1] = tangents[1:], tangents[0]
-    return np.maximum(np.abs(wrap_angle(tangents - phi)), np.abs(wrap_angle(nxt - phi)))
-
-
-def segment_bulge(curve, P, closed=True):
-    """Largest distance of each segment's samples from the straight line
-    through its end points (its chord), divided by the mean chord length.
-
-    Parameters
-    ----------
-    curve : SampledCurve
-        Samples of a spline through `P`, segment by segment in order, each
-        labelled by the index of the point where it starts.
-    P : ndarray, shape (N, 2)
-        The points.
-    closed : bool
-        Whether the polygon of the points is closed (its mean chord then
-        includes the side from the last point to the first).
-
-    Returns
-    -------
-    ndarray
-        One value per segment, in order of appearance.
-
-    Examples
-    --------
-    A half circle over its diameter bulges by half the chord:
-
-    >>> from types import SimpleNamespace
-    >>> t = np.linspace(np.pi, 0, 101)
-    >>> c = SimpleNamespace(x=np.cos(t), y=np.sin(t), segment=np.zeros(101, int))
-    >>> segment_bulge(c, np.array([[-1.0, 0.0], [1.0, 0.0]]), closed=False).round(6).tolist()
-    [0.5]
-    """
-    seg = np.asarray(curve.segment)
-    starts = np.flatnonzero(np.diff(seg, prepend=-1))
-    dx, dy = _sides(P, closed)
-    r = np.hypot(dx, dy)
-    h = float(np.add.reduce(r)) / r.size
-    # per sample, the chord of its segment (1-D gathers: cheaper than rows of P)
-    cx, cy, ux, uy = P[:, 0][seg], P[:, 1][seg], (dx / r)[seg], (dy / r)[seg]
-    # |cross product with the unit chord| is the distance from the chord's line
-    cross = np.abs((curve.x - cx) * uy - (curve.y - cy) * ux)
-    return np.maximum.reduceat(cross, starts) / h
-
-
 def folded_corners(seg, g0, P, closed):
     """The G0 corners where the curve turns back by nearly pi (more than
     ``pi - FOLD_MARGIN``): the pieces then overlap beside the corner, a
@@ -310,17 +229,16 @@ def folded_corners(seg, g0, P, closed):
     theta_end = seg["theta0"] + seg["k0"] * L + 0.5 * seg["dk"] * L * L
     D = P[(start + 1) % N] - P[start]
     phi = np.arctan2(D[:, 1], D[:, 0])
-    out = []
-    for e in g0:
-        j_out = np.flatnonzero(start == e)
-        j_in = np.flatnonzero(start == (e - 1) % N) if (closed or e > 0) else j_out[:0]
-        if not (j_in.size and j_out.size):
-            continue
-        i, o = int(j_in[0]), int(j_out[0])
-        turn = wrap_angle(phi[o] - phi[i]) + wrap_angle(seg["theta0"][o] - phi[o]) - wrap_angle(theta_end[i] - phi[i])
-        if abs(turn) > np.pi - FOLD_MARGIN:
-            out.append(int(e))
-    return sorted(out)
+    # all corners at once (a loop over them cost a fifth of the rule's time on jagged polygons): the
+    # segment leaving each corner (o) and the one entering it (i), where both exist
+    pos = np.full(N, -1)
+    pos[start] = np.arange(start.size)  # a node starts at most one segment
+    e = np.array(sorted(g0))
+    o, i = pos[e], pos[(e - 1) % N]
+    has = (o >= 0) & (i >= 0) & (closed | (e > 0))
+    e, o, i = e[has], o[has], i[has]
+    turn = wrap_angle(phi[o] - phi[i]) + wrap_angle(seg["theta0"][o] - phi[o]) - wrap_angle(theta_end[i] - phi[i])
+    return e[np.abs(turn) > np.pi - FOLD_MARGIN].tolist()
 
 
 def sharp_nodes(turns, corner_turn=CORNER_TURN):
@@ -401,24 +319,10 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
         bad[big] |= (bulge[big] > EXCESS_BULGE) & (turn[big] - 0.5 * (turns[a] + turns[b]) > MAX_EXCESS)
     for e in folded:
         bad[(start == e) | ((start + 1) % len(ref_dev) == e)] = True
-    if curve is not None and not _sampled_curve_is_simple(curve):
-        for s in self_crossing_segments(curve.x, curve.y, curve.segment, curve.closed):
-            bad[np.flatnonzero(start == s)] = True
+    if curve is not None:
+        xy = np.column_stack((curve.x, curve.y))
+        bad[crossing_segments(start, xy, curve.closed, curve)] = True
     return np.flatnonzero(bad)
-
-
-def _sampled_curve_is_simple(curve):
-    """GEOS's simplicity test on the samples as they are: the segments' shared
-    end points repeat, which GEOS ignores, so the copy without them that
-    :func:`~stimuli.curves.metrics.self_crossing_segments` makes (and its
-    segment-by-segment search) is needed only when the curve does cross
-    itself (5x cheaper at N = 1000 on a simple curve)."""
-    import shapely
-
-    xy = np.column_stack((curve.x, curve.y))
-    if len(xy) < 4:
-        return False
-    return bool(shapely.is_simple(shapely.linearrings(xy) if curve.closed else shapely.linestrings(xy)))
 
 
 def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
@@ -432,6 +336,8 @@ def straying_nodes(seg, N, closed, relaxed, tangents, max_dev):
         dev[list(relaxed)] = 0.0
     if not closed:
         dev[0] = dev[-1] = 0.0
+    if not np.maximum.reduce(dev) > max_dev:
+        return np.empty(0, np.intp)  # the common case, found by one reduction
     # a peak: above max_dev and at least its neighbours' (cyclic)
     prev, nxt = np.empty_like(dev), np.empty_like(dev)
     prev[1:], prev[0] = dev[:-1], dev[-1]
