@@ -53,7 +53,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     header("validate_lac_spline: G2 log-aesthetic splines through real outlines reduced to N points")
     shapes = [(c, cKDTree(c.resample(spacing=0.25).points), c.perimeter)
-              for _, c in vs.outlines(args.data, None, args.every)]
+              for _, _, c in vs.outlines(args.data, None, args.every)]
     print(f"{len(shapes)} outlines from {args.data}")
     for n in args.n:
         polys = [(c.resample(n).points, tree, per) for c, tree, per in shapes]

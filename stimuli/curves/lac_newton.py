@@ -40,54 +40,100 @@ class LACSystem:
     wind : int
         Turning number of a closed curve (the tangent after the last segment
         is theta_0 + 2 pi wind).
+    g1 : dict of int to float, optional
+        G1 nodes: node -> its tangent angle, held fixed; the curvature may
+        jump there (each side has its own).
+    g0 : sequence of int, optional
+        G0 corners: each side of the node has its own tangent angle and a
+        natural end (zero curvature; alpha < 0 only).
+    wrap : ndarray, shape (M,), optional
+        Per segment, what is added to the tangent angle at its end node to
+        give the angle reached along the segment (default: 2 pi wind on the
+        segment that closes the curve).
+
+    Notes
+    -----
+    The unknowns ``x = (theta, u, L)`` hold one tangent angle per node plus
+    one for the incoming side of every G0 corner, one graph variable per
+    node plus one for the incoming side of every G1 or G0 node, and every
+    segment's length. Held angles and natural ends are linear equations
+    ``x[col] = value`` that hold from the start (Newton keeps them exactly),
+    so the system stays square: 3 equations per segment, 2 unknowns per
+    node.
     """
 
-    def __init__(self, P, closed, wind):
+    def __init__(self, P, closed, wind=0, g1=None, g0=(), wrap=None):
         self.closed = closed
         self.h = float(np.mean(np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)))
         Q = (P - P[0]) / self.h
-        self.n = len(P)
-        self.M = self.n if closed else self.n - 1
+        n = self.n = len(P)
+        self.M = n if closed else n - 1
         self.a = np.arange(self.M)
-        self.b = (self.a + 1) % self.n if closed else self.a + 1
+        self.b = (self.a + 1) % n if closed else self.a + 1
         zq = Q[:, 0] + 1j * Q[:, 1]
         self.D = zq[self.b] - zq[self.a]
         # the tangent after the last segment of a closed curve is theta_0 + 2 pi wind
-        self.wrap = np.where(self.b == 0, 2 * np.pi * wind, 0.0) if closed else np.zeros(self.M)
+        self.wrap = (np.asarray(wrap, dtype=float) if wrap is not None
+                     else np.where(self.b == 0, 2 * np.pi * wind, 0.0) if closed else np.zeros(self.M))
         self.sign = 1.0  # the curvature's sign for alpha >= 0 (set by newton)
+        g1 = dict(g1 or {})
+        g0 = sorted(set(g0))
+        split_u = sorted(set(g1) | set(g0))
+        t_in, u_in = np.arange(n), np.arange(n)
+        t_in[g0] = n + np.arange(len(g0))
+        u_in[split_u] = n + np.arange(len(split_u))
+        self.nt, self.nu = n + len(g0), n + len(split_u)
+        # the columns of each segment's start and end angle and graph variable
+        self.ta, self.tb = self.a, t_in[self.b]
+        self.ua, self.ub = self.a, u_in[self.b]
+        # linear equations x[col] = value: held angles, natural ends (zero graph variable)
+        fixed = [(int(i), float(v)) for i, v in g1.items()]
+        fixed += [(self.nt + int(c), 0.0) for i in g0 for c in (i, u_in[i])]
+        self.joints = bool(g1 or g0)
+        self.fixed_cols = np.array([c for c, _ in fixed], dtype=int)
+        self.fixed_vals = np.array([v for _, v in fixed], dtype=float)
 
     def split(self, x):
-        n = self.n
-        return x[:n], x[n:2 * n], x[2 * n:]
+        nt, nu = self.nt, self.nu
+        return x[:nt], x[nt:nt + nu], x[nt + nu:]
+
+    def free_graph(self, u):
+        """The graph variables not held at zero by a natural end."""
+        keep = np.ones(u.size, bool)
+        keep[self.fixed_cols[self.fixed_cols >= self.nt] - self.nt] = False
+        if not self.closed:
+            keep[[0, self.n - 1]] = False
+        return u[keep]
 
     def residual(self, x, alpha, derivatives=False):
         """Residuals at x = (theta, u, L), u the node curvatures' graph
         variables (:func:`~stimuli.curves.lac_arc.graph_value`), and the arcs'
         integrals."""
         th, u, L = self.split(x)
-        a, b = self.a, self.b
         if not (np.all(np.isfinite(x)) and np.all(L > 0)):
             return None, None
         if alpha > 0 and not is_zero_alpha(alpha) and not np.all(u > 0):
             return None, None
         k = graph_inverse(u, alpha, self.sign)
         with np.errstate(all="ignore"):
-            arc = arc_integrals(th[a], k[a], k[b], L, alpha, derivatives)
-        F = np.empty(3 * self.M + (0 if self.closed else 2))
-        F[0:3 * self.M:3] = th[b] + self.wrap - th[a] - arc["turn"]
+            arc = arc_integrals(th[self.ta], k[self.ua], k[self.ub], L, alpha, derivatives)
+        nf = self.fixed_cols.size
+        F = np.empty(3 * self.M + nf + (0 if self.closed else 2))
+        F[0:3 * self.M:3] = th[self.tb] + self.wrap - th[self.ta] - arc["turn"]
         F[1:3 * self.M:3] = arc["z"].real - self.D.real
         F[2:3 * self.M:3] = arc["z"].imag - self.D.imag
+        F[3 * self.M:3 * self.M + nf] = x[self.fixed_cols] - self.fixed_vals
         if not self.closed:
             n = self.n
-            F[-2], F[-1] = (u[0], u[-1]) if alpha < 0 else (u[0] - u[1], u[n - 1] - u[n - 2])
+            F[-2], F[-1] = (u[0], u[n - 1]) if alpha < 0 else (u[0] - u[1], u[n - 1] - u[n - 2])
         if not np.all(np.isfinite(F)):
             return None, None
         return F, arc
 
     def jacobian(self, arc, alpha):
-        n, M, a, b = self.n, self.M, self.a, self.b
+        n, M, nt, nu = self.n, self.M, self.nt, self.nu
         r = 3 * np.arange(M)
-        ka, kb, Lc = n + a, n + b, 2 * n + np.arange(M)
+        ka, kb, Lc = nt + self.ua, nt + self.ub, nt + nu + np.arange(M)
         zt = 1j * arc["z"]
         rows, cols, vals = [], [], []
 
@@ -97,24 +143,27 @@ class LACSystem:
             vals.append(vv)
 
         # turn equation
-        put(r, b, np.ones(M))
-        put(r, a, -np.ones(M))
+        put(r, self.tb, np.ones(M))
+        put(r, self.ta, -np.ones(M))
         put(r, ka, -arc["turn_u0"])
         put(r, kb, -arc["turn_u1"])
         put(r, Lc, -arc["Theta1"])
         # chord equations (real and imaginary parts)
         for off, part in ((1, np.real), (2, np.imag)):
-            put(r + off, a, part(zt))
+            put(r + off, self.ta, part(zt))
             put(r + off, ka, part(arc["z_u0"]))
             put(r + off, kb, part(arc["z_u1"]))
             put(r + off, Lc, part(arc["z_L"]))
         size = 3 * M
+        nf = self.fixed_cols.size
+        put(size + np.arange(nf), self.fixed_cols, np.ones(nf))
+        size += nf
         if not self.closed:
             i0, i1 = size, size + 1
             if alpha < 0:
-                put(np.array([i0, i1]), np.array([n, 2 * n - 1]), np.ones(2))
+                put(np.array([i0, i1]), np.array([nt, nt + n - 1]), np.ones(2))
             else:
-                put(np.array([i0, i0, i1, i1]), np.array([n, n + 1, 2 * n - 1, 2 * n - 2]),
+                put(np.array([i0, i0, i1, i1]), np.array([nt, nt + 1, nt + n - 1, nt + n - 2]),
                     np.array([1.0, -1.0, 1.0, -1.0]))
             size += 2
         return csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
@@ -122,19 +171,22 @@ class LACSystem:
     def newton(self, xk, alpha, tol, max_iter):
         """Damped Newton from xk = (theta, kappa, L), in the graph variables
         of this alpha. Returns (xk, iterations, converged, residual)."""
-        n = self.n
         if alpha >= 0:
-            self.sign = 1.0 if np.sum(xk[n:2 * n]) >= 0 else -1.0
-        x = np.concatenate((xk[:n], graph_value(xk[n:2 * n], alpha), xk[2 * n:]))
+            if self.joints:
+                raise ValueError("G1 and G0 joints need alpha < 0 (natural ends)")
+            self.sign = 1.0 if np.sum(self.split(xk)[1]) >= 0 else -1.0
+        th, k, L = self.split(xk)
+        x = np.concatenate((th, graph_value(k, alpha), L))
         x, it, ok, res = self._newton(x, alpha, tol, max_iter)
-        return np.concatenate((x[:n], graph_inverse(x[n:2 * n], alpha, self.sign), x[2 * n:])), it, ok, res
+        th, u, L = self.split(x)
+        return np.concatenate((th, graph_inverse(u, alpha, self.sign), L)), it, ok, res
 
     def _newton(self, x, alpha, tol, max_iter):
         F, _ = self.residual(x, alpha)
         if F is None:
             return x, 0, False, np.inf
         merit = float(F @ F)
-        n = self.n
+        n, nt = self.n, self.nt
         for it in range(max_iter + 1):
             res = float(np.max(np.abs(F)))
             if res <= tol or it == max_iter:
@@ -147,13 +199,14 @@ class LACSystem:
                 dx = spsolve(self.jacobian(arc, alpha), -F)
             if not np.all(np.isfinite(dx)):
                 return x, it, False, res
+            # the linear equations (held angles, natural and open ends) hold at
+            # the start: keep them exactly (the sparse solve leaves rounding in them)
+            dx[self.fixed_cols] = 0.0
             if not self.closed:
-                # the end conditions are linear and hold at the start: keep
-                # them exactly (the sparse solve leaves rounding in them)
                 if alpha < 0:
-                    dx[n] = dx[2 * n - 1] = 0.0
+                    dx[nt] = dx[nt + n - 1] = 0.0
                 else:
-                    dx[n], dx[2 * n - 1] = dx[n + 1], dx[2 * n - 2]
+                    dx[nt], dx[nt + n - 1] = dx[nt + 1], dx[nt + n - 2]
             th, u, L = self.split(x)
             dth, du, dL = self.split(dx)
             # keep within the linearisation: angles (and alpha = 0's log
@@ -196,7 +249,6 @@ def continue_in_alpha(system, x0, alpha, tol, max_iter):
     if not ok:
         return x, total, False, res, alphas
     step = 0.5
-    n = system.n
     for _ in range(_MAX_SOLVES):
         if a == alpha:
             break
@@ -208,8 +260,8 @@ def continue_in_alpha(system, x0, alpha, tol, max_iter):
             x, a = xt, nxt
             alphas.append(a)
             step *= 1.5
-            kabs = np.abs(x[n:2 * n])
-            if kabs.min() < _MAX_SPREAD ** -1 * kabs.max():
+            kabs = np.abs(system.free_graph(system.split(x)[1]))
+            if kabs.size and kabs.min() < _MAX_SPREAD ** -1 * kabs.max():
                 # a node's curvature diverging (or vanishing) on the way: the
                 # solution branch ends before alpha
                 return x, total, False, res, alphas

@@ -67,127 +67,18 @@ References
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
 
 import numpy as np
 
 from stimuli.curves.euler import wrap_angle
-from stimuli.curves.lac_arc import arc_curvature, arc_integrals, arc_singular_point, arc_turn, quadrature_groups
 from stimuli.curves.lac_newton import LACSystem, continue_in_alpha
-from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.curves.lac_result import LACG2Spline, solved_spline
 from stimuli.curves.points import circle_tangents, geometric_sign, spline_points
 from stimuli.curves.qic import ConvergenceError, qic_spline
 from stimuli.errors import InputError
-from stimuli.validate import as_int, as_number
+from stimuli.validate import as_number
 
 __all__ = ["LACG2Spline", "lac_spline"]
-
-
-@dataclass(frozen=True)
-class LACG2Spline:
-    """A G2 spline of log-aesthetic arcs through points (see :func:`lac_spline`).
-
-    Attributes
-    ----------
-    points : ndarray, shape (N, 2)
-    closed : bool
-    alpha : float
-        Slope of every segment's log curvature graph.
-    theta : ndarray, shape (n,)
-        Tangent angle at every node (input coordinates, unwrapped along the
-        curve); n = N.
-    kappa : ndarray, shape (n,)
-        Curvature at every node, ``d theta / ds`` in the input coordinates
-        (1/px), shared by the segments that meet there.
-    length : ndarray, shape (M,)
-        Length of every segment (px).
-    sign : float
-        Factor from input-coordinate to geometric curvature.
-    iterations : int
-        Newton iterations, summed over the continuation.
-    alphas : tuple of float
-        The alphas solved for on the way (the last is `alpha`).
-    closure_error : float
-        Largest miss of a segment's end point, relative to the curve's size.
-    g2_error : float
-        Largest relative curvature jump at a node as evaluated from both
-        segments' formulas (rounding only: the curvature is shared).
-    seconds : float
-    method : str
-        'lac'.
-    corners, corner_kinds : tuple
-        Always empty: every node is G2.
-    """
-
-    points: np.ndarray
-    closed: bool
-    alpha: float
-    theta: np.ndarray
-    kappa: np.ndarray
-    length: np.ndarray
-    sign: float
-    iterations: int
-    alphas: tuple
-    closure_error: float
-    g2_error: float
-    seconds: float = 0.0
-    method: str = "lac"
-    corners: tuple = ()
-    corner_kinds: tuple = ()
-
-    @property
-    def n_points(self):
-        return len(self.points)
-
-    @property
-    def node_curvature(self):
-        """Geometric curvature at every node (1/px)."""
-        return self.sign * self.kappa
-
-    def _ends(self):
-        a = np.arange(self.length.size)
-        b = (a + 1) % len(self.points) if self.closed else a + 1
-        return a, b
-
-    def sample(self, samples=32):
-        """Sample every segment at `samples` points equally spaced in arc
-        length, both ends included.
-
-        Returns
-        -------
-        SampledCurve
-        """
-        samples = as_int(samples, "samples (per segment)", lo=2)
-        a, b = self._ends()
-        M = a.size
-        t = np.linspace(0.0, 1.0, samples)
-        k0, k1, L, th0 = self.kappa[a], self.kappa[b], self.length, self.theta[a]
-        # the position: each stretch between samples by the graded rule, summed
-        lo = np.broadcast_to(t[:-1], (M, samples - 1)).ravel()
-        hi = np.broadcast_to(t[1:], (M, samples - 1)).ravel()
-        seg = np.repeat(np.arange(M), samples - 1)
-        dz = np.empty(seg.size, dtype=complex)
-        for rows, x, w in quadrature_groups(lo, hi, arc_singular_point(k0, k1, self.alpha)[seg]):
-            r = seg[rows]
-            th = th0[r, None] + L[r, None] * arc_turn(x, k0[r, None], k1[r, None], self.alpha)
-            dz[rows] = L[r] * (np.exp(1j * th) * w).sum(axis=1)
-        dz = dz.reshape(M, samples - 1)
-        z = self.points[a, 0] + 1j * self.points[a, 1]
-        Z = np.concatenate((z[:, None], z[:, None] + np.cumsum(dz, axis=1)), axis=1)
-        # each segment ends on the next point: put it there exactly
-        Z[:, -1] = self.points[b, 0] + 1j * self.points[b, 1]
-        theta = th0[:, None] + L[:, None] * arc_turn(t[None, :], k0[:, None], k1[:, None], self.alpha)
-        kappa = arc_curvature(t[None, :], k0[:, None], k1[:, None], self.alpha)
-        s = (np.r_[0.0, np.cumsum(L)[:-1]][:, None] + L[:, None] * t[None, :]).ravel()
-        return SampledCurve(s=s, x=Z.real.ravel(), y=Z.imag.ravel(), curvature=self.sign * kappa.ravel(),
-                            segment=np.repeat(a, samples), theta=theta.ravel(), closed=self.closed)
-
-    def metrics(self, samples=32):
-        """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`
-        with the solver's figures."""
-        out = curve_metrics(self.sample(samples))
-        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
-        return out
 
 
 def _guess(P, closed, y_down):
@@ -314,7 +205,7 @@ def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter
     if not ok:
         x, iters, ok, res, alphas = continue_in_alpha(system, x0, alpha, tol, max_iter)
     if not ok:
-        kabs = np.abs(system.split(x)[1])
+        kabs = np.abs(system.free_graph(system.split(x)[1]))
         spread = float(kabs.max() / kabs.min()) if kabs.min() > 0 else np.inf
         raise ConvergenceError(
             f"lac spline: no G2 log-aesthetic spline with alpha={alpha:g} found (Newton, continued in alpha "
@@ -322,15 +213,4 @@ def lac_spline(points, alpha=-1.0, closed=True, y_down=True, tol=1e-12, max_iter
             f"{spread:.2g}; residual {res:.2g}); the points may be jagged or too sparse for this alpha (a "
             "spread growing without bound on the way means a node's curvature diverges: try a smaller alpha)"
         )
-    th, k, L = system.split(x)
-    arc = arc_integrals(th[system.a], k[system.a], k[system.b], L, alpha)
-    size = float(np.max(np.ptp(P, axis=0))) or 1.0
-    closure = float(np.max(np.abs(arc["z"] - system.D))) * h / size
-    kend = arc_curvature(1.0, k[system.a], k[system.b], alpha)
-    kmax = float(np.max(np.abs(k))) or 1.0
-    g2 = float(np.max(np.abs(kend - k[system.b]))) / kmax
-    return LACG2Spline(
-        points=P, closed=closed, alpha=alpha, theta=th.copy(), kappa=k / h, length=L * h,
-        sign=geometric_sign(P, closed, y_down), iterations=int(iters), alphas=tuple(alphas),
-        closure_error=closure, g2_error=g2, seconds=time.perf_counter() - t_start,
-    )
+    return solved_spline(system, x, P, closed, alpha, geometric_sign(P, closed, y_down), iters, alphas, t_start)

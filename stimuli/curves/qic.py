@@ -257,7 +257,7 @@ def _raise_failure(fit):
 
 
 def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangent_deviation=None,
-               end_tangents=(None, None), corners=(), tol=1e-12, max_iter=50, y_down=True):
+               end_tangents=(None, None), corners=(), tol=1e-12, max_iter=50, y_down=True, log_aesthetic=True):
     """Fit the QIC spline: clothoid segments through points, G2 except at the
     few nodes the robust rule relaxes.
 
@@ -298,13 +298,21 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     y_down : bool
         Whether y points down (image pixels). Only the sign of reported
         curvature for open curves depends on it.
+    log_aesthetic : bool
+        Robust rule only: where the clothoid fit strays from the periodic
+        cubic through the points, use its log-aesthetic form (the same
+        joints, arcs of alpha = -0.5 with monotone curvature) when that
+        strays less (:mod:`stimuli.curves.qic_lac`). False: clothoid
+        segments only.
 
     Returns
     -------
-    QICSpline
+    QICSpline or LACG2Spline
         The segments, with ``corners``, ``corner_kinds``, ``loops``,
         ``max_segment_turn``, ``iterations``, ``g2_error``,
         ``closure_error`` and ``seconds``. ``.sample(k)`` gives the curve.
+        A :class:`~stimuli.curves.lac_result.LACG2Spline` (with ``alpha``)
+        where the robust rule took the log-aesthetic form.
 
     Raises
     ------
@@ -472,6 +480,13 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     iterations = sum(f.iterations for f, _, _ in tried.values())
     if len(tried) > 1:
         sp = replace(sp, iterations=iterations)
+    # the log-aesthetic form of the same joints, where it hugs the points better (imported here:
+    # the log-aesthetic spline starts from this module's clothoid spline)
+    from stimuli.curves.qic_lac import prefer_log_aesthetic
+
+    lac = prefer_log_aesthetic(sp, polygon_simple) if log_aesthetic else sp
+    if lac is not sp:
+        sp = replace(lac, iterations=iterations + lac.iterations)
     # the time, set on the spline that this call made (frozen for its users; dataclasses.replace
     # would cost as much as a tenth of the rule's checks on smooth curves, where one fit is all)
     object.__setattr__(sp, "seconds", time.perf_counter() - t_start)

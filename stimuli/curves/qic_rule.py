@@ -205,7 +205,7 @@ ISOLATED_TURN = 0.5 * np.pi
 ISOLATION = 0.25 * np.pi
 #: Largest bulge (distance from the chord / mean chord) of a segment that
 #: ends at a sharp node (:func:`sharp_nodes`).
-SHARP_BULGE = 0.3
+SHARP_BULGE = 0.35
 #: Largest bulge of a segment whose tangent turns by more than the mean of
 #: its end nodes' turns plus MAX_EXCESS (radians).
 EXCESS_BULGE = 0.25
