@@ -301,7 +301,7 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     log_aesthetic : bool
         Robust rule only: where the clothoid fit strays from the periodic
         cubic through the points, use its log-aesthetic form (the same
-        joints, arcs of alpha = -0.5 with monotone curvature) when that
+        joints, arcs of alpha = -0.3 with monotone curvature) when that
         strays less (:mod:`stimuli.curves.qic_lac`). False: clothoid
         segments only.
 
@@ -484,7 +484,9 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     # the log-aesthetic spline starts from this module's clothoid spline)
     from stimuli.curves.qic_lac import prefer_log_aesthetic
 
-    lac = prefer_log_aesthetic(sp, polygon_simple) if log_aesthetic else sp
+    final = tried.get((frozenset(g0), frozenset(held)))
+    turn = float(final[0].seg["turn"].max()) if final is not None and "turn" in final[0].seg else None
+    lac = prefer_log_aesthetic(sp, polygon_simple, max_turn=turn) if log_aesthetic else sp
     if lac is not sp:
         sp = replace(lac, iterations=iterations + lac.iterations)
     # the time, set on the spline that this call made (frozen for its users; dataclasses.replace

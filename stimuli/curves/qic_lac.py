@@ -41,13 +41,17 @@ import numpy as np
 from stimuli.curves.lac_newton import LACSystem, continue_in_alpha
 from stimuli.curves.lac_result import solved_spline
 
-__all__ = ["ALPHA", "TRIGGER", "log_aesthetic_form", "prefer_log_aesthetic"]
+__all__ = ["ALPHA", "SCREEN_TURN", "TRIGGER", "log_aesthetic_form", "prefer_log_aesthetic"]
 
 #: Slope of the log curvature graph of the log-aesthetic form's arcs (-1 would be the clothoid).
-ALPHA = -0.5
+ALPHA = -0.3
 #: Distance (in mean chords) by which the clothoid fit must stray from the periodic cubic
 #: before the log-aesthetic form is tried.
 TRIGGER = 0.08
+#: The cubic is asked only where a segment of the clothoid fit turns by more than this (radians;
+#: 45 degrees): where every segment turns less the points sample the curve densely and the two
+#: agree (screen measured below).
+SCREEN_TURN = 0.25 * np.pi
 # samples per segment for the comparison with the cubic (the cubic's: 4x denser)
 _SAMPLES = 16
 
@@ -112,7 +116,12 @@ def log_aesthetic_form(sp, alpha=ALPHA, tol=1e-12, max_iter=40):
     kap0[system.ub[split]] = end_kappa[split]
     kap0[system.fixed_cols[system.fixed_cols >= system.nt] - system.nt] = 0.0
     x0 = np.concatenate((th0, kap0 * h, L / h))
-    x, iterations, ok, _, alphas = continue_in_alpha(system, x0, alpha, tol, max_iter)
+    # straight to alpha from the clothoid (usually a few iterations), else by continuation
+    x, iterations, ok, _ = system.newton(x0, alpha, tol, min(max_iter, 12))
+    alphas = [-1.0, alpha]
+    if not ok:
+        x, more, ok, _, alphas = continue_in_alpha(system, x0, alpha, tol, max_iter)
+        iterations += more
     if not ok:
         return None
     return solved_spline(system, x, P, closed, alpha, sp.sign, iterations, alphas, t_start,
@@ -123,7 +132,7 @@ def _xy(curve):
     return np.column_stack((curve.x, curve.y))
 
 
-def prefer_log_aesthetic(sp, polygon_simple, alpha=ALPHA, trigger=TRIGGER):
+def prefer_log_aesthetic(sp, polygon_simple, alpha=None, trigger=None, max_turn=None):
     """`sp`, or its log-aesthetic form where that strays less from the
     periodic cubic through the points (the rule in the module notes).
 
@@ -133,9 +142,13 @@ def prefer_log_aesthetic(sp, polygon_simple, alpha=ALPHA, trigger=TRIGGER):
         The robust rule's fit.
     polygon_simple : callable
         Returns whether the polygon of the points is simple.
-    alpha : float
-    trigger : float
-        In mean chords.
+    alpha : float, optional
+        Default :data:`ALPHA`.
+    trigger : float, optional
+        In mean chords; default :data:`TRIGGER`.
+    max_turn : float, optional
+        `sp`'s largest segment turn where the caller has it (default:
+        ``sp.max_segment_turn``).
 
     Returns
     -------
@@ -147,8 +160,10 @@ def prefer_log_aesthetic(sp, polygon_simple, alpha=ALPHA, trigger=TRIGGER):
     from stimuli.curves.polynomial import polynomial_spline
     from stimuli.curves.qic_measures import crossing_segments
 
+    alpha = ALPHA if alpha is None else alpha
+    trigger = TRIGGER if trigger is None else trigger
     P, closed = sp.points, sp.closed
-    if len(P) < 4:
+    if len(P) < 4 or (sp.max_segment_turn if max_turn is None else max_turn) <= SCREEN_TURN:
         return sp
     chords = np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)
     unit = float(np.mean(chords))
