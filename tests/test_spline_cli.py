@@ -45,6 +45,30 @@ def test_qic_output_and_summary(blob, tmp_path):
     assert s["method"] == "qic" and s["n_points"] == 14 and s["closed"] is True
     assert s["g2_error"] < 1e-10 and s["interior_extrema"] == 0 and s["loops"] == 0
     assert s["iterations"] >= 1
+    assert s["alpha"] == -1.0  # a smooth blob: clothoid segments
+
+
+def test_log_aesthetic_form_in_output_and_summary(tmp_path):
+    # a lobed outline reduced to 16 points, where the robust rule takes the
+    # log-aesthetic form: the summary says alpha, the samples show its law
+    # (sign(k)|k|**0.3 linear in arc length on every segment) and monotone curvature
+    from stimuli.curves.qic_lac import ALPHA
+    from stimuli.geometry.contour import Contour
+
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    r = 1 + 0.5 * np.cos(3 * t) + 0.2 * np.cos(7 * t + 1)
+    P = Contour(np.c_[200 + 100 * r * np.cos(t), 200 - 100 * r * np.sin(t)]).resample(16).points
+    path, out, summ = tmp_path / "pts.csv", tmp_path / "out.csv", tmp_path / "sum.json"
+    _write_points(path, P)
+    assert main(["spline", str(path), "-o", str(out), "--summary", str(summ), "--samples", "17"]) == 0
+    s = json.loads(summ.read_text())
+    assert s["alpha"] == ALPHA and s["interior_extrema"] == 0 and s["self_intersections"] == 0
+    df = pd.read_csv(out)
+    for _, g in df.groupby("segment"):
+        k, sarc = g["curvature"].to_numpy(), g["s"].to_numpy()
+        u = np.sign(k) * np.abs(k) ** (-ALPHA)
+        fit = np.polyval(np.polyfit(sarc, u, 1), sarc)
+        assert np.abs(u - fit).max() <= 1e-6 * np.abs(u).max()
 
 
 def test_polynomial_methods_report_extrema(blob, tmp_path):

@@ -23,7 +23,10 @@ def add_parser(sub):
             "the few nodes where the G2 spline would loop, swing out or cross itself: there the "
             "tangent is held at the bisector of the polygon's turn (G1) or, at sharp turns or "
             "where that is not enough, the curve has a corner (G0); every such node is listed in "
-            "the summary's corners. qic-g2: the pure G2 clothoid spline (may loop). "
+            "the summary's corners. Where the clothoid curve strays from the periodic cubic through "
+            "the points and arcs of a log-aesthetic curve (alpha = -0.3, the same joints, monotone "
+            "curvature) stray less, those arcs are used: the summary's alpha says which (-1: clothoids). "
+            "qic-g2: the pure G2 clothoid spline (may loop). "
             "cubic: periodic cubic (not-a-knot with --open); cubic-natural: natural cubic (--open); "
             "poly2..poly5: interpolating splines of that degree (periodic, or not-a-knot open); "
             "all polynomial splines use chord-length parameters. lac-g1: G1 log-aesthetic spline "
@@ -44,8 +47,8 @@ def add_parser(sub):
                         "rows in all")
     p.add_argument("--summary", metavar="OUT.json",
                    help="write method, n_points, closed, g2_error, interior_extrema, loops, corners, "
-                        "corner_kinds, self_intersections, max_segment_turn, iterations, seconds "
-                        "(and more) as JSON")
+                        "corner_kinds, self_intersections, max_segment_turn, iterations, seconds, "
+                        "alpha (and more) as JSON")
     p.add_argument("--strict", action="store_true",
                    help="exit 1 and write nothing when the curve crosses itself or a segment turns "
                         "by more than pi")
@@ -136,8 +139,9 @@ def _summary(args, P, sp, unit, span, closed, crossings):
     }
     if hasattr(sp, "closure_error"):
         summary["closure_error"] = float(sp.closure_error)
-    if hasattr(sp, "alpha"):
-        summary["alpha"] = float(sp.alpha)
+    if hasattr(sp, "alpha") or args.method in ("qic", "qic-g2"):
+        # the segments' log-aesthetic slope: -1 for clothoids
+        summary["alpha"] = float(getattr(sp, "alpha", -1.0))
     if hasattr(sp, "fallback_segments"):
         summary["fallback_segments"] = [int(i) for i in sp.fallback_segments]
     return {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in summary.items()}
