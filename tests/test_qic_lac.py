@@ -131,3 +131,21 @@ def test_smooth_curves_keep_the_clothoid():
     r = 1 + 0.2 * np.cos(3 * t)
     sp = qic_spline(np.c_[200 + 100 * r * np.cos(t), 200 - 100 * r * np.sin(t)])
     assert not hasattr(sp, "alpha")
+
+
+def test_open_curves_take_the_form_with_natural_ends_only():
+    # an open lobed curve of 13 points takes the log-aesthetic form, with zero
+    # curvature at both ends; given end tangents (which the form's natural
+    # ends cannot keep) it stays with clothoids, and the tangents hold
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    r = 1 + 0.5 * np.cos(3 * t) + 0.2 * np.cos(7 * t + 1)
+    P = Contour(np.c_[200 + 100 * r * np.cos(t), 200 - 100 * r * np.sin(t)]).resample(16).points[:13]
+    sp = qic_spline(P, closed=False)
+    assert hasattr(sp, "alpha")
+    c = sp.sample(16)
+    assert abs(c.curvature[0]) < 1e-12 and abs(c.curvature[-1]) < 1e-12
+    clamped = qic_spline(P, closed=False, end_tangents=((1, 0), (0, -1)))
+    assert not hasattr(clamped, "alpha")
+    c = clamped.sample(16)
+    assert abs(np.angle(np.exp(1j * c.theta[0]))) < 1e-9
+    assert abs(np.angle(np.exp(1j * (c.theta[-1] + np.pi / 2)))) < 1e-9

@@ -302,8 +302,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         Robust rule only: where the clothoid fit strays from the periodic
         cubic through the points, use its log-aesthetic form (the same
         joints, arcs of alpha = -0.3 with monotone curvature) when that
-        strays less (:mod:`stimuli.curves.qic_lac`). False: clothoid
-        segments only.
+        strays less (:mod:`stimuli.curves.qic_lac`; not where
+        `end_tangents` are given). False: clothoid segments only.
 
     Returns
     -------
@@ -486,7 +486,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
 
     final = tried.get((frozenset(g0), frozenset(held)))
     turn = float(final[0].seg["turn"].max()) if final is not None and "turn" in final[0].seg else None
-    lac = prefer_log_aesthetic(sp, polygon_simple, max_turn=turn) if log_aesthetic else sp
+    # (not with given end tangents: the log-aesthetic system's open ends are natural)
+    lac = prefer_log_aesthetic(sp, polygon_simple, max_turn=turn) if log_aesthetic and ts is None and te is None else sp
     if lac is not sp:
         sp = replace(lac, iterations=iterations + lac.iterations)
     # the time, set on the spline that this call made (frozen for its users; dataclasses.replace
