@@ -49,11 +49,13 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 __all__ = [
     "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
-    "arc_integrals",
+    "arc_integrals", "ArcIntegrals",
 ]
 
 # Gauss-Legendre nodes per panel, and the geometric grading of the panels
@@ -114,18 +116,66 @@ def _same_sign_params(k0, k1, alpha):
     return k0, np.expm1(-alpha * ell)
 
 
-def _params(t, k0, k1, alpha):
-    """(t, same sign?, same-sign parameters a, b, and for alpha < 0 the
-    graph variable at both ends, else None) of arcs, as arrays."""
-    t = np.asarray(t, dtype=float)
+def _params(k0, k1, alpha):
+    """(same sign?, same-sign parameters a, b, and for alpha < 0 the graph
+    variable at both ends, else None) of arcs, as arrays."""
     k0 = np.asarray(k0, dtype=float)
     k1 = np.asarray(k1, dtype=float)
     same = k0 * k1 > 0
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         a, b = _same_sign_params(np.where(same, k0, 1.0), np.where(same, k1, 1.0), alpha)
     if alpha < 0 and not is_zero_alpha(alpha):
-        return t, same, a, b, _v(k0, alpha), _v(k1, alpha)
-    return t, same, a, b, None, None
+        return same, a, b, _v(k0, alpha), _v(k1, alpha)
+    return same, a, b, None, None
+
+
+# The closed forms of the module notes, on arcs of one kind (callers broadcast
+# t against the parameters and silence floating-point warnings): same sign
+# (a = k0 and b from _same_sign_params) and through an inflection (v0 and
+# dv = v1 - v0, alpha < 0). The turn's helpers also return what the
+# curvature at the same t shares with it (log1p(t b), resp. v(t)).
+
+def _turn_same(t, a, b, alpha):
+    if is_zero_alpha(alpha):
+        return a * np.where(b == 0, t, np.expm1(b * t) / b), None
+    A = np.log1p(t * b)
+    q = 1.0 - 1.0 / alpha
+    core = A / b if q == 0 else np.expm1(q * A) / (q * b)
+    return a * np.where(b == 0, t, core), A
+
+
+def _curvature_same(t, a, b, alpha, A=None):
+    if is_zero_alpha(alpha):
+        return a * np.exp(b * t)
+    return a * np.exp(-(np.log1p(t * b) if A is None else A) / alpha)
+
+
+def _turn_inflected(t, v0, dv, alpha):
+    p1 = 1.0 - 1.0 / alpha  # p + 1
+    v = v0 + t * dv
+    return np.where(dv == 0, 0.0, (np.abs(v) ** p1 - np.abs(v0) ** p1) / (p1 * dv)), v
+
+
+def _curvature_inflected(v, alpha):
+    return np.sign(v) * np.abs(v) ** (-1.0 / alpha)
+
+
+def _turn(t, same, a, b, v0, v1, alpha):
+    """:func:`arc_turn` from the arcs' parameters (:func:`_params`)."""
+    ts = _turn_same(t, a, b, alpha)[0] if np.any(same) else 0.0
+    if v0 is None:
+        return np.where(same, ts, np.nan)
+    if np.all(same):
+        return ts
+    return np.where(same, ts, _turn_inflected(t, v0, v1 - v0, alpha)[0])
+
+
+def _singular_point(same, b, v0, v1, alpha):
+    """:func:`arc_singular_point` from the arcs' parameters (:func:`_params`)."""
+    shape = np.shape(same)
+    ts = np.full(shape, np.inf) if is_zero_alpha(alpha) else np.where(b == 0, np.inf, -1.0 / b)
+    to = np.where(v0 == v1, np.inf, v0 / (v0 - v1)) if v0 is not None else np.full(shape, np.inf)
+    return np.where(same, ts, to)
 
 
 def arc_curvature(t, k0, k1, alpha):
@@ -139,13 +189,13 @@ def arc_curvature(t, k0, k1, alpha):
     >>> round(float(arc_curvature(0.5, 1.0, 4.0, 0.0)), 12)   # alpha = 0: geometric mean
     2.0
     """
-    t, same, a, b, v0, v1 = _params(t, k0, k1, alpha)
+    t = np.asarray(t, dtype=float)
+    same, a, b, v0, v1 = _params(k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        ks = a * np.exp(b * t) if is_zero_alpha(alpha) else a * np.exp(-np.log1p(t * b) / alpha)
+        ks = _curvature_same(t, a, b, alpha)
         if v0 is None:
             return np.where(same, ks, np.nan)
-        v = v0 + t * (v1 - v0)
-        return np.where(same, ks, np.sign(v) * np.abs(v) ** (-1.0 / alpha))
+        return np.where(same, ks, _curvature_inflected(v0 + t * (v1 - v0), alpha))
 
 
 def arc_turn(t, k0, k1, alpha):
@@ -160,45 +210,18 @@ def arc_turn(t, k0, k1, alpha):
     >>> round(float(arc_turn(1.0, 1.0, np.e, 0.0)), 12)   # alpha = 0: (e - 1) / 1
     1.718281828459
     """
-    t, same, a, b, v0, v1 = _params(t, k0, k1, alpha)
+    t = np.asarray(t, dtype=float)
+    params = _params(k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if not np.any(same):
-            ts = 0.0
-        elif is_zero_alpha(alpha):
-            ts = a * np.where(b == 0, t, np.expm1(b * t) / b)
-        else:
-            A = np.log1p(t * b)
-            q = 1.0 - 1.0 / alpha
-            core = A / b if q == 0 else np.expm1(q * A) / (q * b)
-            ts = a * np.where(b == 0, t, core)
-        if v0 is None:
-            return np.where(same, ts, np.nan)
-        if np.all(same):
-            return ts
-        p1 = 1.0 - 1.0 / alpha  # p + 1
-        dv = v1 - v0
-        v = v0 + t * dv
-        return np.where(same, ts, np.where(dv == 0, 0.0, (np.abs(v) ** p1 - np.abs(v0) ** p1) / (p1 * dv)))
+        return _turn(t, *params, alpha)
 
 
 def arc_singular_point(k0, k1, alpha):
     """Unit parameter where the graph variable ``g(kappa)`` would reach 0
     (inside [0, 1] at an inflection; +-inf when there is none)."""
-    k0 = np.asarray(k0, dtype=float)
-    k1 = np.asarray(k1, dtype=float)
-    same = k0 * k1 > 0
+    same, _, b, v0, v1 = _params(k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
-        if is_zero_alpha(alpha):
-            ts = np.full(k0.shape, np.inf)
-        else:
-            _, b = _same_sign_params(np.where(same, k0, 1.0), np.where(same, k1, 1.0), alpha)
-            ts = np.where(b == 0, np.inf, -1.0 / b)
-        if alpha < 0:
-            v0, v1 = _v(k0, alpha), _v(k1, alpha)
-            to = np.where(v0 == v1, np.inf, v0 / (v0 - v1))
-        else:
-            to = np.full(k0.shape, np.inf)
-    return np.where(same, ts, to)
+        return _singular_point(same, b, v0, v1, alpha)
 
 
 def graded_rule(a, b, tstar):
@@ -240,10 +263,23 @@ def quadrature_groups(lo, hi, tstar):
     an integrand analytic on a wide ellipse: one 24-point Gauss rule does.
     The rest get :func:`graded_rule`.
 
+    Parameters
+    ----------
+    lo, hi : ndarray, shape (R,), or float
+        The intervals; floats: one interval shared by every row.
+    tstar : ndarray, shape (R,)
+
     Returns
     -------
     list of (rows, nodes, weights)
-        Row indices and their nodes and weights, shape (len(rows), Q).
+        Row indices and their nodes and weights, shape (len(rows), Q); the
+        24-point group's shape is (1, Q) where the interval is shared (the
+        same nodes for every row, broadcast).
+
+    Examples
+    --------
+    >>> [(rows.tolist(), x.shape) for rows, x, w in quadrature_groups(0.0, 1.0, np.array([5.0, 0.5, -3.0]))]
+    [([0, 2], (1, 24)), ([1], (1, 240))]
     """
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
@@ -253,11 +289,13 @@ def quadrature_groups(lo, hi, tstar):
     out = []
     rows = np.flatnonzero(easy)
     if rows.size:
-        half = 0.5 * span[rows, None]
-        out.append((rows, lo[rows, None] + half * (1.0 + _GL_X_WIDE), half * _GL_W_WIDE))
+        half = 0.5 * span[..., None] if span.ndim == 0 else 0.5 * span[rows, None]
+        start = lo[..., None] if lo.ndim == 0 else lo[rows, None]
+        out.append((rows, np.atleast_2d(start + half * (1.0 + _GL_X_WIDE)), np.atleast_2d(half * _GL_W_WIDE)))
     rows = np.flatnonzero(~easy)
     if rows.size:
-        out.append((rows, *graded_rule(lo[rows], hi[rows], tstar[rows])))
+        out.append((rows, *graded_rule(np.broadcast_to(lo, tstar.shape)[rows], np.broadcast_to(hi, tstar.shape)[rows],
+                                       tstar[rows])))
     return out
 
 
@@ -270,68 +308,132 @@ def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
         Start tangent angle, end curvatures and length of each arc.
     alpha : float
     derivatives : bool
+        Compute the derivatives now (otherwise on first access).
 
     Returns
     -------
-    dict
-        ``z`` (complex chord: end minus start point), ``turn`` (``L Theta(1)``)
-        and with `derivatives` ``z_L``, ``z_u0``, ``z_u1`` (``z_theta0`` is
-        ``1j * z``), ``turn_u0``, ``turn_u1`` (``turn_L`` is ``Theta(1)``),
-        the derivatives in the end curvatures' graph variables
+    ArcIntegrals
+        A mapping: ``z`` (complex chord: end minus start point), ``turn``
+        (``L Theta(1)``), ``Theta1`` and the derivatives ``z_L``, ``z_u0``,
+        ``z_u1`` (``z_theta0`` is ``1j * z``), ``turn_u0``, ``turn_u1``
+        (``turn_L`` is ``Theta(1)``), in the end curvatures' graph variables
         (:func:`graph_value`), in closed form (central differences for
         nearly circular arcs).
+
+    Examples
+    --------
+    A clothoid arc (alpha = -1) of constant curvature 1 and length pi: a half circle.
+
+    >>> out = arc_integrals(np.zeros(1), np.ones(1), np.ones(1), np.array([np.pi]), -1.0)
+    >>> complex(np.round(out["z"][0], 12)), float(out["turn"][0]) == np.pi
+    (2j, True)
     """
-    M = k0.size
-    out = {}
-    for rows, x, w in quadrature_groups(np.zeros(M), np.ones(M), arc_singular_point(k0, k1, alpha)):
-        part = _integrals_on(x, w, theta0[rows], k0[rows], k1[rows], L[rows], alpha, derivatives)
-        for key, val in part.items():
-            if key not in out:
-                out[key] = np.empty(M, dtype=val.dtype)
-            out[key][rows] = val
-    return out
+    arcs = ArcIntegrals(theta0, k0, k1, L, alpha)
+    if derivatives:
+        arcs.derive()
+    return arcs
 
 
-def _integrals_on(x, w, theta0, k0, k1, L, alpha, derivatives):
-    """:func:`arc_integrals` with the quadrature nodes `x` and weights `w`
-    (one row per arc) on [0, 1]."""
-    Th = arc_turn(x, k0[:, None], k1[:, None], alpha)
-    e = np.exp(1j * (theta0[:, None] + L[:, None] * Th)) * w
-    z = L * e.sum(axis=1)
-    T1 = arc_turn(1.0, k0, k1, alpha)
-    out = {"z": z, "Theta1": T1, "turn": L * T1}
-    if not derivatives:
-        return out
-    out["z_L"] = z / L + 1j * L * (Th * e).sum(axis=1)
-    # derivatives in the graph variables u = g(k) (in which the equations
-    # stay smooth where a node's curvature passes through 0): with u linear
-    # in t and kappa = g^-1(u), d kappa/d u0 = (1 - t) kappa'(t) / du, and
-    # integrating by parts (derived here)
-    #   d Theta(t)/d u0 = ((1 - t) kappa(t) - k0 + Theta(t)) / du,
-    #   d Theta(t)/d u1 = (t kappa(t) - Theta(t)) / du,   du = u1 - u0;
-    # nearly circular arcs (|du| small: the quotient cancels) take central
-    # differences instead
-    u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
-    du = u1 - u0
-    scale = np.maximum(np.abs(u0), np.abs(u1))
-    far = np.abs(du) > 1e-5 * np.maximum(scale, 1e-6)
-    for key in ("z_u0", "z_u1", "turn_u0", "turn_u1"):
-        out[key] = np.empty(k0.size, dtype=complex if key[0] == "z" else float)
-    if far.any():
-        f = np.flatnonzero(far)
-        kap = arc_curvature(x[f], k0[f, None], k1[f, None], alpha)
-        d = du[f, None]
-        for name, dTh, dT1 in (
-            ("u0", ((1.0 - x[f]) * kap - k0[f, None] + Th[f]) / d, (T1[f] - k0[f]) / du[f]),
-            ("u1", (x[f] * kap - Th[f]) / d, (k1[f] - T1[f]) / du[f]),
-        ):
-            out["z_" + name][f] = 1j * L[f] * L[f] * (dTh * e[f]).sum(axis=1)
-            out["turn_" + name][f] = L[f] * dT1
-    if not far.all():
-        c = np.flatnonzero(~far)
-        for key, val in _central_differences(x[c], e[c], k0[c], k1[c], L[c], alpha).items():
-            out[key][c] = val
-    return out
+_VALUES = ("z", "Theta1", "turn")
+_DERIVATIVES = ("z_L", "z_u0", "z_u1", "turn_u0", "turn_u1")
+
+
+class ArcIntegrals(Mapping):
+    """The chords and turns of log-aesthetic arcs (see :func:`arc_integrals`),
+    keeping their quadrature (nodes, turns and phase factors), so that the
+    derivatives come from the same evaluation when they are first asked
+    for: Newton needs them only at the points it steps from, which its line
+    search has just evaluated.
+
+    The arcs are evaluated in blocks of one quadrature rule and one kind
+    (same-sign curvature, or through an inflection), each with its own
+    closed form.
+    """
+
+    def __init__(self, theta0, k0, k1, L, alpha):
+        theta0, k0, k1, L = (np.asarray(v, dtype=float) for v in (theta0, k0, k1, L))
+        self.alpha, self.k0, self.k1, self.L = alpha, k0, k1, L
+        M = k0.size
+        z = np.empty(M, dtype=complex)
+        self.blocks = []
+        with np.errstate(all="ignore"):
+            same, a, b, v0, v1 = self._params = _params(k0, k1, alpha)
+            T1 = _turn(1.0, same, a, b, v0, v1, alpha)
+            for rows, x, w in quadrature_groups(0.0, 1.0, _singular_point(same, b, v0, v1, alpha)):
+                for kind in (True, False):
+                    r = rows[same[rows] == kind]
+                    if not r.size:
+                        continue
+                    xr = x if x.shape[0] == 1 else x[same[rows] == kind]
+                    wr = w if w.shape[0] == 1 else w[same[rows] == kind]
+                    if kind:
+                        Th, share = _turn_same(xr, a[r, None], b[r, None], alpha)
+                    elif v0 is not None:
+                        Th, share = _turn_inflected(xr, v0[r, None], (v1 - v0)[r, None], alpha)
+                    else:  # no arc of this alpha
+                        Th, share = np.full((r.size, xr.shape[1]), np.nan), None
+                    e = np.exp(1j * (theta0[r, None] + L[r, None] * Th)) * wr
+                    z[r] = L[r] * e.sum(axis=1)
+                    self.blocks.append((r, kind, xr, Th, e, share))
+        self.values = {"z": z, "Theta1": T1, "turn": L * T1}
+
+    def __getitem__(self, key):
+        if key in _DERIVATIVES:
+            self.derive()
+        return self.values[key]
+
+    def __iter__(self):
+        return iter(_VALUES + _DERIVATIVES)
+
+    def __len__(self):
+        return len(_VALUES) + len(_DERIVATIVES)
+
+    def derive(self):
+        """Add the derivatives (once)."""
+        if "z_L" in self.values:
+            return
+        alpha, k0, k1, L = self.alpha, self.k0, self.k1, self.L
+        _, a, b, _, _ = self._params
+        z, T1 = self.values["z"], self.values["Theta1"]
+        out = {key: np.empty(k0.size, dtype=complex if key[0] == "z" else float) for key in _DERIVATIVES}
+        # derivatives in the graph variables u = g(k) (in which the equations
+        # stay smooth where a node's curvature passes through 0): with u linear
+        # in t and kappa = g^-1(u), d kappa/d u0 = (1 - t) kappa'(t) / du, and
+        # integrating by parts (derived here)
+        #   d Theta(t)/d u0 = ((1 - t) kappa(t) - k0 + Theta(t)) / du,
+        #   d Theta(t)/d u1 = (t kappa(t) - Theta(t)) / du,   du = u1 - u0;
+        # nearly circular arcs (|du| small: the quotient cancels) take central
+        # differences instead
+        with np.errstate(all="ignore"):  # 0/0 where no arc of this alpha exists: NaN, rejected by Newton
+            u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
+            du = u1 - u0
+            scale = np.maximum(np.abs(u0), np.abs(u1))
+            far = np.abs(du) > 1e-5 * np.maximum(scale, 1e-6)
+            fr = np.flatnonzero(far)
+            out["turn_u0"][fr] = L[fr] * ((T1[fr] - k0[fr]) / du[fr])
+            out["turn_u1"][fr] = L[fr] * ((k1[fr] - T1[fr]) / du[fr])
+            for r, kind, x, Th, e, share in self.blocks:
+                out["z_L"][r] = z[r] / L[r] + 1j * L[r] * (Th * e).sum(axis=1)
+                f = far[r]
+                if f.any():
+                    rf, xf = r[f], (x if x.shape[0] == 1 else x[f])
+                    if kind:
+                        kap = _curvature_same(xf, a[rf, None], b[rf, None], alpha, None if share is None else share[f])
+                    elif share is not None:
+                        kap = _curvature_inflected(share[f], alpha)
+                    else:
+                        kap = np.nan
+                    d = du[rf, None]
+                    for name, dTh in (("u0", ((1.0 - xf) * kap - k0[rf, None] + Th[f]) / d),
+                                      ("u1", (xf * kap - Th[f]) / d)):
+                        out["z_" + name][rf] = 1j * L[rf] * L[rf] * (dTh * e[f]).sum(axis=1)
+                if not f.all():
+                    c = ~f
+                    rc = r[c]
+                    xc = np.broadcast_to(x, Th.shape)[c]
+                    for key, val in _central_differences(xc, e[c], k0[rc], k1[rc], L[rc], alpha).items():
+                        out[key][rc] = val
+        self.values.update(out)
 
 
 def _central_differences(x, e, k0, k1, L, alpha):

@@ -92,6 +92,7 @@ class LACSystem:
         self.joints = bool(g1 or g0)
         self.fixed_cols = np.array([c for c, _ in fixed], dtype=int)
         self.fixed_vals = np.array([v for _, v in fixed], dtype=float)
+        self._csc = {}  # the Jacobian's sparsity pattern, per sign of alpha (jacobian)
 
     def split(self, x):
         nt, nu = self.nt, self.nu
@@ -166,7 +167,15 @@ class LACSystem:
                 put(np.array([i0, i0, i1, i1]), np.array([nt, nt + 1, nt + n - 1, nt + n - 2]),
                     np.array([1.0, -1.0, 1.0, -1.0]))
             size += 2
-        return csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
+        data = np.concatenate(vals)
+        key = alpha < 0  # the open ends' equations depend on it; nothing else does
+        if key not in self._csc:
+            self._csc[key] = _csc_pattern(np.concatenate(rows), np.concatenate(cols), size)
+        pattern = self._csc[key]
+        if pattern is None:  # repeated entries (summed): assemble from coordinates
+            return csc_matrix((data, (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
+        order, indices, indptr = pattern
+        return csc_matrix((data[order], indices, indptr), shape=(size, size))
 
     def newton(self, xk, alpha, tol, max_iter):
         """Damped Newton from xk = (theta, kappa, L), in the graph variables
@@ -182,7 +191,7 @@ class LACSystem:
         return np.concatenate((th, graph_inverse(u, alpha, self.sign), L)), it, ok, res
 
     def _newton(self, x, alpha, tol, max_iter):
-        F, _ = self.residual(x, alpha)
+        F, arc = self.residual(x, alpha)
         if F is None:
             return x, 0, False, np.inf
         merit = float(F @ F)
@@ -191,8 +200,8 @@ class LACSystem:
             res = float(np.max(np.abs(F)))
             if res <= tol or it == max_iter:
                 return x, it, res <= tol, res
-            # derivatives only where Newton steps from (trials are most evaluations)
-            _, arc = self.residual(x, alpha, derivatives=True)
+            # the derivatives at x come from the evaluation that gave F (the
+            # accepted trial's), computed only now that Newton steps from x
             with warnings.catch_warnings():
                 # a singular Jacobian gives NaNs, handled below
                 warnings.simplefilter("ignore", MatrixRankWarning)
@@ -219,15 +228,26 @@ class LACSystem:
                 step = min(step, 0.8 / -shrink.min())
             for _ in range(40):
                 xt = x + step * dx
-                Ft, _ = self.residual(xt, alpha)
+                Ft, arc_t = self.residual(xt, alpha)
                 if Ft is not None and float(Ft @ Ft) <= (1.0 - 1e-4 * step) * merit:
                     break
                 step *= 0.5
             else:
                 # no decrease: the rounding floor, or a failure
                 return x, it, res <= 1e3 * tol, res
-            x, F, merit = xt, Ft, float(Ft @ Ft)
+            x, F, arc, merit = xt, Ft, arc_t, float(Ft @ Ft)
         return x, max_iter, False, float(np.max(np.abs(F)))  # pragma: no cover
+
+
+def _csc_pattern(rows, cols, size):
+    """How :class:`~scipy.sparse.csc_matrix` orders entries given by
+    coordinates: (order of the entries, row indices, column pointers), so
+    that each Newton step builds its Jacobian from the values alone (the
+    same matrix as from coordinates); None where an entry repeats (summed)."""
+    ref = csc_matrix((np.arange(1.0, rows.size + 1.0), (rows, cols)), shape=(size, size))
+    if ref.nnz != rows.size:
+        return None
+    return ref.data.astype(np.intp) - 1, ref.indices, ref.indptr
 
 
 def continue_in_alpha(system, x0, alpha, tol, max_iter):
