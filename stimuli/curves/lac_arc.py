@@ -55,7 +55,7 @@ import numpy as np
 
 __all__ = [
     "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
-    "arc_integrals", "ArcIntegrals",
+    "piece_chords", "arc_integrals", "ArcIntegrals",
 ]
 
 # Gauss-Legendre nodes per panel, and the geometric grading of the panels
@@ -224,9 +224,17 @@ def arc_singular_point(k0, k1, alpha):
         return _singular_point(same, b, v0, v1, alpha)
 
 
-def graded_rule(a, b, tstar):
+def graded_rule(a, b, tstar, one_side=False):
     """Quadrature nodes and weights on the intervals ``[a, b]`` (one per row),
     graded geometrically towards ``clip(tstar, a, b)`` from both sides.
+
+    Parameters
+    ----------
+    a, b, tstar : ndarray, shape (R,)
+    one_side : bool
+        Every row's `tstar` lies at or beyond an end of its interval: only
+        the panels of the side that has a length (the other side's have
+        none and weigh nothing).
 
     Returns
     -------
@@ -239,15 +247,24 @@ def graded_rule(a, b, tstar):
     0.49998585722
     >>> round(2 / 3 * (0.3 ** 1.5 + 0.7 ** 1.5), 11)
     0.49998585722
+    >>> x, w = graded_rule(np.array([0.0]), np.array([1.0]), np.array([-0.5]), one_side=True)
+    >>> x.shape, round(float(np.sum(w * np.sqrt(x + 0.5))), 12) == round(2 / 3 * (1.5 ** 1.5 - 0.5 ** 1.5), 12)
+    ((1, 120), True)
     """
     a = np.asarray(a, dtype=float)[:, None]
     b = np.asarray(b, dtype=float)[:, None]
-    c = np.clip(np.nan_to_num(np.asarray(tstar, dtype=float), nan=1.0, posinf=2.0, neginf=-1.0)[:, None], a, b)
+    t = np.asarray(tstar, dtype=float)[:, None]
+    c = np.clip(np.where(np.isnan(t), 1.0, t), a, b)
     f = _EDGES[None, :]
     left = c - (c - a) * f   # a .. c
     right = c + (b - c) * f  # b .. c
-    lo = np.concatenate((left[:, :-1], right[:, 1:]), axis=1)
-    hi = np.concatenate((left[:, 1:], right[:, :-1]), axis=1)
+    if one_side:
+        # panels towards c from the end away from it
+        side = np.where(c == a, right, left)
+        lo, hi = side[:, :-1], side[:, 1:]
+    else:
+        lo = np.concatenate((left[:, :-1], right[:, 1:]), axis=1)
+        hi = np.concatenate((left[:, 1:], right[:, :-1]), axis=1)
     half = 0.5 * (hi - lo)
     mid = 0.5 * (hi + lo)
     nodes = (mid[:, :, None] + half[:, :, None] * _GL_X).reshape(a.shape[0], -1)
@@ -261,7 +278,7 @@ def quadrature_groups(lo, hi, tstar):
 
     Intervals whose `tstar` lies at least their own length beyond them see
     an integrand analytic on a wide ellipse: one 24-point Gauss rule does.
-    The rest get :func:`graded_rule`.
+    The rest get :func:`graded_rule` (one-sided where `tstar` is not inside).
 
     Parameters
     ----------
@@ -278,8 +295,8 @@ def quadrature_groups(lo, hi, tstar):
 
     Examples
     --------
-    >>> [(rows.tolist(), x.shape) for rows, x, w in quadrature_groups(0.0, 1.0, np.array([5.0, 0.5, -3.0]))]
-    [([0, 2], (1, 24)), ([1], (1, 240))]
+    >>> [(rows.tolist(), x.shape) for rows, x, w in quadrature_groups(0.0, 1.0, np.array([5.0, 0.5, -3.0, 1.5]))]
+    [([0, 2], (1, 24)), ([1], (1, 240)), ([3], (1, 120))]
     """
     lo = np.asarray(lo, dtype=float)
     hi = np.asarray(hi, dtype=float)
@@ -292,11 +309,85 @@ def quadrature_groups(lo, hi, tstar):
         half = 0.5 * span[..., None] if span.ndim == 0 else 0.5 * span[rows, None]
         start = lo[..., None] if lo.ndim == 0 else lo[rows, None]
         out.append((rows, np.atleast_2d(start + half * (1.0 + _GL_X_WIDE)), np.atleast_2d(half * _GL_W_WIDE)))
-    rows = np.flatnonzero(~easy)
-    if rows.size:
-        out.append((rows, *graded_rule(np.broadcast_to(lo, tstar.shape)[rows], np.broadcast_to(hi, tstar.shape)[rows],
-                                       tstar[rows])))
+    # the graded rule, from both sides where tstar is inside the interval
+    hard = np.flatnonzero(~easy)
+    lo, hi = np.broadcast_to(lo, tstar.shape)[hard], np.broadcast_to(hi, tstar.shape)[hard]
+    inside = (tstar[hard] > lo) & (tstar[hard] < hi)
+    for one_side in (False, True):
+        pick = inside != one_side
+        if pick.any():
+            out.append((hard[pick], *graded_rule(lo[pick], hi[pick], tstar[hard[pick]], one_side)))
     return out
+
+
+def _quadrature_blocks(params, alpha, lo, hi, arcs=None):
+    """The quadrature of pieces ``[lo, hi]`` (unit parameter) of arcs with
+    parameters `params` (:func:`_params`), in blocks of one rule
+    (:func:`quadrature_groups`) and one kind (same-sign curvature, or
+    through an inflection, or no arc of this alpha: NaN).
+
+    Yields
+    ------
+    rows, arcs, kind, nodes, weights, turn, share
+        The pieces and their arcs (`arcs`: each piece's arc; default: one
+        piece per arc), whether of one sign, the rule, Theta at the nodes
+        and what the curvature there shares with it (see :func:`_turn_same`).
+    """
+    same, a, b, v0, v1 = params
+    tstar = _singular_point(same, b, v0, v1, alpha)
+    for rows, x, w in quadrature_groups(lo, hi, tstar if arcs is None else tstar[arcs]):
+        of = rows if arcs is None else arcs[rows]
+        one_sign = same[of]
+        for kind in (True, False):
+            pick = one_sign if kind else ~one_sign
+            if not pick.any():
+                continue
+            r, ar = rows[pick], of[pick]
+            xk = x if x.shape[0] == 1 else x[pick]
+            wk = w if w.shape[0] == 1 else w[pick]
+            if kind:
+                Th, share = _turn_same(xk, a[ar, None], b[ar, None], alpha)
+            elif v0 is not None:
+                Th, share = _turn_inflected(xk, v0[ar, None], (v1 - v0)[ar, None], alpha)
+            else:
+                Th, share = np.full((r.size, xk.shape[1]), np.nan), None
+            yield r, ar, kind, xk, wk, Th, share
+
+
+def piece_chords(theta0, k0, k1, L, alpha, lo, hi, arcs):
+    """Chords ``L int_lo^hi exp(i theta(t)) dt`` of pieces of arcs (each
+    piece by the rule of :func:`quadrature_groups`).
+
+    Parameters
+    ----------
+    theta0, k0, k1, L : ndarray, shape (M,)
+        Start tangent angle, end curvatures and length of each arc.
+    alpha : float
+    lo, hi : ndarray, shape (R,)
+        The pieces on the unit parameter.
+    arcs : ndarray of int, shape (R,)
+        The arc of each piece.
+
+    Returns
+    -------
+    ndarray of complex, shape (R,)
+
+    Examples
+    --------
+    Two halves of a unit-curvature clothoid arc (alpha = -1) of length pi: quarter circles.
+
+    >>> one = np.ones(1)
+    >>> dz = piece_chords(0 * one, one, one, np.pi * one, -1.0, np.array([0, 0.5]), np.array([0.5, 1]), np.zeros(2, int))
+    >>> np.round(dz, 12).tolist()
+    [(1+1j), (-1+1j)]
+    """
+    theta0, L = np.asarray(theta0, dtype=float), np.asarray(L, dtype=float)
+    dz = np.empty(np.shape(lo), dtype=complex)
+    with np.errstate(all="ignore"):
+        params = _params(k0, k1, alpha)
+        for r, ar, _, _, w, Th, _ in _quadrature_blocks(params, alpha, lo, hi, np.asarray(arcs)):
+            dz[r] = L[ar] * (np.exp(1j * (theta0[ar, None] + L[ar, None] * Th)) * w).sum(axis=1)
+    return dz
 
 
 def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
@@ -353,28 +444,16 @@ class ArcIntegrals(Mapping):
     def __init__(self, theta0, k0, k1, L, alpha):
         theta0, k0, k1, L = (np.asarray(v, dtype=float) for v in (theta0, k0, k1, L))
         self.alpha, self.k0, self.k1, self.L = alpha, k0, k1, L
-        M = k0.size
-        z = np.empty(M, dtype=complex)
+        z = np.empty(k0.size, dtype=complex)
         self.blocks = []
         with np.errstate(all="ignore"):
             same, a, b, v0, v1 = self._params = _params(k0, k1, alpha)
             T1 = _turn(1.0, same, a, b, v0, v1, alpha)
-            for rows, x, w in quadrature_groups(0.0, 1.0, _singular_point(same, b, v0, v1, alpha)):
-                for kind in (True, False):
-                    r = rows[same[rows] == kind]
-                    if not r.size:
-                        continue
-                    xr = x if x.shape[0] == 1 else x[same[rows] == kind]
-                    wr = w if w.shape[0] == 1 else w[same[rows] == kind]
-                    if kind:
-                        Th, share = _turn_same(xr, a[r, None], b[r, None], alpha)
-                    elif v0 is not None:
-                        Th, share = _turn_inflected(xr, v0[r, None], (v1 - v0)[r, None], alpha)
-                    else:  # no arc of this alpha
-                        Th, share = np.full((r.size, xr.shape[1]), np.nan), None
-                    e = np.exp(1j * (theta0[r, None] + L[r, None] * Th)) * wr
-                    z[r] = L[r] * e.sum(axis=1)
-                    self.blocks.append((r, kind, xr, Th, e, share))
+            for r, _, kind, x, w, Th, share in _quadrature_blocks(self._params, alpha, 0.0, 1.0):
+                e = np.exp(1j * (theta0[r, None] + L[r, None] * Th)) * w
+                esum = e.sum(axis=1)
+                z[r] = L[r] * esum
+                self.blocks.append((r, kind, x, Th, e, esum, share))
         self.values = {"z": z, "Theta1": T1, "turn": L * T1}
 
     def __getitem__(self, key):
@@ -412,26 +491,33 @@ class ArcIntegrals(Mapping):
             fr = np.flatnonzero(far)
             out["turn_u0"][fr] = L[fr] * ((T1[fr] - k0[fr]) / du[fr])
             out["turn_u1"][fr] = L[fr] * ((k1[fr] - T1[fr]) / du[fr])
-            for r, kind, x, Th, e, share in self.blocks:
-                out["z_L"][r] = z[r] / L[r] + 1j * L[r] * (Th * e).sum(axis=1)
+            for r, kind, x, Th, e, esum, share in self.blocks:
+                ST = (Th * e).sum(axis=1)
+                out["z_L"][r] = z[r] / L[r] + 1j * L[r] * ST
                 f = far[r]
                 if f.any():
-                    rf, xf = r[f], (x if x.shape[0] == 1 else x[f])
+                    every = f.all()
+                    rf, xf = r[f], (x if every or x.shape[0] == 1 else x[f])
                     if kind:
-                        kap = _curvature_same(xf, a[rf, None], b[rf, None], alpha, None if share is None else share[f])
+                        kap = _curvature_same(xf, a[rf, None], b[rf, None], alpha,
+                                              None if share is None else share if every else share[f])
                     elif share is not None:
-                        kap = _curvature_inflected(share[f], alpha)
+                        kap = _curvature_inflected(share if every else share[f], alpha)
                     else:
                         kap = np.nan
-                    d = du[rf, None]
-                    for name, dTh in (("u0", ((1.0 - xf) * kap - k0[rf, None] + Th[f]) / d),
-                                      ("u1", (xf * kap - Th[f]) / d)):
-                        out["z_" + name][rf] = 1j * L[rf] * L[rf] * (dTh * e[f]).sum(axis=1)
+                    # sums of kappa e, t kappa e, Theta e and e over the nodes give both
+                    # integrals of dTheta e (one pass over the nodes less per term)
+                    ke = kap * (e if every else e[f])
+                    Sk, Sxk = ke.sum(axis=1), (xf * ke).sum(axis=1)
+                    STf = ST if every else ST[f]
+                    c = 1j * L[rf] * L[rf] / du[rf]
+                    out["z_u0"][rf] = c * (Sk - Sxk - k0[rf] * (esum if every else esum[f]) + STf)
+                    out["z_u1"][rf] = c * (Sxk - STf)
                 if not f.all():
-                    c = ~f
-                    rc = r[c]
-                    xc = np.broadcast_to(x, Th.shape)[c]
-                    for key, val in _central_differences(xc, e[c], k0[rc], k1[rc], L[rc], alpha).items():
+                    near = ~f
+                    rc = r[near]
+                    xc = np.broadcast_to(x, Th.shape)[near]
+                    for key, val in _central_differences(xc, e[near], k0[rc], k1[rc], L[rc], alpha).items():
                         out[key][rc] = val
         self.values.update(out)
 

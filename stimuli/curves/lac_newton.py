@@ -93,6 +93,7 @@ class LACSystem:
         self.fixed_cols = np.array([c for c, _ in fixed], dtype=int)
         self.fixed_vals = np.array([v for _, v in fixed], dtype=float)
         self._csc = {}  # the Jacobian's sparsity pattern, per sign of alpha (jacobian)
+        self._last = None  # (alpha, x, integrals) of the last newton's result (integrals)
 
     def split(self, x):
         nt, nu = self.nt, self.nu
@@ -186,20 +187,31 @@ class LACSystem:
             self.sign = 1.0 if np.sum(self.split(xk)[1]) >= 0 else -1.0
         th, k, L = self.split(xk)
         x = np.concatenate((th, graph_value(k, alpha), L))
-        x, it, ok, res = self._newton(x, alpha, tol, max_iter)
+        x, it, ok, res, arc = self._newton(x, alpha, tol, max_iter)
         th, u, L = self.split(x)
-        return np.concatenate((th, graph_inverse(u, alpha, self.sign), L)), it, ok, res
+        xk = np.concatenate((th, graph_inverse(u, alpha, self.sign), L))
+        self._last = (alpha, xk, arc)
+        return xk, it, ok, res
+
+    def integrals(self, x, alpha):
+        """The arcs' integrals (:func:`~stimuli.curves.lac_arc.arc_integrals`)
+        at x = (theta, kappa, L): the last Newton evaluation's where x is what
+        :meth:`newton` returned (the same numbers), else computed."""
+        if self._last is not None and self._last[0] == alpha and np.array_equal(self._last[1], x):
+            return self._last[2]
+        th, k, L = self.split(x)
+        return arc_integrals(th[self.ta], k[self.ua], k[self.ub], L, alpha)
 
     def _newton(self, x, alpha, tol, max_iter):
         F, arc = self.residual(x, alpha)
         if F is None:
-            return x, 0, False, np.inf
+            return x, 0, False, np.inf, None
         merit = float(F @ F)
         n, nt = self.n, self.nt
         for it in range(max_iter + 1):
             res = float(np.max(np.abs(F)))
             if res <= tol or it == max_iter:
-                return x, it, res <= tol, res
+                return x, it, res <= tol, res, arc
             # the derivatives at x come from the evaluation that gave F (the
             # accepted trial's), computed only now that Newton steps from x
             with warnings.catch_warnings():
@@ -207,7 +219,7 @@ class LACSystem:
                 warnings.simplefilter("ignore", MatrixRankWarning)
                 dx = spsolve(self.jacobian(arc, alpha), -F)
             if not np.all(np.isfinite(dx)):
-                return x, it, False, res
+                return x, it, False, res, arc
             # the linear equations (held angles, natural and open ends) hold at
             # the start: keep them exactly (the sparse solve leaves rounding in them)
             dx[self.fixed_cols] = 0.0
@@ -234,9 +246,9 @@ class LACSystem:
                 step *= 0.5
             else:
                 # no decrease: the rounding floor, or a failure
-                return x, it, res <= 1e3 * tol, res
+                return x, it, res <= 1e3 * tol, res, arc
             x, F, arc, merit = xt, Ft, arc_t, float(Ft @ Ft)
-        return x, max_iter, False, float(np.max(np.abs(F)))  # pragma: no cover
+        return x, max_iter, False, float(np.max(np.abs(F))), arc  # pragma: no cover
 
 
 def _csc_pattern(rows, cols, size):

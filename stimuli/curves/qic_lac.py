@@ -135,6 +135,14 @@ def log_aesthetic_form(sp, alpha=ALPHA, tol=1e-12, max_iter=40):
                          corners=tuple(sp.corners), corner_kinds=tuple(sp.corner_kinds), method=sp.method)
 
 
+def _cubic_positions(cubic, samples):
+    """The points of ``cubic.sample(samples)`` (a PolynomialSpline) without its
+    derivatives and arc lengths, which the comparison does not use."""
+    kn = cubic.knots
+    u = kn[:-1, None] + (kn[1:] - kn[:-1])[:, None] * np.linspace(0.0, 1.0, samples)[None, :]
+    return cubic.spline(u.ravel())
+
+
 def _xy(curve):
     return np.column_stack((curve.x, curve.y))
 
@@ -174,8 +182,7 @@ def prefer_log_aesthetic(sp, polygon_simple, alpha=None, trigger=None, max_turn=
         return sp
     chords = np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)
     unit = float(np.mean(chords))
-    cubic = polynomial_spline(P, 3, closed).sample(4 * _SAMPLES)
-    tree = cKDTree(_xy(cubic))
+    tree = cKDTree(_cubic_positions(polynomial_spline(P, 3, closed), 4 * _SAMPLES))
     stray = float(tree.query(_xy(sp.sample(_SAMPLES)))[0].max())
     if stray <= trigger * unit or not polygon_simple():
         return sp
