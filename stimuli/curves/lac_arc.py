@@ -64,6 +64,10 @@ __all__ = [
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
 _GL_X_WIDE, _GL_W_WIDE = np.polynomial.legendre.leggauss(24)  # arcs far from t*, on [-1, 1]
 _EDGES = np.r_[1.0, 0.7, 0.45, 0.25, 0.25 * 0.2 ** np.arange(1, 9), 0.0]  # 1 .. 0, far end towards t*
+# one side of the graded rule as fractions of the distance from t* (nodes) and of the side's
+# length (weights): Gauss-Legendre on each panel between consecutive _EDGES
+_SIDE_X = (0.5 * (_EDGES[:-1] + _EDGES[1:])[:, None] + 0.5 * (_EDGES[:-1] - _EDGES[1:])[:, None] * _GL_X).ravel()
+_SIDE_W = (0.5 * (_EDGES[:-1] - _EDGES[1:])[:, None] * _GL_W).ravel()
 
 
 def is_zero_alpha(alpha):
@@ -255,21 +259,12 @@ def graded_rule(a, b, tstar, one_side=False):
     b = np.asarray(b, dtype=float)[:, None]
     t = np.asarray(tstar, dtype=float)[:, None]
     c = np.clip(np.where(np.isnan(t), 1.0, t), a, b)
-    f = _EDGES[None, :]
-    left = c - (c - a) * f   # a .. c
-    right = c + (b - c) * f  # b .. c
+    R = a.shape[0]
     if one_side:
-        # panels towards c from the end away from it
-        side = np.where(c == a, right, left)
-        lo, hi = side[:, :-1], side[:, 1:]
-    else:
-        lo = np.concatenate((left[:, :-1], right[:, 1:]), axis=1)
-        hi = np.concatenate((left[:, 1:], right[:, :-1]), axis=1)
-    half = 0.5 * (hi - lo)
-    mid = 0.5 * (hi + lo)
-    nodes = (mid[:, :, None] + half[:, :, None] * _GL_X).reshape(a.shape[0], -1)
-    weights = (np.abs(half)[:, :, None] * _GL_W).reshape(a.shape[0], -1)
-    return nodes, weights
+        far = np.where(c == a, b, a) - c  # from the end away from c
+        return c + far * _SIDE_X, np.abs(far) * _SIDE_W
+    d = np.concatenate((a - c, b - c), axis=1)[:, :, None]
+    return (c + (d * _SIDE_X).reshape(R, -1)), (np.abs(d) * _SIDE_W).reshape(R, -1)
 
 
 def quadrature_groups(lo, hi, tstar):
