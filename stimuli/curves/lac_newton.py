@@ -26,6 +26,9 @@ __all__ = ["LACSystem", "continue_in_alpha"]
 _MIN_STEP = 1e-3
 _MAX_SOLVES = 40
 _MAX_SPREAD = 1e12
+# systems up to this size are solved dense (numpy's LU): 36 x 36 at N = 12 in ~10 us, where
+# building the CSC matrix and SuperLU's set-up take ~40 us; from ~120 on SuperLU is faster
+_DENSE = 64
 
 
 class LACSystem:
@@ -132,51 +135,73 @@ class LACSystem:
             return None, None
         return F, arc
 
-    def jacobian(self, arc, alpha):
+    def _structure(self, alpha):
+        """The Jacobian's entries (rows, columns) in the order of
+        :meth:`_values`, its constant values at the end, its size and
+        (:func:`_csc_pattern`) how CSC orders them; per sign of alpha (the
+        open ends' equations depend on it, nothing else does)."""
+        key = alpha < 0
+        if key in self._csc:
+            return self._csc[key]
         n, M, nt, nu = self.n, self.M, self.nt, self.nu
         r = 3 * np.arange(M)
         ka, kb, Lc = nt + self.ua, nt + self.ub, nt + nu + np.arange(M)
-        zt = 1j * arc["z"]
-        rows, cols, vals = [], [], []
-
-        def put(rr, cc, vv):
-            rows.append(rr)
-            cols.append(cc)
-            vals.append(vv)
-
-        # turn equation
-        put(r, self.tb, np.ones(M))
-        put(r, self.ta, -np.ones(M))
-        put(r, ka, -arc["turn_u0"])
-        put(r, kb, -arc["turn_u1"])
-        put(r, Lc, -arc["Theta1"])
-        # chord equations (real and imaginary parts)
-        for off, part in ((1, np.real), (2, np.imag)):
-            put(r + off, self.ta, part(zt))
-            put(r + off, ka, part(arc["z_u0"]))
-            put(r + off, kb, part(arc["z_u1"]))
-            put(r + off, Lc, part(arc["z_L"]))
+        # turn equation: theta_b, theta_a, u0, u1, L; chord equations (real,
+        # imaginary part): theta_a, u0, u1, L
+        rows = [r, r, r, r, r] + [r + off for off in (1, 2) for _ in range(4)]
+        cols = [self.tb, self.ta, ka, kb, Lc] + [self.ta, ka, kb, Lc] * 2
         size = 3 * M
         nf = self.fixed_cols.size
-        put(size + np.arange(nf), self.fixed_cols, np.ones(nf))
+        rows.append(size + np.arange(nf))
+        cols.append(self.fixed_cols)
+        tail = [np.ones(nf)]
         size += nf
         if not self.closed:
             i0, i1 = size, size + 1
             if alpha < 0:
-                put(np.array([i0, i1]), np.array([nt, nt + n - 1]), np.ones(2))
+                rows.append(np.array([i0, i1]))
+                cols.append(np.array([nt, nt + n - 1]))
+                tail.append(np.ones(2))
             else:
-                put(np.array([i0, i0, i1, i1]), np.array([nt, nt + 1, nt + n - 1, nt + n - 2]),
-                    np.array([1.0, -1.0, 1.0, -1.0]))
+                rows.append(np.array([i0, i0, i1, i1]))
+                cols.append(np.array([nt, nt + 1, nt + n - 1, nt + n - 2]))
+                tail.append(np.array([1.0, -1.0, 1.0, -1.0]))
             size += 2
-        data = np.concatenate(vals)
-        key = alpha < 0  # the open ends' equations depend on it; nothing else does
-        if key not in self._csc:
-            self._csc[key] = _csc_pattern(np.concatenate(rows), np.concatenate(cols), size)
-        pattern = self._csc[key]
+        rows, cols = np.concatenate(rows), np.concatenate(cols)
+        out = self._csc[key] = (rows, cols, np.concatenate([np.ones(M), -np.ones(M)]), np.concatenate(tail), size,
+                                _csc_pattern(rows, cols, size))
+        return out
+
+    def _values(self, arc, alpha):
+        """The Jacobian's values in the order of :meth:`_structure` (d/d theta_a
+        of the chord z is i z)."""
+        _, _, head, tail, _, _ = self._structure(alpha)
+        z, zu0, zu1, zL = arc["z"], arc["z_u0"], arc["z_u1"], arc["z_L"]
+        return np.concatenate((head, -arc["turn_u0"], -arc["turn_u1"], -arc["Theta1"],
+                               -z.imag, zu0.real, zu1.real, zL.real, z.real, zu0.imag, zu1.imag, zL.imag, tail))
+
+    def jacobian(self, arc, alpha):
+        """The sparse Jacobian (CSC) at the arcs' integrals `arc`."""
+        rows, cols, _, _, size, pattern = self._structure(alpha)
+        data = self._values(arc, alpha)
         if pattern is None:  # repeated entries (summed): assemble from coordinates
-            return csc_matrix((data, (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
+            return csc_matrix((data, (rows, cols)), shape=(size, size))
         order, indices, indptr = pattern
         return csc_matrix((data[order], indices, indptr), shape=(size, size))
+
+    def step(self, arc, alpha, F):
+        """The Newton step ``-J^-1 F`` (NaN where J is singular): dense LU
+        for small systems (where SuperLU's set-up costs more than the
+        solve), else SuperLU."""
+        rows, cols, _, _, size, pattern = self._structure(alpha)
+        if size <= _DENSE and pattern is not None:
+            J = np.zeros((size, size))
+            J[rows, cols] = self._values(arc, alpha)
+            try:
+                return np.linalg.solve(J, -F)
+            except np.linalg.LinAlgError:
+                return np.full(size, np.nan)
+        return spsolve(self.jacobian(arc, alpha), -F)
 
     def newton(self, xk, alpha, tol, max_iter):
         """Damped Newton from xk = (theta, kappa, L), in the graph variables
@@ -203,6 +228,12 @@ class LACSystem:
         return arc_integrals(th[self.ta], k[self.ua], k[self.ub], L, alpha)
 
     def _newton(self, x, alpha, tol, max_iter):
+        with warnings.catch_warnings():
+            # a singular Jacobian gives NaNs (SuperLU warns), handled as a failed step
+            warnings.simplefilter("ignore", MatrixRankWarning)
+            return self._damped_newton(x, alpha, tol, max_iter)
+
+    def _damped_newton(self, x, alpha, tol, max_iter):
         F, arc = self.residual(x, alpha)
         if F is None:
             return x, 0, False, np.inf, None
@@ -214,10 +245,7 @@ class LACSystem:
                 return x, it, res <= tol, res, arc
             # the derivatives at x come from the evaluation that gave F (the
             # accepted trial's), computed only now that Newton steps from x
-            with warnings.catch_warnings():
-                # a singular Jacobian gives NaNs, handled below
-                warnings.simplefilter("ignore", MatrixRankWarning)
-                dx = spsolve(self.jacobian(arc, alpha), -F)
+            dx = self.step(arc, alpha, F)
             if not np.all(np.isfinite(dx)):
                 return x, it, False, res, arc
             # the linear equations (held angles, natural and open ends) hold at
