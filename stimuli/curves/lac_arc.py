@@ -77,7 +77,7 @@ def is_zero_alpha(alpha):
 
 def _v(k, alpha):
     """The graph variable ``g(k) = sign(k)|k|**(-alpha)`` (alpha < 0)."""
-    return np.sign(k) * np.abs(k) ** (-alpha)
+    return np.copysign(np.abs(k) ** (-alpha), k)
 
 
 def graph_value(k, alpha):
@@ -111,10 +111,8 @@ def graph_inverse(u, alpha, sign=1.0):
 
 
 def _same_sign_params(k0, k1, alpha):
-    k0 = np.asarray(k0, dtype=float)
-    k1 = np.asarray(k1, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ell = np.log(k1 / k0)
+    """(a, b) of same-sign arcs (callers silence floating-point warnings)."""
+    ell = np.log(k1 / k0)
     if is_zero_alpha(alpha):
         return k0, ell
     return k0, np.expm1(-alpha * ell)
@@ -126,10 +124,10 @@ def _params(k0, k1, alpha):
     k0 = np.asarray(k0, dtype=float)
     k1 = np.asarray(k1, dtype=float)
     same = k0 * k1 > 0
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+    with np.errstate(all="ignore"):
         a, b = _same_sign_params(np.where(same, k0, 1.0), np.where(same, k1, 1.0), alpha)
-    if alpha < 0 and not is_zero_alpha(alpha):
-        return same, a, b, _v(k0, alpha), _v(k1, alpha)
+        if alpha < 0 and not is_zero_alpha(alpha):
+            return same, a, b, _v(k0, alpha), _v(k1, alpha)
     return same, a, b, None, None
 
 
@@ -161,7 +159,7 @@ def _turn_inflected(t, v0, dv, alpha):
 
 
 def _curvature_inflected(v, alpha):
-    return np.sign(v) * np.abs(v) ** (-1.0 / alpha)
+    return np.copysign(np.abs(v) ** (-1.0 / alpha), v)
 
 
 def _turn(t, same, a, b, v0, v1, alpha):
@@ -234,7 +232,8 @@ def graded_rule(a, b, tstar, one_side=False):
 
     Parameters
     ----------
-    a, b, tstar : ndarray, shape (R,)
+    a, b : ndarray, shape (R,), or float
+    tstar : ndarray, shape (R,)
     one_side : bool
         Every row's `tstar` lies at or beyond an end of its interval: only
         the panels of the side that has a length (the other side's have
@@ -255,11 +254,11 @@ def graded_rule(a, b, tstar, one_side=False):
     >>> x.shape, round(float(np.sum(w * np.sqrt(x + 0.5))), 12) == round(2 / 3 * (1.5 ** 1.5 - 0.5 ** 1.5), 12)
     ((1, 120), True)
     """
-    a = np.asarray(a, dtype=float)[:, None]
-    b = np.asarray(b, dtype=float)[:, None]
+    a, b = (np.asarray(v, dtype=float) for v in (a, b))
+    a, b = (v[:, None] if v.ndim else v for v in (a, b))
     t = np.asarray(tstar, dtype=float)[:, None]
     c = np.clip(np.where(np.isnan(t), 1.0, t), a, b)
-    R = a.shape[0]
+    R = t.shape[0]
     if one_side:
         far = np.where(c == a, b, a) - c  # from the end away from c
         return c + far * _SIDE_X, np.abs(far) * _SIDE_W
@@ -306,16 +305,21 @@ def quadrature_groups(lo, hi, tstar):
         out.append((rows, np.atleast_2d(start + half * (1.0 + _GL_X_WIDE)), np.atleast_2d(half * _GL_W_WIDE)))
     # the graded rule, from both sides where tstar is inside the interval
     hard = np.flatnonzero(~easy)
-    lo, hi = np.broadcast_to(lo, tstar.shape)[hard], np.broadcast_to(hi, tstar.shape)[hard]
-    inside = (tstar[hard] > lo) & (tstar[hard] < hi)
+    if not hard.size:
+        return out
+    t = tstar[hard]
+    lo, hi = (v if v.ndim == 0 else v[hard] for v in (lo, hi))
+    inside = (t > lo) & (t < hi)
     for one_side in (False, True):
         pick = inside != one_side
-        if pick.any():
-            out.append((hard[pick], *graded_rule(lo[pick], hi[pick], tstar[hard[pick]], one_side)))
+        if pick.all():
+            out.append((hard, *graded_rule(lo, hi, t, one_side)))
+        elif pick.any():
+            out.append((hard[pick], *graded_rule(*(v if v.ndim == 0 else v[pick] for v in (lo, hi, t)), one_side)))
     return out
 
 
-def _quadrature_blocks(params, alpha, lo, hi, arcs=None):
+def _quadrature_blocks(params, alpha, lo, hi, arcs=None, ends=False):
     """The quadrature of pieces ``[lo, hi]`` (unit parameter) of arcs with
     parameters `params` (:func:`_params`), in blocks of one rule
     (:func:`quadrature_groups`) and one kind (same-sign curvature, or
@@ -326,7 +330,9 @@ def _quadrature_blocks(params, alpha, lo, hi, arcs=None):
     rows, arcs, kind, nodes, weights, turn, share
         The pieces and their arcs (`arcs`: each piece's arc; default: one
         piece per arc), whether of one sign, the rule, Theta at the nodes
-        and what the curvature there shares with it (see :func:`_turn_same`).
+        and what the curvature there shares with it (see :func:`_turn_same`);
+        with `ends`, turn and share have one more column: t = 1 (Theta(1)
+        from the same pass).
     """
     same, a, b, v0, v1 = params
     tstar = _singular_point(same, b, v0, v1, alpha)
@@ -340,12 +346,13 @@ def _quadrature_blocks(params, alpha, lo, hi, arcs=None):
             r, ar = rows[pick], of[pick]
             xk = x if x.shape[0] == 1 else x[pick]
             wk = w if w.shape[0] == 1 else w[pick]
+            xt = np.concatenate((xk, np.ones((xk.shape[0], 1))), axis=1) if ends else xk
             if kind:
-                Th, share = _turn_same(xk, a[ar, None], b[ar, None], alpha)
+                Th, share = _turn_same(xt, a[ar, None], b[ar, None], alpha)
             elif v0 is not None:
-                Th, share = _turn_inflected(xk, v0[ar, None], (v1 - v0)[ar, None], alpha)
+                Th, share = _turn_inflected(xt, v0[ar, None], (v1 - v0)[ar, None], alpha)
             else:
-                Th, share = np.full((r.size, xk.shape[1]), np.nan), None
+                Th, share = np.full((r.size, xt.shape[1]), np.nan), None
             yield r, ar, kind, xk, wk, Th, share
 
 
@@ -442,9 +449,12 @@ class ArcIntegrals(Mapping):
         z = np.empty(k0.size, dtype=complex)
         self.blocks = []
         with np.errstate(all="ignore"):
-            same, a, b, v0, v1 = self._params = _params(k0, k1, alpha)
-            T1 = _turn(1.0, same, a, b, v0, v1, alpha)
-            for r, _, kind, x, w, Th, share in _quadrature_blocks(self._params, alpha, 0.0, 1.0):
+            self._params = _params(k0, k1, alpha)
+            T1 = np.empty(k0.size)
+            for r, _, kind, x, w, Th, share in _quadrature_blocks(self._params, alpha, 0.0, 1.0, ends=True):
+                T1[r] = Th[:, -1]
+                Th = Th[:, :-1]
+                share = None if share is None else share[:, :-1]
                 e = np.exp(1j * (theta0[r, None] + L[r, None] * Th)) * w
                 esum = e.sum(axis=1)
                 z[r] = L[r] * esum
