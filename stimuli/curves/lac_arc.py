@@ -34,7 +34,15 @@ Gauss-Legendre on panels graded geometrically towards the point ``t*`` where
 ``v = 0`` (the inflection, or where the arc's curvature would vanish or blow
 up beyond its ends), so that the weak singularity of ``|v|**p`` costs no
 accuracy: the result agrees with adaptive quadrature to about 1e-14 of the
-arc's length.
+arc's length. The grading goes as deep as the singularity's order asks
+(:func:`grading_levels`: fewer panels for alpha near 0, whose arcs are
+smoother at t*).
+
+Evaluation cost. Newton evaluates the arcs many times with few arcs
+(12-80): :class:`ArcIntegrals` computes every arc's parameters once, the
+nodes of all arcs of one rule and one kind in one pass, Theta(1) in the
+same pass, and keeps the quadrature so that the derivatives, asked only at
+the points Newton steps from, reuse it.
 
 Angles are in the input coordinates (radians from +x towards +y), curvature
 is ``d theta / ds`` in the same coordinates.
@@ -53,22 +61,12 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from stimuli.curves.lac_quadrature import LEVELS, quadrature_groups
+
 __all__ = [
-    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
+    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "grading_levels",
     "piece_chords", "arc_integrals", "ArcIntegrals",
 ]
-
-# Gauss-Legendre nodes per panel, and the geometric grading of the panels
-# towards t*: panel edges at t* + (end - t*) * SIGMA**k, k = 0..LEVELS
-# (finer far from t*, where a long panel meets the arc's whole oscillation)
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
-_GL_X_WIDE, _GL_W_WIDE = np.polynomial.legendre.leggauss(24)  # arcs far from t*, on [-1, 1]
-_EDGES = np.r_[1.0, 0.7, 0.45, 0.25, 0.25 * 0.2 ** np.arange(1, 9), 0.0]  # 1 .. 0, far end towards t*
-# one side of the graded rule as fractions of the distance from t* (nodes) and of the side's
-# length (weights): Gauss-Legendre on each panel between consecutive _EDGES
-_SIDE_X = (0.5 * (_EDGES[:-1] + _EDGES[1:])[:, None] + 0.5 * (_EDGES[:-1] - _EDGES[1:])[:, None] * _GL_X).ravel()
-_SIDE_W = (0.5 * (_EDGES[:-1] - _EDGES[1:])[:, None] * _GL_W).ravel()
-
 
 def is_zero_alpha(alpha):
     """Whether alpha is treated as 0 (Nielsen's spiral, g = log|k|)."""
@@ -226,103 +224,37 @@ def arc_singular_point(k0, k1, alpha):
         return _singular_point(same, b, v0, v1, alpha)
 
 
-def graded_rule(a, b, tstar, one_side=False):
-    """Quadrature nodes and weights on the intervals ``[a, b]`` (one per row),
-    graded geometrically towards ``clip(tstar, a, b)`` from both sides.
+def grading_levels(alpha):
+    """Geometric levels of :func:`~stimuli.curves.lac_quadrature.graded_rule` that arcs of this alpha need.
 
-    Parameters
-    ----------
-    a, b : ndarray, shape (R,), or float
-    tstar : ndarray, shape (R,)
-    one_side : bool
-        Every row's `tstar` lies at or beyond an end of its interval: only
-        the panels of the side that has a length (the other side's have
-        none and weigh nothing).
-
-    Returns
-    -------
-    nodes, weights : ndarray, shape (R, Q)
+    Near ``t*`` an arc's turn behaves like ``|t - t*|**beta``, ``beta = 1 -
+    1/alpha`` (alpha < 0: the graph variable ``|v|**(p + 1)``, at an
+    inflection or where a same-sign arc's curvature would vanish), so the
+    panel that ends at ``t*`` (length ``l`` of a side's length) holds a
+    singular part of order ``l**(beta + 1)``; its Gauss rule's error is a
+    small fraction of that. Levels are added until ``l**(beta + 1) <=
+    1e-16`` (derived here): 8 for alpha = -2 (beta = 1.5, the deepest), 7
+    for the clothoid, 4 for alpha = -0.3; alpha >= 0 (curvature that blows
+    up at t*) takes all 8. The rule then agrees with the deepest one to
+    rounding (about 4e-16 of the arc's length on arcs turning by up to 100
+    radians).
 
     Examples
     --------
-    >>> x, w = graded_rule(np.array([0.0]), np.array([1.0]), np.array([0.3]))
-    >>> round(float(np.sum(w * np.sqrt(np.abs(x - 0.3)))), 11)   # a sqrt kink at 0.3
-    0.49998585722
-    >>> round(2 / 3 * (0.3 ** 1.5 + 0.7 ** 1.5), 11)
-    0.49998585722
-    >>> x, w = graded_rule(np.array([0.0]), np.array([1.0]), np.array([-0.5]), one_side=True)
-    >>> x.shape, round(float(np.sum(w * np.sqrt(x + 0.5))), 12) == round(2 / 3 * (1.5 ** 1.5 - 0.5 ** 1.5), 12)
-    ((1, 120), True)
+    >>> [grading_levels(a) for a in (-2.0, -1.0, -0.5, -0.3, 0.0, 1.0)]
+    [8, 7, 5, 4, 8, 8]
     """
-    a, b = (np.asarray(v, dtype=float) for v in (a, b))
-    a, b = (v[:, None] if v.ndim else v for v in (a, b))
-    t = np.asarray(tstar, dtype=float)[:, None]
-    c = np.clip(np.where(np.isnan(t), 1.0, t), a, b)
-    R = t.shape[0]
-    if one_side:
-        far = np.where(c == a, b, a) - c  # from the end away from c
-        return c + far * _SIDE_X, np.abs(far) * _SIDE_W
-    d = np.concatenate((a - c, b - c), axis=1)[:, :, None]
-    return (c + (d * _SIDE_X).reshape(R, -1)), (np.abs(d) * _SIDE_W).reshape(R, -1)
-
-
-def quadrature_groups(lo, hi, tstar):
-    """Quadrature rules for the intervals ``[lo, hi]`` (one per row) of arcs
-    whose graph variable vanishes at `tstar`.
-
-    Intervals whose `tstar` lies at least their own length beyond them see
-    an integrand analytic on a wide ellipse: one 24-point Gauss rule does.
-    The rest get :func:`graded_rule` (one-sided where `tstar` is not inside).
-
-    Parameters
-    ----------
-    lo, hi : ndarray, shape (R,), or float
-        The intervals; floats: one interval shared by every row.
-    tstar : ndarray, shape (R,)
-
-    Returns
-    -------
-    list of (rows, nodes, weights)
-        Row indices and their nodes and weights, shape (len(rows), Q); the
-        24-point group's shape is (1, Q) where the interval is shared (the
-        same nodes for every row, broadcast).
-
-    Examples
-    --------
-    >>> [(rows.tolist(), x.shape) for rows, x, w in quadrature_groups(0.0, 1.0, np.array([5.0, 0.5, -3.0, 1.5]))]
-    [([0, 2], (1, 24)), ([1], (1, 240)), ([3], (1, 120))]
-    """
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
-    tstar = np.asarray(tstar, dtype=float)
-    span = hi - lo
-    easy = ~((tstar > lo - span) & (tstar < hi + span))
-    out = []
-    rows = np.flatnonzero(easy)
-    if rows.size:
-        half = 0.5 * span[..., None] if span.ndim == 0 else 0.5 * span[rows, None]
-        start = lo[..., None] if lo.ndim == 0 else lo[rows, None]
-        out.append((rows, np.atleast_2d(start + half * (1.0 + _GL_X_WIDE)), np.atleast_2d(half * _GL_W_WIDE)))
-    # the graded rule, from both sides where tstar is inside the interval
-    hard = np.flatnonzero(~easy)
-    if not hard.size:
-        return out
-    t = tstar[hard]
-    lo, hi = (v if v.ndim == 0 else v[hard] for v in (lo, hi))
-    inside = (t > lo) & (t < hi)
-    for one_side in (False, True):
-        pick = inside != one_side
-        if pick.all():
-            out.append((hard, *graded_rule(lo, hi, t, one_side)))
-        elif pick.any():
-            out.append((hard[pick], *graded_rule(*(v if v.ndim == 0 else v[pick] for v in (lo, hi, t)), one_side)))
-    return out
+    if alpha >= 0 or is_zero_alpha(alpha):
+        return LEVELS
+    beta = 1.0 - 1.0 / alpha
+    levels = np.ceil(np.log(1e-16 ** (1.0 / (beta + 1.0)) / 0.25) / np.log(0.2))
+    return int(np.clip(levels, 1, LEVELS))
 
 
 def _quadrature_blocks(params, alpha, lo, hi, arcs=None, ends=False):
     """The quadrature of pieces ``[lo, hi]`` (unit parameter) of arcs with
     parameters `params` (:func:`_params`), in blocks of one rule
-    (:func:`quadrature_groups`) and one kind (same-sign curvature, or
+    (:func:`~stimuli.curves.lac_quadrature.quadrature_groups`) and one kind (same-sign curvature, or
     through an inflection, or no arc of this alpha: NaN).
 
     Yields
@@ -336,7 +268,7 @@ def _quadrature_blocks(params, alpha, lo, hi, arcs=None, ends=False):
     """
     same, a, b, v0, v1 = params
     tstar = _singular_point(same, b, v0, v1, alpha)
-    for rows, x, w in quadrature_groups(lo, hi, tstar if arcs is None else tstar[arcs]):
+    for rows, x, w in quadrature_groups(lo, hi, tstar if arcs is None else tstar[arcs], grading_levels(alpha)):
         of = rows if arcs is None else arcs[rows]
         one_sign = same[of]
         for kind in (True, False):
@@ -358,7 +290,7 @@ def _quadrature_blocks(params, alpha, lo, hi, arcs=None, ends=False):
 
 def piece_chords(theta0, k0, k1, L, alpha, lo, hi, arcs):
     """Chords ``L int_lo^hi exp(i theta(t)) dt`` of pieces of arcs (each
-    piece by the rule of :func:`quadrature_groups`).
+    piece by the rule of :func:`~stimuli.curves.lac_quadrature.quadrature_groups`).
 
     Parameters
     ----------
