@@ -57,6 +57,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -247,8 +248,8 @@ def grading_levels(alpha):
     if alpha >= 0 or is_zero_alpha(alpha):
         return LEVELS
     beta = 1.0 - 1.0 / alpha
-    levels = np.ceil(np.log(1e-16 ** (1.0 / (beta + 1.0)) / 0.25) / np.log(0.2))
-    return int(np.clip(levels, 1, LEVELS))
+    levels = math.ceil(math.log(1e-16 ** (1.0 / (beta + 1.0)) / 0.25) / math.log(0.2))
+    return min(max(levels, 1), LEVELS)
 
 
 def _quadrature_blocks(params, alpha, lo, hi, arcs=None, ends=False):
@@ -456,20 +457,29 @@ class ArcIntegrals(Mapping):
 
 
 def _central_differences(x, e, k0, k1, L, alpha):
-    """The derivatives of :func:`_integrals_on` in u0, u1 by central
-    differences of the closed-form Theta (relative step 1e-6)."""
+    """The derivatives of :class:`ArcIntegrals` in u0, u1 by central
+    differences of the closed-form Theta (relative step 1e-6): the four
+    shifted arcs, at the nodes `x` (shape (C, Q)) and at t = 1, in one
+    evaluation."""
     u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
     scale = np.maximum(np.abs(u0), np.abs(u1))
     positive = alpha > 0 and not is_zero_alpha(alpha)  # u > 0: relative steps
-    out = {}
-    for name, k, u, other, first in (("u0", k0, u0, k1, True), ("u1", k1, u1, k0, False)):
+    steps, starts, ends = [], [], []
+    for k, u, first in ((k0, u0, True), (k1, u1, False)):
         h = 1e-6 * (u if positive else np.maximum(np.maximum(np.abs(u), 1e-3 * scale), 1e-6))
         sg = np.where(k < 0, -1.0, 1.0)
         kp, km = graph_inverse(u + h, alpha, sg), graph_inverse(u - h, alpha, sg)
-        args_p = (kp, other) if first else (other, kp)
-        args_m = (km, other) if first else (other, km)
-        dTh = (arc_turn(x, args_p[0][:, None], args_p[1][:, None], alpha)
-               - arc_turn(x, args_m[0][:, None], args_m[1][:, None], alpha)) / (2 * h[:, None])
+        steps.append(h)
+        starts += [kp, km] if first else [k0, k0]
+        ends += [k1, k1] if first else [kp, km]
+    C = k0.size
+    t = np.tile(np.concatenate((x, np.ones((C, 1))), axis=1), (4, 1))
+    Th = arc_turn(t, np.concatenate(starts)[:, None], np.concatenate(ends)[:, None], alpha).reshape(4, C, -1)
+    out = {}
+    for i, name in enumerate(("u0", "u1")):
+        h = steps[i]
+        plus, minus = Th[2 * i], Th[2 * i + 1]
+        dTh = (plus[:, :-1] - minus[:, :-1]) / (2 * h[:, None])
         out["z_" + name] = 1j * L * L * (dTh * e).sum(axis=1)
-        out["turn_" + name] = L * (arc_turn(1.0, *args_p, alpha) - arc_turn(1.0, *args_m, alpha)) / (2 * h)
+        out["turn_" + name] = L * (plus[:, -1] - minus[:, -1]) / (2 * h)
     return out

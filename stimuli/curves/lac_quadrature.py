@@ -67,7 +67,7 @@ def graded_rule(a, b, tstar, one_side=False, levels=LEVELS):
     a, b = (np.asarray(v, dtype=float) for v in (a, b))
     a, b = (v[:, None] if v.ndim else v for v in (a, b))
     t = np.asarray(tstar, dtype=float)[:, None]
-    c = np.clip(np.where(np.isnan(t), 1.0, t), a, b)
+    c = np.minimum(np.maximum(np.where(np.isnan(t), 1.0, t), a), b)  # clip, a <= b
     R = t.shape[0]
     side_x, side_w = _SIDES[levels]
     if one_side:
