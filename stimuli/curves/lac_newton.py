@@ -6,7 +6,15 @@ Unknowns: the tangent angle and the curvature's graph variable
 ``u = g(kappa)`` (:func:`stimuli.curves.lac_arc.graph_value`) at every node,
 and every segment's length. Each segment's three equations (turn, chord)
 involve only its two nodes and its length, so the Jacobian is block-banded
-(cyclic for closed curves) and solved by SuperLU (``scipy.sparse``).
+(cyclic for closed curves) and solved by SuperLU (``scipy.sparse``), or by
+dense LU where the system is small (up to 64 unknowns, N <= 21 closed).
+
+Cost. Every Newton iteration evaluates the arcs' integrals once more than
+it steps: the derivatives at the point it steps from come from the line
+search's accepted evaluation (:class:`~stimuli.curves.lac_arc.ArcIntegrals`
+derives them on first access), and the spline's closure and G2 errors from
+the last one (:meth:`LACSystem.integrals`). The Jacobian's sparsity pattern
+(and how CSC orders it) is built once per system and sign of alpha.
 """
 
 from __future__ import annotations
