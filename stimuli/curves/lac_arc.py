@@ -65,8 +65,8 @@ import numpy as np
 from stimuli.curves.lac_quadrature import LEVELS, quadrature_groups
 
 __all__ = [
-    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "grading_levels",
-    "piece_chords", "arc_integrals", "ArcIntegrals",
+    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point",
+    "grading_levels", "piece_chords", "arc_integrals", "ArcIntegrals",
 ]
 
 def is_zero_alpha(alpha):
@@ -311,8 +311,8 @@ def piece_chords(theta0, k0, k1, L, alpha, lo, hi, arcs):
     --------
     Two halves of a unit-curvature clothoid arc (alpha = -1) of length pi: quarter circles.
 
-    >>> one = np.ones(1)
-    >>> dz = piece_chords(0 * one, one, one, np.pi * one, -1.0, np.array([0, 0.5]), np.array([0.5, 1]), np.zeros(2, int))
+    >>> one, halves = np.ones(1), (np.array([0, 0.5]), np.array([0.5, 1]))
+    >>> dz = piece_chords(0 * one, one, one, np.pi * one, -1.0, *halves, np.zeros(2, int))
     >>> np.round(dz, 12).tolist()
     [(1+1j), (-1+1j)]
     """

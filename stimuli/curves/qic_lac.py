@@ -35,8 +35,9 @@ N = 12); every fit the form was taken for turns by more than 59 degrees on
 some segment (the screen :data:`SCREEN_TURN` is 45 degrees), and random
 smooth curves of 30 and 1000 points (``benchmarks/bench_spline.py``) turn by
 at most 36 degrees: they never reach the cubic. Cost where it is solved:
-about 5-10 ms per curve at N = 12-80 (sparse Newton in numpy, from the
-clothoid straight to alpha, by continuation only where that fails).
+about 3-9 ms per curve at N = 12-80 (median 3.2 / 4.2 / 5.7 / 9.1 ms at N =
+12 / 20 / 40 / 80, ``benchmarks/bench_lac_step.py``; Newton in numpy, from
+the clothoid straight to alpha, by continuation only where that fails).
 """
 
 from __future__ import annotations
