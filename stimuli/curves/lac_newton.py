@@ -7,7 +7,7 @@ Unknowns: the tangent angle and the curvature's graph variable
 and every segment's length. Each segment's three equations (turn, chord)
 involve only its two nodes and its length, so the Jacobian is block-banded
 (cyclic for closed curves) and solved by SuperLU (``scipy.sparse``), or by
-dense LU where the system is small (up to 64 unknowns, N <= 21 closed).
+dense LU where the system is small (up to 96 unknowns: N = 20 with its corners).
 
 Cost. Every Newton iteration evaluates the arcs' integrals once more than
 it steps: the derivatives at the point it steps from come from the line
@@ -34,9 +34,9 @@ __all__ = ["LACSystem", "continue_in_alpha"]
 _MIN_STEP = 1e-3
 _MAX_SOLVES = 40
 _MAX_SPREAD = 1e12
-# systems up to this size are solved dense (numpy's LU): 36 x 36 at N = 12 in ~10 us, where
-# building the CSC matrix and SuperLU's set-up take ~40 us; from ~120 on SuperLU is faster
-_DENSE = 64
+# systems up to this size are solved dense (numpy's LU): 60 x 60 (N = 20) in 26 us against
+# 43 us for building the CSC matrix and SuperLU; at 120 (N = 40) SuperLU is faster (59 vs 72 us)
+_DENSE = 96
 
 
 class LACSystem:
