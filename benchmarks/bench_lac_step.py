@@ -12,26 +12,26 @@ median over curves of each curve's median, for every curve that passes the
 screen and for those where the form is solved, and the ratio. The machine
 and its load average are printed first and last.
 
-Measured, issue 9's speed round of the step (this timing loop, run from /tmp before it
-was committed; every 2nd MPEG-7 mask, 2 repeats; AMD EPYC, 2 shared cpus, load 0.75 ->
-0.82; before: commit fec89cc), median per curve, ms:
+Measured, issue 9's speed round of the step (this script, every 2nd mask,
+3 repeats; AMD EPYC, 2 shared cpus, load average 1.05 -> 1.03; before:
+commit fec89cc), median per curve, ms:
 
-=====  ===========================  ===========================
-N      every curve screened          curves whose form is solved
-=====  ===========================  ===========================
-12     6.35 -> 3.11 (2.04 x), 168    6.68 -> 3.24 (2.06 x), 134
-20     7.88 -> 3.87 (2.03 x), 167    8.37 -> 4.19 (2.00 x), 119
-40     10.57 -> 5.40 (1.96 x), 169   11.56 -> 5.73 (2.02 x), 116
-80     16.98 -> 8.48 (2.00 x), 168   18.85 -> 9.14 (2.06 x), 100
-=====  ===========================  ===========================
+=====  ============================  ============================
+N      every curve screened           curves whose form is solved
+=====  ============================  ============================
+12     6.67 -> 3.27 (2.04 x), 166     6.80 -> 3.34 (2.03 x), 136
+20     7.76 -> 3.81 (2.04 x), 168     8.17 -> 4.01 (2.04 x), 126
+40     10.41 -> 5.32 (1.96 x), 170    11.72 -> 5.87 (2.00 x), 107
+80     16.60 -> 7.88 (2.11 x), 173    18.12 -> 8.54 (2.12 x), 106
+=====  ============================  ============================
 
-(the median of the per-curve ratios: 2.00 / 1.89 / 1.98 / 2.11 screened,
-2.03 / 1.97 / 2.00 / 2.07 solved). The fits are the same: all 1368 robust
-fits of the 350 outlines at N = 12 / 20 / 40 / 80 make the same choice with
-the same corners, and the curves (and the 957 log-aesthetic forms solved on
-the way) agree to 7.2e-14 (angles in radians, curvatures and lengths in
-mean chords); ``validate_spline.py --halves --methods qic cubic`` prints the
-same tables.
+(the median of the per-curve ratios: 1.98 / 1.98 / 1.97 / 2.05 screened,
+2.00 / 2.02 / 1.99 / 2.13 solved; another run at load 1.5-1.7 gave 1.95-2.08).
+The fits are the same: all 1368 robust fits of the 350 outlines at N = 12 /
+20 / 40 / 80 make the same choice with the same corners, and the curves (and
+the 957 log-aesthetic forms solved on the way) agree to 3.7e-14 (angles in
+radians, curvatures and lengths in mean chords); ``validate_spline.py
+--halves --methods qic cubic`` prints the same tables.
 
 Usage::
 
