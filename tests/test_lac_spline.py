@@ -176,6 +176,7 @@ def test_cli_method_lac(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("alpha, k0, k1, L", [(-2.0, -1.0, 2.0, 1.3), (-2.0, 5.0, 0.01, 3.0), (-0.5, 0.0, 1.5, 2.0),
+                                              (-0.3, -1.0, 2.0, 1.3), (-0.3, 5.0, 0.05, 3.0),
                                               (0.0, 0.2, 5.0, 1.3), (1.0, 5.0, 0.01, 3.0), (2.0, 0.2, 5.0, 1.3)])
 def test_arc_chord_against_the_natural_equation(alpha, k0, k1, L):
     # the chord of one arc (curvature ratios up to 500, an inflection with a

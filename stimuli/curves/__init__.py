@@ -8,7 +8,7 @@ The curve families are available directly (``stimuli.curves.clothoid(...)``);
 the rest lives in the sub-modules: ``natural`` (the integrator, clothoid,
 pseudospiral), ``aesthetic`` (LAC, GLAC), ``lac_gamma`` (the LAC's closed
 form), ``superspiral``, ``constant_info``, ``euler`` (clothoid segments),
-``lac`` (LAC segments, G1 LAC spline), ``lac_arc``, ``lac_newton`` and
+``lac`` (LAC segments, G1 LAC spline), ``lac_arc``, ``lac_quadrature``, ``lac_newton`` and
 ``lac_spline`` (the G2 LAC spline), ``points``, ``qic_newton``, ``qic``,
 ``polynomial``, ``splines`` (:func:`fit_spline`), ``biangular`` and
 ``metrics``.

@@ -34,7 +34,15 @@ Gauss-Legendre on panels graded geometrically towards the point ``t*`` where
 ``v = 0`` (the inflection, or where the arc's curvature would vanish or blow
 up beyond its ends), so that the weak singularity of ``|v|**p`` costs no
 accuracy: the result agrees with adaptive quadrature to about 1e-14 of the
-arc's length.
+arc's length. The grading goes as deep as the singularity's order asks
+(:func:`grading_levels`: fewer panels for alpha near 0, whose arcs are
+smoother at t*).
+
+Evaluation cost. Newton evaluates the arcs many times with few arcs
+(12-80): :class:`ArcIntegrals` computes every arc's parameters once, the
+nodes of all arcs of one rule and one kind in one pass, Theta(1) in the
+same pass, and keeps the quadrature so that the derivatives, asked only at
+the points Newton steps from, reuse it.
 
 Angles are in the input coordinates (radians from +x towards +y), curvature
 is ``d theta / ds`` in the same coordinates.
@@ -49,20 +57,17 @@ References
 
 from __future__ import annotations
 
+import math
+from collections.abc import Mapping
+
 import numpy as np
 
+from stimuli.curves.lac_quadrature import LEVELS, quadrature_groups
+
 __all__ = [
-    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point", "graded_rule", "quadrature_groups",
-    "arc_integrals",
+    "is_zero_alpha", "graph_value", "graph_inverse", "arc_curvature", "arc_turn", "arc_singular_point",
+    "grading_levels", "piece_chords", "arc_integrals", "ArcIntegrals",
 ]
-
-# Gauss-Legendre nodes per panel, and the geometric grading of the panels
-# towards t*: panel edges at t* + (end - t*) * SIGMA**k, k = 0..LEVELS
-# (finer far from t*, where a long panel meets the arc's whole oscillation)
-_GL_X, _GL_W = np.polynomial.legendre.leggauss(10)
-_GL_X_WIDE, _GL_W_WIDE = np.polynomial.legendre.leggauss(24)  # arcs far from t*, on [-1, 1]
-_EDGES = np.r_[1.0, 0.7, 0.45, 0.25, 0.25 * 0.2 ** np.arange(1, 9), 0.0]  # 1 .. 0, far end towards t*
-
 
 def is_zero_alpha(alpha):
     """Whether alpha is treated as 0 (Nielsen's spiral, g = log|k|)."""
@@ -71,7 +76,7 @@ def is_zero_alpha(alpha):
 
 def _v(k, alpha):
     """The graph variable ``g(k) = sign(k)|k|**(-alpha)`` (alpha < 0)."""
-    return np.sign(k) * np.abs(k) ** (-alpha)
+    return np.copysign(np.abs(k) ** (-alpha), k)
 
 
 def graph_value(k, alpha):
@@ -105,27 +110,73 @@ def graph_inverse(u, alpha, sign=1.0):
 
 
 def _same_sign_params(k0, k1, alpha):
-    k0 = np.asarray(k0, dtype=float)
-    k1 = np.asarray(k1, dtype=float)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ell = np.log(k1 / k0)
+    """(a, b) of same-sign arcs (callers silence floating-point warnings)."""
+    ell = np.log(k1 / k0)
     if is_zero_alpha(alpha):
         return k0, ell
     return k0, np.expm1(-alpha * ell)
 
 
-def _params(t, k0, k1, alpha):
-    """(t, same sign?, same-sign parameters a, b, and for alpha < 0 the
-    graph variable at both ends, else None) of arcs, as arrays."""
-    t = np.asarray(t, dtype=float)
+def _params(k0, k1, alpha):
+    """(same sign?, same-sign parameters a, b, and for alpha < 0 the graph
+    variable at both ends, else None) of arcs, as arrays."""
     k0 = np.asarray(k0, dtype=float)
     k1 = np.asarray(k1, dtype=float)
     same = k0 * k1 > 0
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+    with np.errstate(all="ignore"):
         a, b = _same_sign_params(np.where(same, k0, 1.0), np.where(same, k1, 1.0), alpha)
-    if alpha < 0 and not is_zero_alpha(alpha):
-        return t, same, a, b, _v(k0, alpha), _v(k1, alpha)
-    return t, same, a, b, None, None
+        if alpha < 0 and not is_zero_alpha(alpha):
+            return same, a, b, _v(k0, alpha), _v(k1, alpha)
+    return same, a, b, None, None
+
+
+# The closed forms of the module notes, on arcs of one kind (callers broadcast
+# t against the parameters and silence floating-point warnings): same sign
+# (a = k0 and b from _same_sign_params) and through an inflection (v0 and
+# dv = v1 - v0, alpha < 0). The turn's helpers also return what the
+# curvature at the same t shares with it (log1p(t b), resp. v(t)).
+
+def _turn_same(t, a, b, alpha):
+    if is_zero_alpha(alpha):
+        return a * np.where(b == 0, t, np.expm1(b * t) / b), None
+    A = np.log1p(t * b)
+    q = 1.0 - 1.0 / alpha
+    core = A / b if q == 0 else np.expm1(q * A) / (q * b)
+    return a * np.where(b == 0, t, core), A
+
+
+def _curvature_same(t, a, b, alpha, A=None):
+    if is_zero_alpha(alpha):
+        return a * np.exp(b * t)
+    return a * np.exp(-(np.log1p(t * b) if A is None else A) / alpha)
+
+
+def _turn_inflected(t, v0, dv, alpha):
+    p1 = 1.0 - 1.0 / alpha  # p + 1
+    v = v0 + t * dv
+    return np.where(dv == 0, 0.0, (np.abs(v) ** p1 - np.abs(v0) ** p1) / (p1 * dv)), v
+
+
+def _curvature_inflected(v, alpha):
+    return np.copysign(np.abs(v) ** (-1.0 / alpha), v)
+
+
+def _turn(t, same, a, b, v0, v1, alpha):
+    """:func:`arc_turn` from the arcs' parameters (:func:`_params`)."""
+    ts = _turn_same(t, a, b, alpha)[0] if np.any(same) else 0.0
+    if v0 is None:
+        return np.where(same, ts, np.nan)
+    if np.all(same):
+        return ts
+    return np.where(same, ts, _turn_inflected(t, v0, v1 - v0, alpha)[0])
+
+
+def _singular_point(same, b, v0, v1, alpha):
+    """:func:`arc_singular_point` from the arcs' parameters (:func:`_params`)."""
+    shape = np.shape(same)
+    ts = np.full(shape, np.inf) if is_zero_alpha(alpha) else np.where(b == 0, np.inf, -1.0 / b)
+    to = np.where(v0 == v1, np.inf, v0 / (v0 - v1)) if v0 is not None else np.full(shape, np.inf)
+    return np.where(same, ts, to)
 
 
 def arc_curvature(t, k0, k1, alpha):
@@ -139,13 +190,13 @@ def arc_curvature(t, k0, k1, alpha):
     >>> round(float(arc_curvature(0.5, 1.0, 4.0, 0.0)), 12)   # alpha = 0: geometric mean
     2.0
     """
-    t, same, a, b, v0, v1 = _params(t, k0, k1, alpha)
+    t = np.asarray(t, dtype=float)
+    same, a, b, v0, v1 = _params(k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        ks = a * np.exp(b * t) if is_zero_alpha(alpha) else a * np.exp(-np.log1p(t * b) / alpha)
+        ks = _curvature_same(t, a, b, alpha)
         if v0 is None:
             return np.where(same, ks, np.nan)
-        v = v0 + t * (v1 - v0)
-        return np.where(same, ks, np.sign(v) * np.abs(v) ** (-1.0 / alpha))
+        return np.where(same, ks, _curvature_inflected(v0 + t * (v1 - v0), alpha))
 
 
 def arc_turn(t, k0, k1, alpha):
@@ -160,105 +211,118 @@ def arc_turn(t, k0, k1, alpha):
     >>> round(float(arc_turn(1.0, 1.0, np.e, 0.0)), 12)   # alpha = 0: (e - 1) / 1
     1.718281828459
     """
-    t, same, a, b, v0, v1 = _params(t, k0, k1, alpha)
+    t = np.asarray(t, dtype=float)
+    params = _params(k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        if not np.any(same):
-            ts = 0.0
-        elif is_zero_alpha(alpha):
-            ts = a * np.where(b == 0, t, np.expm1(b * t) / b)
-        else:
-            A = np.log1p(t * b)
-            q = 1.0 - 1.0 / alpha
-            core = A / b if q == 0 else np.expm1(q * A) / (q * b)
-            ts = a * np.where(b == 0, t, core)
-        if v0 is None:
-            return np.where(same, ts, np.nan)
-        if np.all(same):
-            return ts
-        p1 = 1.0 - 1.0 / alpha  # p + 1
-        dv = v1 - v0
-        v = v0 + t * dv
-        return np.where(same, ts, np.where(dv == 0, 0.0, (np.abs(v) ** p1 - np.abs(v0) ** p1) / (p1 * dv)))
+        return _turn(t, *params, alpha)
 
 
 def arc_singular_point(k0, k1, alpha):
     """Unit parameter where the graph variable ``g(kappa)`` would reach 0
     (inside [0, 1] at an inflection; +-inf when there is none)."""
-    k0 = np.asarray(k0, dtype=float)
-    k1 = np.asarray(k1, dtype=float)
-    same = k0 * k1 > 0
+    same, _, b, v0, v1 = _params(k0, k1, alpha)
     with np.errstate(divide="ignore", invalid="ignore"):
-        if is_zero_alpha(alpha):
-            ts = np.full(k0.shape, np.inf)
-        else:
-            _, b = _same_sign_params(np.where(same, k0, 1.0), np.where(same, k1, 1.0), alpha)
-            ts = np.where(b == 0, np.inf, -1.0 / b)
-        if alpha < 0:
-            v0, v1 = _v(k0, alpha), _v(k1, alpha)
-            to = np.where(v0 == v1, np.inf, v0 / (v0 - v1))
-        else:
-            to = np.full(k0.shape, np.inf)
-    return np.where(same, ts, to)
+        return _singular_point(same, b, v0, v1, alpha)
 
 
-def graded_rule(a, b, tstar):
-    """Quadrature nodes and weights on the intervals ``[a, b]`` (one per row),
-    graded geometrically towards ``clip(tstar, a, b)`` from both sides.
+def grading_levels(alpha):
+    """Geometric levels of :func:`~stimuli.curves.lac_quadrature.graded_rule` that arcs of this alpha need.
 
-    Returns
-    -------
-    nodes, weights : ndarray, shape (R, Q)
+    Near ``t*`` an arc's turn behaves like ``|t - t*|**beta``, ``beta = 1 -
+    1/alpha`` (alpha < 0: the graph variable ``|v|**(p + 1)``, at an
+    inflection or where a same-sign arc's curvature would vanish), so the
+    panel that ends at ``t*`` (length ``l`` of a side's length) holds a
+    singular part of order ``l**(beta + 1)``; its Gauss rule's error is a
+    small fraction of that. Levels are added until ``l**(beta + 1) <=
+    1e-16`` (derived here): 8 for alpha = -2 (beta = 1.5, the deepest), 7
+    for the clothoid, 4 for alpha = -0.3; alpha >= 0 (curvature that blows
+    up at t*) takes all 8. The rule then agrees with the deepest one to
+    rounding (about 4e-16 of the arc's length on arcs turning by up to 100
+    radians).
 
     Examples
     --------
-    >>> x, w = graded_rule(np.array([0.0]), np.array([1.0]), np.array([0.3]))
-    >>> round(float(np.sum(w * np.sqrt(np.abs(x - 0.3)))), 11)   # a sqrt kink at 0.3
-    0.49998585722
-    >>> round(2 / 3 * (0.3 ** 1.5 + 0.7 ** 1.5), 11)
-    0.49998585722
+    >>> [grading_levels(a) for a in (-2.0, -1.0, -0.5, -0.3, 0.0, 1.0)]
+    [8, 7, 5, 4, 8, 8]
     """
-    a = np.asarray(a, dtype=float)[:, None]
-    b = np.asarray(b, dtype=float)[:, None]
-    c = np.clip(np.nan_to_num(np.asarray(tstar, dtype=float), nan=1.0, posinf=2.0, neginf=-1.0)[:, None], a, b)
-    f = _EDGES[None, :]
-    left = c - (c - a) * f   # a .. c
-    right = c + (b - c) * f  # b .. c
-    lo = np.concatenate((left[:, :-1], right[:, 1:]), axis=1)
-    hi = np.concatenate((left[:, 1:], right[:, :-1]), axis=1)
-    half = 0.5 * (hi - lo)
-    mid = 0.5 * (hi + lo)
-    nodes = (mid[:, :, None] + half[:, :, None] * _GL_X).reshape(a.shape[0], -1)
-    weights = (np.abs(half)[:, :, None] * _GL_W).reshape(a.shape[0], -1)
-    return nodes, weights
+    if alpha >= 0 or is_zero_alpha(alpha):
+        return LEVELS
+    beta = 1.0 - 1.0 / alpha
+    levels = math.ceil(math.log(1e-16 ** (1.0 / (beta + 1.0)) / 0.25) / math.log(0.2))
+    return min(max(levels, 1), LEVELS)
 
 
-def quadrature_groups(lo, hi, tstar):
-    """Quadrature rules for the intervals ``[lo, hi]`` (one per row) of arcs
-    whose graph variable vanishes at `tstar`.
+def _quadrature_blocks(params, alpha, lo, hi, arcs=None, ends=False):
+    """The quadrature of pieces ``[lo, hi]`` (unit parameter) of arcs with
+    parameters `params` (:func:`_params`), in blocks of one rule
+    (:func:`~stimuli.curves.lac_quadrature.quadrature_groups`) and one kind (same-sign curvature, or
+    through an inflection, or no arc of this alpha: NaN).
 
-    Intervals whose `tstar` lies at least their own length beyond them see
-    an integrand analytic on a wide ellipse: one 24-point Gauss rule does.
-    The rest get :func:`graded_rule`.
+    Yields
+    ------
+    rows, arcs, kind, nodes, weights, turn, share
+        The pieces and their arcs (`arcs`: each piece's arc; default: one
+        piece per arc), whether of one sign, the rule, Theta at the nodes
+        and what the curvature there shares with it (see :func:`_turn_same`);
+        with `ends`, turn and share have one more column: t = 1 (Theta(1)
+        from the same pass).
+    """
+    same, a, b, v0, v1 = params
+    tstar = _singular_point(same, b, v0, v1, alpha)
+    for rows, x, w in quadrature_groups(lo, hi, tstar if arcs is None else tstar[arcs], grading_levels(alpha)):
+        of = rows if arcs is None else arcs[rows]
+        one_sign = same[of]
+        for kind in (True, False):
+            pick = one_sign if kind else ~one_sign
+            if not pick.any():
+                continue
+            r, ar = rows[pick], of[pick]
+            xk = x if x.shape[0] == 1 else x[pick]
+            wk = w if w.shape[0] == 1 else w[pick]
+            xt = np.concatenate((xk, np.ones((xk.shape[0], 1))), axis=1) if ends else xk
+            if kind:
+                Th, share = _turn_same(xt, a[ar, None], b[ar, None], alpha)
+            elif v0 is not None:
+                Th, share = _turn_inflected(xt, v0[ar, None], (v1 - v0)[ar, None], alpha)
+            else:
+                Th, share = np.full((r.size, xt.shape[1]), np.nan), None
+            yield r, ar, kind, xk, wk, Th, share
+
+
+def piece_chords(theta0, k0, k1, L, alpha, lo, hi, arcs):
+    """Chords ``L int_lo^hi exp(i theta(t)) dt`` of pieces of arcs (each
+    piece by the rule of :func:`~stimuli.curves.lac_quadrature.quadrature_groups`).
+
+    Parameters
+    ----------
+    theta0, k0, k1, L : ndarray, shape (M,)
+        Start tangent angle, end curvatures and length of each arc.
+    alpha : float
+    lo, hi : ndarray, shape (R,)
+        The pieces on the unit parameter.
+    arcs : ndarray of int, shape (R,)
+        The arc of each piece.
 
     Returns
     -------
-    list of (rows, nodes, weights)
-        Row indices and their nodes and weights, shape (len(rows), Q).
+    ndarray of complex, shape (R,)
+
+    Examples
+    --------
+    Two halves of a unit-curvature clothoid arc (alpha = -1) of length pi: quarter circles.
+
+    >>> one, halves = np.ones(1), (np.array([0, 0.5]), np.array([0.5, 1]))
+    >>> dz = piece_chords(0 * one, one, one, np.pi * one, -1.0, *halves, np.zeros(2, int))
+    >>> np.round(dz, 12).tolist()
+    [(1+1j), (-1+1j)]
     """
-    lo = np.asarray(lo, dtype=float)
-    hi = np.asarray(hi, dtype=float)
-    tstar = np.asarray(tstar, dtype=float)
-    span = hi - lo
-    easy = ~((tstar > lo - span) & (tstar < hi + span))
-    out = []
-    rows = np.flatnonzero(easy)
-    if rows.size:
-        half = 0.5 * span[rows, None]
-        out.append((rows, lo[rows, None] + half * (1.0 + _GL_X_WIDE), half * _GL_W_WIDE))
-    rows = np.flatnonzero(~easy)
-    if rows.size:
-        out.append((rows, *graded_rule(lo[rows], hi[rows], tstar[rows])))
-    return out
+    theta0, L = np.asarray(theta0, dtype=float), np.asarray(L, dtype=float)
+    dz = np.empty(np.shape(lo), dtype=complex)
+    with np.errstate(all="ignore"):
+        params = _params(k0, k1, alpha)
+        for r, ar, _, _, w, Th, _ in _quadrature_blocks(params, alpha, lo, hi, np.asarray(arcs)):
+            dz[r] = L[ar] * (np.exp(1j * (theta0[ar, None] + L[ar, None] * Th)) * w).sum(axis=1)
+    return dz
 
 
 def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
@@ -270,85 +334,152 @@ def arc_integrals(theta0, k0, k1, L, alpha, derivatives=False):
         Start tangent angle, end curvatures and length of each arc.
     alpha : float
     derivatives : bool
+        Compute the derivatives now (otherwise on first access).
 
     Returns
     -------
-    dict
-        ``z`` (complex chord: end minus start point), ``turn`` (``L Theta(1)``)
-        and with `derivatives` ``z_L``, ``z_u0``, ``z_u1`` (``z_theta0`` is
-        ``1j * z``), ``turn_u0``, ``turn_u1`` (``turn_L`` is ``Theta(1)``),
-        the derivatives in the end curvatures' graph variables
+    ArcIntegrals
+        A mapping: ``z`` (complex chord: end minus start point), ``turn``
+        (``L Theta(1)``), ``Theta1`` and the derivatives ``z_L``, ``z_u0``,
+        ``z_u1`` (``z_theta0`` is ``1j * z``), ``turn_u0``, ``turn_u1``
+        (``turn_L`` is ``Theta(1)``), in the end curvatures' graph variables
         (:func:`graph_value`), in closed form (central differences for
         nearly circular arcs).
+
+    Examples
+    --------
+    A clothoid arc (alpha = -1) of constant curvature 1 and length pi: a half circle.
+
+    >>> out = arc_integrals(np.zeros(1), np.ones(1), np.ones(1), np.array([np.pi]), -1.0)
+    >>> complex(np.round(out["z"][0], 12)), float(out["turn"][0]) == np.pi
+    (2j, True)
     """
-    M = k0.size
-    out = {}
-    for rows, x, w in quadrature_groups(np.zeros(M), np.ones(M), arc_singular_point(k0, k1, alpha)):
-        part = _integrals_on(x, w, theta0[rows], k0[rows], k1[rows], L[rows], alpha, derivatives)
-        for key, val in part.items():
-            if key not in out:
-                out[key] = np.empty(M, dtype=val.dtype)
-            out[key][rows] = val
-    return out
+    arcs = ArcIntegrals(theta0, k0, k1, L, alpha)
+    if derivatives:
+        arcs.derive()
+    return arcs
 
 
-def _integrals_on(x, w, theta0, k0, k1, L, alpha, derivatives):
-    """:func:`arc_integrals` with the quadrature nodes `x` and weights `w`
-    (one row per arc) on [0, 1]."""
-    Th = arc_turn(x, k0[:, None], k1[:, None], alpha)
-    e = np.exp(1j * (theta0[:, None] + L[:, None] * Th)) * w
-    z = L * e.sum(axis=1)
-    T1 = arc_turn(1.0, k0, k1, alpha)
-    out = {"z": z, "Theta1": T1, "turn": L * T1}
-    if not derivatives:
-        return out
-    out["z_L"] = z / L + 1j * L * (Th * e).sum(axis=1)
-    # derivatives in the graph variables u = g(k) (in which the equations
-    # stay smooth where a node's curvature passes through 0): with u linear
-    # in t and kappa = g^-1(u), d kappa/d u0 = (1 - t) kappa'(t) / du, and
-    # integrating by parts (derived here)
-    #   d Theta(t)/d u0 = ((1 - t) kappa(t) - k0 + Theta(t)) / du,
-    #   d Theta(t)/d u1 = (t kappa(t) - Theta(t)) / du,   du = u1 - u0;
-    # nearly circular arcs (|du| small: the quotient cancels) take central
-    # differences instead
-    u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
-    du = u1 - u0
-    scale = np.maximum(np.abs(u0), np.abs(u1))
-    far = np.abs(du) > 1e-5 * np.maximum(scale, 1e-6)
-    for key in ("z_u0", "z_u1", "turn_u0", "turn_u1"):
-        out[key] = np.empty(k0.size, dtype=complex if key[0] == "z" else float)
-    if far.any():
-        f = np.flatnonzero(far)
-        kap = arc_curvature(x[f], k0[f, None], k1[f, None], alpha)
-        d = du[f, None]
-        for name, dTh, dT1 in (
-            ("u0", ((1.0 - x[f]) * kap - k0[f, None] + Th[f]) / d, (T1[f] - k0[f]) / du[f]),
-            ("u1", (x[f] * kap - Th[f]) / d, (k1[f] - T1[f]) / du[f]),
-        ):
-            out["z_" + name][f] = 1j * L[f] * L[f] * (dTh * e[f]).sum(axis=1)
-            out["turn_" + name][f] = L[f] * dT1
-    if not far.all():
-        c = np.flatnonzero(~far)
-        for key, val in _central_differences(x[c], e[c], k0[c], k1[c], L[c], alpha).items():
-            out[key][c] = val
-    return out
+_VALUES = ("z", "Theta1", "turn")
+_DERIVATIVES = ("z_L", "z_u0", "z_u1", "turn_u0", "turn_u1")
+
+
+class ArcIntegrals(Mapping):
+    """The chords and turns of log-aesthetic arcs (see :func:`arc_integrals`),
+    keeping their quadrature (nodes, turns and phase factors), so that the
+    derivatives come from the same evaluation when they are first asked
+    for: Newton needs them only at the points it steps from, which its line
+    search has just evaluated.
+
+    The arcs are evaluated in blocks of one quadrature rule and one kind
+    (same-sign curvature, or through an inflection), each with its own
+    closed form.
+    """
+
+    def __init__(self, theta0, k0, k1, L, alpha):
+        theta0, k0, k1, L = (np.asarray(v, dtype=float) for v in (theta0, k0, k1, L))
+        self.alpha, self.k0, self.k1, self.L = alpha, k0, k1, L
+        z = np.empty(k0.size, dtype=complex)
+        self.blocks = []
+        with np.errstate(all="ignore"):
+            self._params = _params(k0, k1, alpha)
+            T1 = np.empty(k0.size)
+            for r, _, kind, x, w, Th, share in _quadrature_blocks(self._params, alpha, 0.0, 1.0, ends=True):
+                T1[r] = Th[:, -1]
+                Th = Th[:, :-1]
+                share = None if share is None else share[:, :-1]
+                e = np.exp(1j * (theta0[r, None] + L[r, None] * Th)) * w
+                esum = e.sum(axis=1)
+                z[r] = L[r] * esum
+                self.blocks.append((r, kind, x, Th, e, esum, share))
+        self.values = {"z": z, "Theta1": T1, "turn": L * T1}
+
+    def __getitem__(self, key):
+        if key in _DERIVATIVES:
+            self.derive()
+        return self.values[key]
+
+    def __iter__(self):
+        return iter(_VALUES + _DERIVATIVES)
+
+    def __len__(self):
+        return len(_VALUES) + len(_DERIVATIVES)
+
+    def derive(self):
+        """Add the derivatives (once)."""
+        if "z_L" in self.values:
+            return
+        alpha, k0, k1, L = self.alpha, self.k0, self.k1, self.L
+        _, a, b, _, _ = self._params
+        z, T1 = self.values["z"], self.values["Theta1"]
+        out = {key: np.empty(k0.size, dtype=complex if key[0] == "z" else float) for key in _DERIVATIVES}
+        # derivatives in the graph variables u = g(k) (in which the equations
+        # stay smooth where a node's curvature passes through 0): with u linear
+        # in t and kappa = g^-1(u), d kappa/d u0 = (1 - t) kappa'(t) / du, and
+        # integrating by parts (derived here)
+        #   d Theta(t)/d u0 = ((1 - t) kappa(t) - k0 + Theta(t)) / du,
+        #   d Theta(t)/d u1 = (t kappa(t) - Theta(t)) / du,   du = u1 - u0;
+        # nearly circular arcs (|du| small: the quotient cancels) take central
+        # differences instead
+        with np.errstate(all="ignore"):  # 0/0 where no arc of this alpha exists: NaN, rejected by Newton
+            u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
+            du = u1 - u0
+            scale = np.maximum(np.abs(u0), np.abs(u1))
+            far = np.abs(du) > 1e-5 * np.maximum(scale, 1e-6)
+            fr = np.flatnonzero(far)
+            out["turn_u0"][fr] = L[fr] * ((T1[fr] - k0[fr]) / du[fr])
+            out["turn_u1"][fr] = L[fr] * ((k1[fr] - T1[fr]) / du[fr])
+            # sums over every arc's nodes of Theta e, kappa e and t kappa e (with the
+            # sum of e, z / L, they give both integrals of dTheta e, in fewer passes
+            # over the nodes than dTheta itself), then the derivatives of all arcs at once
+            ST, Sk, Sxk = (np.empty(k0.size, dtype=complex) for _ in range(3))
+            for r, kind, x, Th, e, _, share in self.blocks:
+                ST[r] = (Th * e).sum(axis=1)
+                if kind:
+                    kap = _curvature_same(x, a[r, None], b[r, None], alpha, share)
+                else:
+                    kap = _curvature_inflected(share, alpha) if share is not None else np.nan
+                ke = kap * e
+                Sk[r], Sxk[r] = ke.sum(axis=1), (x * ke).sum(axis=1)
+            out["z_L"][:] = z / L + 1j * L * ST
+            c = 1j * L[fr] * L[fr] / du[fr]
+            out["z_u0"][fr] = c * (Sk[fr] - Sxk[fr] - k0[fr] * (z[fr] / L[fr]) + ST[fr])
+            out["z_u1"][fr] = c * (Sxk[fr] - ST[fr])
+            if not far.all():  # nearly circular arcs: central differences
+                for r, _, x, Th, e, _, _ in self.blocks:
+                    near = ~far[r]
+                    if near.any():
+                        rc = r[near]
+                        xc = np.broadcast_to(x, Th.shape)[near]
+                        for key, val in _central_differences(xc, e[near], k0[rc], k1[rc], L[rc], alpha).items():
+                            out[key][rc] = val
+        self.values.update(out)
 
 
 def _central_differences(x, e, k0, k1, L, alpha):
-    """The derivatives of :func:`_integrals_on` in u0, u1 by central
-    differences of the closed-form Theta (relative step 1e-6)."""
+    """The derivatives of :class:`ArcIntegrals` in u0, u1 by central
+    differences of the closed-form Theta (relative step 1e-6): the four
+    shifted arcs, at the nodes `x` (shape (C, Q)) and at t = 1, in one
+    evaluation."""
     u0, u1 = graph_value(k0, alpha), graph_value(k1, alpha)
     scale = np.maximum(np.abs(u0), np.abs(u1))
     positive = alpha > 0 and not is_zero_alpha(alpha)  # u > 0: relative steps
-    out = {}
-    for name, k, u, other, first in (("u0", k0, u0, k1, True), ("u1", k1, u1, k0, False)):
+    steps, starts, ends = [], [], []
+    for k, u, first in ((k0, u0, True), (k1, u1, False)):
         h = 1e-6 * (u if positive else np.maximum(np.maximum(np.abs(u), 1e-3 * scale), 1e-6))
         sg = np.where(k < 0, -1.0, 1.0)
         kp, km = graph_inverse(u + h, alpha, sg), graph_inverse(u - h, alpha, sg)
-        args_p = (kp, other) if first else (other, kp)
-        args_m = (km, other) if first else (other, km)
-        dTh = (arc_turn(x, args_p[0][:, None], args_p[1][:, None], alpha)
-               - arc_turn(x, args_m[0][:, None], args_m[1][:, None], alpha)) / (2 * h[:, None])
+        steps.append(h)
+        starts += [kp, km] if first else [k0, k0]
+        ends += [k1, k1] if first else [kp, km]
+    C = k0.size
+    t = np.tile(np.concatenate((x, np.ones((C, 1))), axis=1), (4, 1))
+    Th = arc_turn(t, np.concatenate(starts)[:, None], np.concatenate(ends)[:, None], alpha).reshape(4, C, -1)
+    out = {}
+    for i, name in enumerate(("u0", "u1")):
+        h = steps[i]
+        plus, minus = Th[2 * i], Th[2 * i + 1]
+        dTh = (plus[:, :-1] - minus[:, :-1]) / (2 * h[:, None])
         out["z_" + name] = 1j * L * L * (dTh * e).sum(axis=1)
-        out["turn_" + name] = L * (arc_turn(1.0, *args_p, alpha) - arc_turn(1.0, *args_m, alpha)) / (2 * h)
+        out["turn_" + name] = L * (plus[:, -1] - minus[:, -1]) / (2 * h)
     return out

@@ -6,7 +6,15 @@ Unknowns: the tangent angle and the curvature's graph variable
 ``u = g(kappa)`` (:func:`stimuli.curves.lac_arc.graph_value`) at every node,
 and every segment's length. Each segment's three equations (turn, chord)
 involve only its two nodes and its length, so the Jacobian is block-banded
-(cyclic for closed curves) and solved by SuperLU (``scipy.sparse``).
+(cyclic for closed curves) and solved by SuperLU (``scipy.sparse``), or by
+dense LU where the system is small (up to 96 unknowns: N = 20 with its corners).
+
+Cost. Every Newton iteration evaluates the arcs' integrals once more than
+it steps: the derivatives at the point it steps from come from the line
+search's accepted evaluation (:class:`~stimuli.curves.lac_arc.ArcIntegrals`
+derives them on first access), and the spline's closure and G2 errors from
+the last one (:meth:`LACSystem.integrals`). The Jacobian's sparsity pattern
+(and how CSC orders it) is built once per system and sign of alpha.
 """
 
 from __future__ import annotations
@@ -26,6 +34,9 @@ __all__ = ["LACSystem", "continue_in_alpha"]
 _MIN_STEP = 1e-3
 _MAX_SOLVES = 40
 _MAX_SPREAD = 1e12
+# systems up to this size are solved dense (numpy's LU): 60 x 60 (N = 20) in 26 us against
+# 43 us for building the CSC matrix and SuperLU; at 120 (N = 40) SuperLU is faster (59 vs 72 us)
+_DENSE = 96
 
 
 class LACSystem:
@@ -92,6 +103,8 @@ class LACSystem:
         self.joints = bool(g1 or g0)
         self.fixed_cols = np.array([c for c, _ in fixed], dtype=int)
         self.fixed_vals = np.array([v for _, v in fixed], dtype=float)
+        self._csc = {}  # the Jacobian's sparsity pattern, per sign of alpha (jacobian)
+        self._last = None  # (alpha, x, integrals) of the last newton's result (integrals)
 
     def split(self, x):
         nt, nu = self.nt, self.nu
@@ -130,43 +143,73 @@ class LACSystem:
             return None, None
         return F, arc
 
-    def jacobian(self, arc, alpha):
+    def _structure(self, alpha):
+        """The Jacobian's entries (rows, columns) in the order of
+        :meth:`_values`, its constant values at the end, its size and
+        (:func:`_csc_pattern`) how CSC orders them; per sign of alpha (the
+        open ends' equations depend on it, nothing else does)."""
+        key = alpha < 0
+        if key in self._csc:
+            return self._csc[key]
         n, M, nt, nu = self.n, self.M, self.nt, self.nu
         r = 3 * np.arange(M)
         ka, kb, Lc = nt + self.ua, nt + self.ub, nt + nu + np.arange(M)
-        zt = 1j * arc["z"]
-        rows, cols, vals = [], [], []
-
-        def put(rr, cc, vv):
-            rows.append(rr)
-            cols.append(cc)
-            vals.append(vv)
-
-        # turn equation
-        put(r, self.tb, np.ones(M))
-        put(r, self.ta, -np.ones(M))
-        put(r, ka, -arc["turn_u0"])
-        put(r, kb, -arc["turn_u1"])
-        put(r, Lc, -arc["Theta1"])
-        # chord equations (real and imaginary parts)
-        for off, part in ((1, np.real), (2, np.imag)):
-            put(r + off, self.ta, part(zt))
-            put(r + off, ka, part(arc["z_u0"]))
-            put(r + off, kb, part(arc["z_u1"]))
-            put(r + off, Lc, part(arc["z_L"]))
+        # turn equation: theta_b, theta_a, u0, u1, L; chord equations (real,
+        # imaginary part): theta_a, u0, u1, L
+        rows = [r, r, r, r, r] + [r + off for off in (1, 2) for _ in range(4)]
+        cols = [self.tb, self.ta, ka, kb, Lc] + [self.ta, ka, kb, Lc] * 2
         size = 3 * M
         nf = self.fixed_cols.size
-        put(size + np.arange(nf), self.fixed_cols, np.ones(nf))
+        rows.append(size + np.arange(nf))
+        cols.append(self.fixed_cols)
+        tail = [np.ones(nf)]
         size += nf
         if not self.closed:
             i0, i1 = size, size + 1
             if alpha < 0:
-                put(np.array([i0, i1]), np.array([nt, nt + n - 1]), np.ones(2))
+                rows.append(np.array([i0, i1]))
+                cols.append(np.array([nt, nt + n - 1]))
+                tail.append(np.ones(2))
             else:
-                put(np.array([i0, i0, i1, i1]), np.array([nt, nt + 1, nt + n - 1, nt + n - 2]),
-                    np.array([1.0, -1.0, 1.0, -1.0]))
+                rows.append(np.array([i0, i0, i1, i1]))
+                cols.append(np.array([nt, nt + 1, nt + n - 1, nt + n - 2]))
+                tail.append(np.array([1.0, -1.0, 1.0, -1.0]))
             size += 2
-        return csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(size, size))
+        rows, cols = np.concatenate(rows), np.concatenate(cols)
+        out = self._csc[key] = (rows, cols, np.concatenate([np.ones(M), -np.ones(M)]), np.concatenate(tail), size,
+                                _csc_pattern(rows, cols, size))
+        return out
+
+    def _values(self, arc, alpha):
+        """The Jacobian's values in the order of :meth:`_structure` (d/d theta_a
+        of the chord z is i z)."""
+        _, _, head, tail, _, _ = self._structure(alpha)
+        z, zu0, zu1, zL = arc["z"], arc["z_u0"], arc["z_u1"], arc["z_L"]
+        return np.concatenate((head, -arc["turn_u0"], -arc["turn_u1"], -arc["Theta1"],
+                               -z.imag, zu0.real, zu1.real, zL.real, z.real, zu0.imag, zu1.imag, zL.imag, tail))
+
+    def jacobian(self, arc, alpha):
+        """The sparse Jacobian (CSC) at the arcs' integrals `arc`."""
+        rows, cols, _, _, size, pattern = self._structure(alpha)
+        data = self._values(arc, alpha)
+        if pattern is None:  # repeated entries (summed): assemble from coordinates
+            return csc_matrix((data, (rows, cols)), shape=(size, size))
+        order, indices, indptr = pattern
+        return csc_matrix((data[order], indices, indptr), shape=(size, size))
+
+    def step(self, arc, alpha, F):
+        """The Newton step ``-J^-1 F`` (NaN where J is singular): dense LU
+        for small systems (where SuperLU's set-up costs more than the
+        solve), else SuperLU."""
+        rows, cols, _, _, size, pattern = self._structure(alpha)
+        if size <= _DENSE and pattern is not None:
+            J = np.zeros((size, size))
+            J[rows, cols] = self._values(arc, alpha)
+            try:
+                return np.linalg.solve(J, -F)
+            except np.linalg.LinAlgError:
+                return np.full(size, np.nan)
+        return spsolve(self.jacobian(arc, alpha), -F)
 
     def newton(self, xk, alpha, tol, max_iter):
         """Damped Newton from xk = (theta, kappa, L), in the graph variables
@@ -177,28 +220,42 @@ class LACSystem:
             self.sign = 1.0 if np.sum(self.split(xk)[1]) >= 0 else -1.0
         th, k, L = self.split(xk)
         x = np.concatenate((th, graph_value(k, alpha), L))
-        x, it, ok, res = self._newton(x, alpha, tol, max_iter)
+        x, it, ok, res, arc = self._newton(x, alpha, tol, max_iter)
         th, u, L = self.split(x)
-        return np.concatenate((th, graph_inverse(u, alpha, self.sign), L)), it, ok, res
+        xk = np.concatenate((th, graph_inverse(u, alpha, self.sign), L))
+        self._last = (alpha, xk, arc)
+        return xk, it, ok, res
+
+    def integrals(self, x, alpha):
+        """The arcs' integrals (:func:`~stimuli.curves.lac_arc.arc_integrals`)
+        at x = (theta, kappa, L): the last Newton evaluation's where x is what
+        :meth:`newton` returned (the same numbers), else computed."""
+        if self._last is not None and self._last[0] == alpha and np.array_equal(self._last[1], x):
+            return self._last[2]
+        th, k, L = self.split(x)
+        return arc_integrals(th[self.ta], k[self.ua], k[self.ub], L, alpha)
 
     def _newton(self, x, alpha, tol, max_iter):
-        F, _ = self.residual(x, alpha)
+        with warnings.catch_warnings():
+            # a singular Jacobian gives NaNs (SuperLU warns), handled as a failed step
+            warnings.simplefilter("ignore", MatrixRankWarning)
+            return self._damped_newton(x, alpha, tol, max_iter)
+
+    def _damped_newton(self, x, alpha, tol, max_iter):
+        F, arc = self.residual(x, alpha)
         if F is None:
-            return x, 0, False, np.inf
+            return x, 0, False, np.inf, None
         merit = float(F @ F)
         n, nt = self.n, self.nt
         for it in range(max_iter + 1):
             res = float(np.max(np.abs(F)))
             if res <= tol or it == max_iter:
-                return x, it, res <= tol, res
-            # derivatives only where Newton steps from (trials are most evaluations)
-            _, arc = self.residual(x, alpha, derivatives=True)
-            with warnings.catch_warnings():
-                # a singular Jacobian gives NaNs, handled below
-                warnings.simplefilter("ignore", MatrixRankWarning)
-                dx = spsolve(self.jacobian(arc, alpha), -F)
+                return x, it, res <= tol, res, arc
+            # the derivatives at x come from the evaluation that gave F (the
+            # accepted trial's), computed only now that Newton steps from x
+            dx = self.step(arc, alpha, F)
             if not np.all(np.isfinite(dx)):
-                return x, it, False, res
+                return x, it, False, res, arc
             # the linear equations (held angles, natural and open ends) hold at
             # the start: keep them exactly (the sparse solve leaves rounding in them)
             dx[self.fixed_cols] = 0.0
@@ -219,15 +276,26 @@ class LACSystem:
                 step = min(step, 0.8 / -shrink.min())
             for _ in range(40):
                 xt = x + step * dx
-                Ft, _ = self.residual(xt, alpha)
+                Ft, arc_t = self.residual(xt, alpha)
                 if Ft is not None and float(Ft @ Ft) <= (1.0 - 1e-4 * step) * merit:
                     break
                 step *= 0.5
             else:
                 # no decrease: the rounding floor, or a failure
-                return x, it, res <= 1e3 * tol, res
-            x, F, merit = xt, Ft, float(Ft @ Ft)
-        return x, max_iter, False, float(np.max(np.abs(F)))  # pragma: no cover
+                return x, it, res <= 1e3 * tol, res, arc
+            x, F, arc, merit = xt, Ft, arc_t, float(Ft @ Ft)
+        return x, max_iter, False, float(np.max(np.abs(F))), arc  # pragma: no cover
+
+
+def _csc_pattern(rows, cols, size):
+    """How :class:`~scipy.sparse.csc_matrix` orders entries given by
+    coordinates: (order of the entries, row indices, column pointers), so
+    that each Newton step builds its Jacobian from the values alone (the
+    same matrix as from coordinates); None where an entry repeats (summed)."""
+    ref = csc_matrix((np.arange(1.0, rows.size + 1.0), (rows, cols)), shape=(size, size))
+    if ref.nnz != rows.size:
+        return None
+    return ref.data.astype(np.intp) - 1, ref.indices, ref.indptr
 
 
 def continue_in_alpha(system, x0, alpha, tol, max_iter):

@@ -16,10 +16,9 @@ import numpy as np
 
 from stimuli.curves.lac_arc import (
     arc_curvature,
-    arc_integrals,
     arc_singular_point,
     arc_turn,
-    quadrature_groups,
+    piece_chords,
 )
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.validate import as_int
@@ -164,12 +163,7 @@ class LACG2Spline:
         # the position: each stretch between samples by the graded rule, summed
         lo = np.broadcast_to(t[:-1], (M, samples - 1)).ravel()
         hi = np.broadcast_to(t[1:], (M, samples - 1)).ravel()
-        seg = np.repeat(np.arange(M), samples - 1)
-        dz = np.empty(seg.size, dtype=complex)
-        for rows, x, w in quadrature_groups(lo, hi, arc_singular_point(k0, k1, self.alpha)[seg]):
-            r = seg[rows]
-            th = th0[r, None] + L[r, None] * arc_turn(x, k0[r, None], k1[r, None], self.alpha)
-            dz[rows] = L[r] * (np.exp(1j * th) * w).sum(axis=1)
+        dz = piece_chords(th0, k0, k1, L, self.alpha, lo, hi, np.repeat(np.arange(M), samples - 1))
         dz = dz.reshape(M, samples - 1)
         z = self.points[a, 0] + 1j * self.points[a, 1]
         Z = np.concatenate((z[:, None], z[:, None] + np.cumsum(dz, axis=1)), axis=1)
@@ -196,7 +190,7 @@ def solved_spline(system, x, P, closed, alpha, sign, iterations, alphas, t_start
     their kinds, method) are passed on."""
     th, k, L = system.split(x)
     h = system.h
-    arc = arc_integrals(th[system.ta], k[system.ua], k[system.ub], L, alpha)
+    arc = system.integrals(x, alpha)
     size = float(np.max(np.ptp(P, axis=0))) or 1.0
     closure = float(np.max(np.abs(arc["z"] - system.D))) * h / size
     kend = arc_curvature(1.0, k[system.ua], k[system.ub], alpha)

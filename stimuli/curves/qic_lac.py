@@ -35,8 +35,9 @@ N = 12); every fit the form was taken for turns by more than 59 degrees on
 some segment (the screen :data:`SCREEN_TURN` is 45 degrees), and random
 smooth curves of 30 and 1000 points (``benchmarks/bench_spline.py``) turn by
 at most 36 degrees: they never reach the cubic. Cost where it is solved:
-about 5-10 ms per curve at N = 12-80 (sparse Newton in numpy, from the
-clothoid straight to alpha, by continuation only where that fails).
+about 3-9 ms per curve at N = 12-80 (median 3.2 / 4.2 / 5.7 / 9.1 ms at N =
+12 / 20 / 40 / 80, ``benchmarks/bench_lac_step.py``; Newton in numpy, from
+the clothoid straight to alpha, by continuation only where that fails).
 """
 
 from __future__ import annotations
@@ -135,6 +136,14 @@ def log_aesthetic_form(sp, alpha=ALPHA, tol=1e-12, max_iter=40):
                          corners=tuple(sp.corners), corner_kinds=tuple(sp.corner_kinds), method=sp.method)
 
 
+def _cubic_positions(cubic, samples):
+    """The points of ``cubic.sample(samples)`` (a PolynomialSpline) without its
+    derivatives and arc lengths, which the comparison does not use."""
+    kn = cubic.knots
+    u = kn[:-1, None] + (kn[1:] - kn[:-1])[:, None] * np.linspace(0.0, 1.0, samples)[None, :]
+    return cubic.spline(u.ravel())
+
+
 def _xy(curve):
     return np.column_stack((curve.x, curve.y))
 
@@ -174,8 +183,8 @@ def prefer_log_aesthetic(sp, polygon_simple, alpha=None, trigger=None, max_turn=
         return sp
     chords = np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)
     unit = float(np.mean(chords))
-    cubic = polynomial_spline(P, 3, closed).sample(4 * _SAMPLES)
-    tree = cKDTree(_xy(cubic))
+    # (an unbalanced tree builds faster and finds the same nearest distances)
+    tree = cKDTree(_cubic_positions(polynomial_spline(P, 3, closed), 4 * _SAMPLES), balanced_tree=False)
     stray = float(tree.query(_xy(sp.sample(_SAMPLES)))[0].max())
     if stray <= trigger * unit or not polygon_simple():
         return sp
