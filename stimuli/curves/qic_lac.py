@@ -60,6 +60,8 @@ TRIGGER = 0.08
 #: 45 degrees): where every segment turns less the points sample the curve densely and the two
 #: agree (screen measured below).
 SCREEN_TURN = 0.25 * np.pi
+# a distance to the cubic smaller by less than this (in mean chords) is a tie: the clothoid stays
+_TIE = 1e-9
 # samples per segment for the comparison with the cubic (the cubic's: 4x denser)
 _SAMPLES = 16
 
@@ -193,7 +195,9 @@ def prefer_log_aesthetic(sp, polygon_simple, alpha=None, trigger=None, max_turn=
         return sp
     curve = lac.sample(_SAMPLES)
     xy = _xy(curve)
-    if float(tree.query(xy)[0].max()) >= stray:
+    # it must stray less by more than rounding: where both share the segment that strays most
+    # (a straight one between corners) the two distances differ in the last digits only
+    if float(tree.query(xy)[0].max()) >= stray - _TIE * unit:
         return sp
     turn = segment_turning(curve.s, curve.curvature, curve.segment, curve.theta)
     if turn.size and float(turn.max()) > np.pi:
