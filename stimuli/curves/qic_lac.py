@@ -15,10 +15,11 @@ with the robust fit's G1 nodes (tangent held, curvature free on each side)
 and G0 corners (natural ends on both sides), continued in alpha from the
 clothoid fit itself (its solution at alpha = -1).
 
-The rule (:func:`prefer_log_aesthetic`): where the clothoid fit strays
-from the periodic cubic spline through the same points by more than
-:data:`TRIGGER` mean chords (on smooth input the two agree far better, and
-nothing more is computed), the log-aesthetic form is solved, and it replaces
+The rule (:func:`prefer_log_aesthetic`): where a segment of the clothoid
+fit turns by more than :data:`SCREEN_TURN` and the fit strays from the
+periodic cubic spline through the same points by more than :data:`TRIGGER`
+mean chords (on smooth input neither happens, and nothing more is
+computed), the log-aesthetic form is solved, and it replaces
 the clothoid fit when it strays less from that cubic, turns by at most pi
 on every segment and does not cross itself (where the points' polygon is
 simple). The cubic serves only as a reference computed from the points: the
@@ -31,10 +32,11 @@ perimeter) goes from 1.10 / 1.05 / 1.08 / 1.07 times the cubic's to 1.06 /
 1.01 / 1.01 / 1.03 (each half within 1.06 / 1.02 / 1.02 / 1.04); of alpha in
 -0.2 ... -0.7, -0.3 was best on both halves at N = 20 and 40; a trigger of
 0.08 mean chords loses nothing against trying every fit (0.12 did, at
-N = 12); every fit the form was taken for turns by more than 59 degrees on
-some segment (the screen :data:`SCREEN_TURN` is 45 degrees), and random
-smooth curves of 30 and 1000 points (``benchmarks/bench_spline.py``) turn by
-at most 36 degrees: they never reach the cubic. Cost where it is solved:
+N = 12); every fit the form was taken for (174 / 163 / 167 / 167 of the
+outlines at N = 12 / 20 / 40 / 80) turns by more than 55 degrees on some
+segment (the screen :data:`SCREEN_TURN` is 45 degrees), and 50 random
+smooth curves of 30 and of 1000 points (``benchmarks/bench_spline.py``'s)
+turn by at most 36 and 1 degrees: they never reach the cubic. Cost where it is solved:
 about 3-9 ms per curve at N = 12-80 (median 3.2 / 4.2 / 5.7 / 9.1 ms at N =
 12 / 20 / 40 / 80, ``benchmarks/bench_lac_step.py``; Newton in numpy, from
 the clothoid straight to alpha, by continuation only where that fails).
