@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -20,14 +21,14 @@ from stimuli.curves.lac_arc import (
     arc_turn,
     piece_chords,
 )
-from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.curves.metrics import SampledCurve, SplineMeasures
 from stimuli.validate import as_int
 
 __all__ = ["LACG2Spline", "solved_spline"]
 
 
 @dataclass(frozen=True)
-class LACG2Spline:
+class LACG2Spline(SplineMeasures):
     """A G2 spline of log-aesthetic arcs through points (see :func:`lac_spline`).
 
     Attributes
@@ -114,7 +115,7 @@ class LACG2Spline:
         """Geometric curvature at the end of each segment (1/px)."""
         return self.sign * self._end_kappa()
 
-    @property
+    @cached_property
     def segment_turn(self):
         """Range of the tangent angle on each segment (radians): curvature is
         monotone on an arc, so the angle is extreme at its ends or at its
@@ -124,22 +125,6 @@ class LACG2Spline:
         at = np.stack([np.zeros_like(t), t, np.ones_like(t)])
         turn = self.length * arc_turn(at, k0, k1, self.alpha)
         return np.ptp(turn, axis=0)
-
-    @property
-    def loops(self):
-        """Segments whose tangent turns by more than pi."""
-        return int(np.count_nonzero(self.segment_turn > np.pi))
-
-    @property
-    def max_segment_turn(self):
-        """Largest range of the tangent angle on one segment (radians)."""
-        return float(np.max(self.segment_turn)) if self.length.size else 0.0
-
-    @property
-    def interior_extrema(self):
-        """Curvature extrema strictly inside segments, counted on 32 samples
-        per segment (zero by construction: curvature is monotone on every arc)."""
-        return self.metrics(32)["interior_extrema"]
 
     def _ends(self):
         a = np.arange(self.length.size)
@@ -176,12 +161,6 @@ class LACG2Spline:
                             segment=np.repeat(a, samples), theta=theta.ravel(), closed=self.closed,
                             breaks=tuple(self.corners))
 
-    def metrics(self, samples=32):
-        """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`
-        with the solver's figures."""
-        out = curve_metrics(self.sample(samples))
-        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
-        return out
 
 
 def solved_spline(system, x, P, closed, alpha, sign, iterations, alphas, t_start, **fields):

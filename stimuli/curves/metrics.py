@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = [
+    "SplineMeasures",
     "SampledCurve",
     "segment_slices",
     "interior_extrema",
@@ -318,3 +319,34 @@ def self_crossing_segments(x, y, segment, closed=True):
                 continue
         out.update((labels[i], labels[j]))
     return sorted(out)
+
+
+class SplineMeasures:
+    """The measures a spline result derives from its ``segment_turn`` (range
+    of the tangent angle per segment), ``sample(k)`` and solver figures
+    (``iterations``, ``g2_error``, ``closure_error``): shared by the QIC
+    and the G2 log-aesthetic results, whose segments differ."""
+
+    @property
+    def loops(self):
+        """Segments whose tangent turns by more than pi."""
+        return int(np.count_nonzero(self.segment_turn > np.pi))
+
+    @property
+    def max_segment_turn(self):
+        """Largest range of the tangent angle on one segment (radians)."""
+        return float(np.max(self.segment_turn)) if self.segment_turn.size else 0.0
+
+    @property
+    def interior_extrema(self):
+        """Curvature extrema strictly inside segments, counted on 32 samples
+        per segment (zero by construction: curvature is monotone on every
+        segment)."""
+        return self.metrics(32)["interior_extrema"]
+
+    def metrics(self, samples=32):
+        """:func:`curve_metrics` of ``sample(samples)``, with the solver's own
+        figures (``iterations``, ``solver_g2_error``, ``closure_error``)."""
+        out = curve_metrics(self.sample(samples))
+        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
+        return out

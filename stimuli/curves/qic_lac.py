@@ -178,15 +178,14 @@ def prefer_log_aesthetic(sp, polygon_simple, alpha=None, trigger=None, max_turn=
 
     from stimuli.curves.metrics import segment_turning
     from stimuli.curves.polynomial import polynomial_spline
-    from stimuli.curves.qic_measures import crossing_segments
+    from stimuli.curves.qic_measures import crossing_segments, mean_side
 
     alpha = ALPHA if alpha is None else alpha
     trigger = TRIGGER if trigger is None else trigger
     P, closed = sp.points, sp.closed
     if len(P) < 4 or (sp.max_segment_turn if max_turn is None else max_turn) <= SCREEN_TURN:
         return sp
-    chords = np.hypot(*np.diff(np.vstack([P, P[:1]]) if closed else P, axis=0).T)
-    unit = float(np.mean(chords))
+    unit = mean_side(P, closed)
     # (an unbalanced tree builds faster and finds the same nearest distances)
     tree = cKDTree(_cubic_positions(polynomial_spline(P, 3, closed), 4 * _SAMPLES), balanced_tree=False)
     stray = float(tree.query(_xy(sp.sample(_SAMPLES)))[0].max())

@@ -14,7 +14,7 @@ import numpy as np
 
 from stimuli.curves import qic_kernel
 from stimuli.curves.euler import clothoid_points
-from stimuli.curves.metrics import SampledCurve, curve_metrics
+from stimuli.curves.metrics import SampledCurve, SplineMeasures
 from stimuli.curves.qic_newton import tangent_range
 from stimuli.validate import as_int
 
@@ -22,7 +22,7 @@ __all__ = ["QICSpline"]
 
 
 @dataclass(frozen=True)
-class QICSpline:
+class QICSpline(SplineMeasures):
     """A spline of clothoid segments through points (see :func:`qic_spline`).
 
     Attributes
@@ -88,23 +88,6 @@ class QICSpline:
         return hi - lo
 
     @property
-    def loops(self):
-        """Segments whose tangent turns by more than pi."""
-        return int(np.count_nonzero(self.segment_turn > np.pi))
-
-    @property
-    def max_segment_turn(self):
-        """Largest range of the tangent angle on one segment (radians)."""
-        return float(np.max(self.segment_turn)) if self.segment_turn.size else 0.0
-
-    @property
-    def interior_extrema(self):
-        """Curvature extrema strictly inside segments, counted on 32 samples
-        per segment (zero by construction: curvature is linear in arc length
-        on every segment)."""
-        return self.metrics(32)["interior_extrema"]
-
-    @property
     def node_curvature(self):
         """Geometric curvature at the start of each segment (1/px)."""
         return self.sign * self.k0
@@ -166,11 +149,3 @@ class QICSpline:
             k = self.sign * k
         return SampledCurve(s=s, x=x, y=y, curvature=k, segment=np.repeat(self.start, counts), theta=th,
                             closed=self.closed, breaks=tuple(self.corners))
-
-    def metrics(self, samples=32):
-        """:func:`~stimuli.curves.metrics.curve_metrics` of :meth:`sample`,
-        with the solver's own figures (``iterations``, ``solver_g2_error``,
-        ``closure_error``)."""
-        out = curve_metrics(self.sample(samples))
-        out.update(iterations=self.iterations, solver_g2_error=self.g2_error, closure_error=self.closure_error)
-        return out
