@@ -143,12 +143,12 @@ def test_box_and_automatic_recover_a_photographed_object():
 
 
 def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
-    # a photo above WORK_PIXELS is reduced for GrabCut; a box 1 px inside the
-    # frame must still leave background on the reduced copy, and the mask
-    # never leaves the box
+    # a photo above ASSISTED_WORK_PIXELS is reduced for GrabCut; a box 1 px
+    # inside the frame must still leave background on the reduced copy, and
+    # the mask never leaves the box
     from stimuli.extraction import photo
 
-    monkeypatch.setattr(photo, "WORK_PIXELS", 5000)
+    monkeypatch.setattr(photo, "ASSISTED_WORK_PIXELS", 5000)
     shape = (120, 160)
     img, truth = _photo(shape, seed=3, box=(40, 30, 80, 60))
     res = photo.segment_photo(img, box=(1, 1, shape[1] - 2, shape[0] - 2))
@@ -157,6 +157,20 @@ def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
     inside[1:-1, 1:-1] = True
     assert not (res.mask & ~inside).any()
     assert (res.mask & truth).sum() / (res.mask | truth).sum() > 0.9
+
+
+def test_box_mode_keeps_more_resolution_than_the_automatic_search(monkeypatch):
+    # a person's box is drawn on the full photo: box mode reduces only above
+    # ASSISTED_WORK_PIXELS, the automatic search above WORK_PIXELS
+    from stimuli.extraction import photo
+
+    monkeypatch.setattr(photo, "WORK_PIXELS", 5000)
+    img, truth = _photo((120, 160), seed=3, box=(40, 30, 80, 60))
+    auto = photo.segment_photo(img)
+    boxed = photo.segment_photo(img, box=(34, 24, 92, 72))
+    assert auto.params["scale"] == pytest.approx(np.sqrt(5000 / (120 * 160)))
+    assert boxed.params["scale"] == 1.0
+    assert (boxed.mask & truth).sum() / (boxed.mask | truth).sum() > 0.95
 
 
 def test_scribbles_alone_and_with_a_box():
