@@ -33,6 +33,8 @@ References
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from stimuli.extraction.grabcut import box_labels, core_labels, grabcut, largest_filled
@@ -75,17 +77,22 @@ def box_hypotheses(bgr, box, iterations=5):
     """
     import cv2
 
+    from concurrent.futures import ThreadPoolExecutor
+
     images = {"rgb": bgr, "lab": cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)}
-    out = {}
-    for name, (space, start) in HYPOTHESES.items():
+
+    def run(space, start):
         img = images[space]
         if start == "box":
-            raw = grabcut(img, box=box, iterations=iterations)
-        else:
-            labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, CORE)
-            raw = grabcut(img, labels=labels, iterations=iterations)
-        out[name] = largest_filled(raw)
-    return out
+            return largest_filled(grabcut(img, box=box, iterations=iterations))
+        labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, CORE)
+        return largest_filled(grabcut(img, labels=labels, iterations=iterations))
+
+    # OpenCV releases the GIL and seeds each thread's generator in grabcut(),
+    # so the starts run side by side and give what they give one by one
+    with ThreadPoolExecutor(min(len(HYPOTHESES), os.cpu_count() or 1)) as pool:
+        futures = {name: pool.submit(run, *how) for name, how in HYPOTHESES.items()}
+        return {name: f.result() for name, f in futures.items()}
 
 
 def hypothesis_score(image, mask, box):

@@ -66,7 +66,7 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   best of the four starts 0.81 on horses: the targets lie beyond GrabCut's
   colour models on these photos, not in the choice among them.
   Box and scribble modes reduce a photo only above
-  :data:`ASSISTED_WORK_PIXELS` (1 Mpx; the automatic search keeps
+  :data:`ASSISTED_WORK_PIXELS` (0.5 Mpx; the automatic search keeps
   :data:`WORK_PIXELS`): GrabCut at full size, as the anchor runs it, on the
   eight objects photos of 0.27-0.49 Mpx raised five (one cross 0.305 ->
   0.735) and lowered two (a start other than the best won on one, 0.884 ->
@@ -112,7 +112,7 @@ WORK_PIXELS = 250_000
 #: Box and scribble modes run on at most this many pixels: a person's box or strokes are drawn
 #: on the full photo, and reducing a 0.27-0.49 Mpx photo to WORK_PIXELS lost thin parts (see
 #: the module notes).
-ASSISTED_WORK_PIXELS = 1_000_000
+ASSISTED_WORK_PIXELS = 500_000
 #: Scribble colours (RGB): object strokes pure red, background strokes pure blue.
 SCRIBBLE_OBJECT = (255, 0, 0)
 SCRIBBLE_BACKGROUND = (0, 0, 255)
