@@ -28,8 +28,12 @@ share, the ok precision (IoU >= 0.8) and the smallest IoU among ok. With
 ``--csv`` writes one row per photo and mode (the verdict's measures and
 the half included), for ``benchmarks/calibrate_verdict.py``.
 
+With ``--holes`` the outlines' holes are traced too
+(``extract(..., holes=True)``) and IoU counts the outline's inside less
+its holes (the verdict then measures the object's own pixels).
+
 Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.csv] [--modes auto,box,grabcut]
-       [--workers N] [--progress]
+       [--workers N] [--progress] [--holes]
 """
 
 from __future__ import annotations
@@ -107,8 +111,11 @@ def _progress(args, got):
               file=sys.stderr, flush=True)
 
 
-def measure_photo(path, modes):
-    """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask."""
+def measure_photo(path, modes, holes=False):
+    """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask.
+
+    With `holes`, the outline's holes are traced too and the object is the
+    outline's inside less its holes' insides."""
     import cv2
 
     from stimuli.errors import InputError
@@ -130,12 +137,14 @@ def measure_photo(path, modes):
             pred = plain_grabcut(rgb, box)
         else:
             try:
-                ex = extract(rgb, method="auto", boxes=[box] if mode == "box" else None, name=p.name)
+                ex = extract(rgb, method="auto", boxes=[box] if mode == "box" else None, holes=holes, name=p.name)
             except InputError as exc:
                 row.update(status="failed", reason=str(exc), iou=0.0, seconds=time.perf_counter() - t0)
                 rows.append(row)
                 continue
             pred = coverage(ex.contour, truth.shape) >= 0.5
+            for hole in ex.holes[0] if holes else ():
+                pred &= coverage(hole, truth.shape) < 0.5
             v = judge(rgb, ex)
             row.update(status=v.status, reason=v.reason, resolved=ex.params.get("resolved"),
                        **{k: v.measures[k] for k in MEASURES})
@@ -152,6 +161,8 @@ def main(argv=None):
     ap.add_argument("--modes", default="auto,box,grabcut")
     ap.add_argument("--progress", action="store_true", help="one line per photo on stderr")
     ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
+    ap.add_argument("--holes", action="store_true",
+                    help="trace the outlines' holes too; the object is the outline less its holes")
     args = ap.parse_args(argv)
 
     import pandas as pd
@@ -167,7 +178,7 @@ def main(argv=None):
     modes = args.modes.split(",")
     rows = []
     t_start = time.perf_counter()
-    tasks = [(str(p), modes) for p in photos]
+    tasks = [(str(p), modes, args.holes) for p in photos]
     if args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 

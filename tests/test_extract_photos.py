@@ -173,6 +173,26 @@ def test_box_mode_keeps_more_resolution_than_the_automatic_search(monkeypatch):
     assert (boxed.mask & truth).sum() / (boxed.mask | truth).sum() > 0.95
 
 
+def test_holes_of_a_photographed_object_are_traced_when_asked():
+    # a red frame (a square ring) on the textured ground: its hole, 20 x 20 px
+    # of background, is the object's hole, not part of it
+    img, truth = _photo(seed=7, box=(50, 30, 60, 50))
+    hole = np.zeros_like(truth)
+    hole[45:65, 70:90] = True
+    rng = np.random.default_rng(8)
+    img[hole] = np.clip(rng.normal((90, 110, 80), 12, (hole.sum(), 3)), 0, 255).astype(np.uint8)
+    box = (44, 24, 72, 62)
+    plain = extract(img, method="photo", boxes=[box])
+    holed = extract(img, method="photo", boxes=[box], holes=True)
+    assert plain.holes == [[]]
+    # the outline itself is the same, with or without its holes
+    np.testing.assert_array_equal(plain.contour.points, holed.contour.points)
+    assert len(holed.holes[0]) == 1
+    traced = coverage(holed.holes[0][0], truth.shape) >= 0.5
+    assert (traced & hole).sum() / (traced | hole).sum() > 0.8
+    assert _iou(holed.contour, truth) > 0.95
+
+
 def test_scribbles_alone_and_with_a_box():
     img, truth = _photo(seed=5)
     marks = np.zeros(truth.shape, np.uint8)

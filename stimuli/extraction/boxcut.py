@@ -37,7 +37,7 @@ import os
 
 import numpy as np
 
-from stimuli.extraction.grabcut import box_labels, core_labels, grabcut, largest_filled
+from stimuli.extraction.grabcut import box_labels, core_labels, fill_holes, grabcut, largest_part
 
 __all__ = ["BOX_BAND", "CORE", "GAP_FREE", "GAP_WEIGHT", "HYPOTHESES", "box_hypotheses", "hypothesis_score",
            "choose_hypothesis"]
@@ -73,7 +73,7 @@ def box_hypotheses(bgr, box, iterations=5):
     Returns
     -------
     dict
-        Hypothesis name -> (H, W) bool mask (largest part, holes filled).
+        Hypothesis name -> (H, W) bool mask (largest part, its holes kept).
     """
     import cv2
 
@@ -84,9 +84,9 @@ def box_hypotheses(bgr, box, iterations=5):
     def run(space, start):
         img = images[space]
         if start == "box":
-            return largest_filled(grabcut(img, box=box, iterations=iterations))
+            return largest_part(grabcut(img, box=box, iterations=iterations))
         labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, CORE)
-        return largest_filled(grabcut(img, labels=labels, iterations=iterations))
+        return largest_part(grabcut(img, labels=labels, iterations=iterations))
 
     # OpenCV releases the GIL and seeds each thread's generator in grabcut(),
     # so the starts run side by side and give what they give one by one
@@ -103,6 +103,7 @@ def hypothesis_score(image, mask, box):
     image : ndarray
         The photo (grey, RGB or RGBA in RGB order).
     mask : (H, W) bool ndarray
+        Its holes are filled before it is measured.
     box : (x, y, width, height)
 
     Returns
@@ -131,6 +132,7 @@ def hypothesis_score(image, mask, box):
     from stimuli.geometry.contour import Contour
 
     x, y, bw, bh = box
+    mask = fill_holes(mask)
     fill = np.count_nonzero(mask) / (bw * bh)
     if not 0.03 <= fill <= 0.97:
         return float("inf")

@@ -18,7 +18,8 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "core_labels", "grabcut", "largest_filled"]
+__all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "core_labels", "grabcut", "largest_part",
+           "fill_holes", "largest_filled"]
 
 #: GrabCut's labels (as cv2.GC_BGD, GC_FGD, GC_PR_BGD, GC_PR_FGD).
 BGD, FGD, PR_BGD, PR_FGD = 0, 1, 2, 3
@@ -201,16 +202,28 @@ def grabcut(bgr, box=None, labels=None, iterations=5):
     return (gc == FGD) | (gc == PR_FGD)
 
 
-def largest_filled(mask):
-    """The largest 8-connected part of a mask, with its holes filled (all False if the mask is empty)."""
+def largest_part(mask):
+    """The largest 8-connected part of a mask, its holes kept (all False if the mask is empty)."""
     import cv2
 
     m = np.ascontiguousarray(mask, dtype=np.uint8)
     n, lab, stats, _ = cv2.connectedComponentsWithStats(m, connectivity=8)
     if n <= 1:
         return np.zeros(m.shape, bool)
-    keep = (lab == 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))).astype(np.uint8)
-    outlines, _ = cv2.findContours(keep, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    filled = np.zeros_like(keep)
+    return lab == 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+
+
+def fill_holes(mask):
+    """A mask with every region its outer outlines enclose filled."""
+    import cv2
+
+    outlines, _ = cv2.findContours(np.ascontiguousarray(mask, dtype=np.uint8), cv2.RETR_EXTERNAL,
+                                   cv2.CHAIN_APPROX_NONE)
+    filled = np.zeros(mask.shape, np.uint8)
     cv2.drawContours(filled, outlines, -1, 1, thickness=-1)
     return filled.astype(bool)
+
+
+def largest_filled(mask):
+    """The largest 8-connected part of a mask, with its holes filled (all False if the mask is empty)."""
+    return fill_holes(largest_part(mask))

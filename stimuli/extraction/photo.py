@@ -88,7 +88,8 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   background; with a box they refine it, alone the object is sought near
   the object strokes.
 
-The largest object is kept with its holes filled. Points and boxes are in
+The largest object is kept with its holes (the outline is traced around
+them; ``extract(..., holes=True)`` traces them too). Points and boxes are in
 image pixels (x = column, y = row, y down).
 
 References
@@ -109,7 +110,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
 from stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
-                                        largest_filled, to_bgr8)
+                                        fill_holes, largest_part, to_bgr8)
 
 __all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "BOX_BAND", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo",
            "read_scribbles", "mask_iou", "box_around"]
@@ -132,7 +133,7 @@ class PhotoMask:
     Attributes
     ----------
     mask : (H, W) bool ndarray
-        The object (largest part, holes filled), at the photo's size.
+        The object (largest part, its holes kept), at the photo's size.
     agreement : float
         IoU of the two hypotheses the method compared (1 = identical).
     params : dict
@@ -224,8 +225,8 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
     if scribbles is not None:
         marks = scribbles if scale == 1.0 else cv2.resize(scribbles, (sw, sh), interpolation=cv2.INTER_NEAREST)
         labels = _scribble_labels(marks, sbox)
-        first = largest_filled(grabcut(smooth, labels=labels, iterations=iterations))
-        second = largest_filled(grabcut(small, labels=labels, iterations=iterations))
+        first = largest_part(grabcut(smooth, labels=labels, iterations=iterations))
+        second = largest_part(grabcut(small, labels=labels, iterations=iterations))
         mode = "scribbles" if box is None else "box+scribbles"
     elif sbox is not None:
         # several GrabCut hypotheses; the one whose outline separates colours
@@ -235,7 +236,7 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         if chosen is None:
             # every hypothesis took (nearly) nothing or the whole box: a person's box
             # is centred on the object, so its core is held as object
-            second = largest_filled(grabcut(smooth, labels=_core_labels(smooth.shape, sbox), iterations=iterations))
+            second = largest_part(grabcut(smooth, labels=_core_labels(smooth.shape, sbox), iterations=iterations))
             first = second
         else:
             second = masks[chosen]
@@ -247,15 +248,16 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         # in CIE Lab: raised the median IoU on both halves of both groups of the development photos
         smooth_lab = cv2.cvtColor(smooth, cv2.COLOR_BGR2LAB)
         raw = grabcut(smooth_lab, box=inset_box(smooth.shape), iterations=iterations)
-        first = largest_filled(raw)
+        first = largest_part(raw)
         second = first
         if first.any():
             around = box_around(first, 0.05)
             if around[2] * around[3] < 0.9 * sw * sh:
-                second = largest_filled(grabcut(smooth_lab, box=around, iterations=iterations))
+                second = largest_part(grabcut(smooth_lab, box=around, iterations=iterations))
         mode = "auto"
     competing = _runner_up(raw) if mode == "auto" else None
-    agreement = mask_iou(first, second)
+    # the two hypotheses' outlines, holes aside, are compared (the verdict's threshold is set on that)
+    agreement = mask_iou(fill_holes(first), fill_holes(second))
     # auto: the first hypothesis is the answer (re-boxing it was less accurate
     # on the development photos); box and scribbles: the smoothed photo's
     mask = first if mode == "auto" else second
