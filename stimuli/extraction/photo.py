@@ -118,8 +118,8 @@ from stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesi
 from stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
                                         fill_holes, largest_part, to_bgr8)
 
-__all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "BOX_BAND", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo",
-           "read_scribbles", "mask_iou", "box_around"]
+__all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "BOX_BAND", "SCRIBBLE_OBJECT", "SCRIBBLE_BACKGROUND", "PhotoMask",
+           "segment_photo", "read_scribbles", "mask_iou", "box_around"]
 
 #: The automatic search runs on at most this many pixels (larger photos are reduced).
 WORK_PIXELS = 250_000
