@@ -63,7 +63,14 @@ The pipeline
    about 0.004 px RMS. A two-valued image (a binary mask, whatever the
    method) has no grey levels to interpolate: its marching-squares outline
    (a staircase) is smoothed lightly along the arc (``mask_sigma`` px,
-   default 1) instead.
+   default 1) instead. A photograph's figure-ground mask (``'photo'``,
+   boxes, scribbles) is traced the same way on the photo's colour edge
+   (:mod:`stimuli.extraction.colour_edge`: each pixel's colour projected
+   on the line from the local background colour to the local object
+   colour), so that the outline lies on the edge where the edge is sharp
+   (an exact-coverage disk, noise 0-10 levels: 0.005-0.07 px RMS, against 0.3 px
+   for the mask's staircase) and is the mask's own where it is faint; it
+   moves at most onto the pixels next to the mask's boundary.
 5. **Curvature and surprisal** (:func:`describe`): the contour is
    smoothed along its arc with a periodic Gaussian whose scale is tied to
    the shape, ``sigma = SIGMA_FRACTION * perimeter`` (1 %) unless given, at
@@ -371,7 +378,7 @@ def _extract(seg, name, objects, min_area, holes, min_hole_area, mask_sigma, pre
         if field_ is not None:
             rings, smoothed_ok, was_local = trace_grey(
                 field_(r0, r1, c0, c1), level, obj, on[r0:r1, c0:c1], n_filled, (c0, r0),
-                presmooth, local_level,
+                presmooth, local_level, seg.near_mask,
             )
             presmoothed.append(smoothed_ok)
             localised.append(was_local)

@@ -99,9 +99,12 @@ class Segmentation:
     image is two-valued (a mask: traced as a staircase, then smoothed).
     """
 
-    def __init__(self, on, params, source=None, sign=1.0, level=0.5):
+    def __init__(self, on, params, source=None, sign=1.0, level=0.5, near_mask=False):
         self.on = on
         self.params = params
+        # the mask comes from elsewhere than the field (a photo's figure-ground):
+        # the traced outline is checked against it (trace.trace_grey)
+        self.near_mask = near_mask
         self._source = source
         self._sign = sign
         # float32 halves the memory traffic of the per-pixel steps (its
@@ -169,9 +172,12 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
     if method == "photo":
         from stimuli.extraction.photo import segment_photo
 
+        from stimuli.extraction.colour_edge import colour_edge_field
+
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
-        return Segmentation(res.mask, params)
+        # the mask's outline, moved onto the photo's colour edge where it is sharp
+        return Segmentation(res.mask, params, colour_edge_field(img, res.mask), 1.0, 0.5, near_mask=True)
     if method == "model":
         from stimuli.extraction.model import object_probability
 

@@ -75,7 +75,7 @@ def _local_level_field(field, level, obj, cls):
     return field - up + level
 
 
-def trace_grey(field, level, obj, cls, n_filled, offset, presmooth, local_level):
+def trace_grey(field, level, obj, cls, n_filled, offset, presmooth, local_level, near_mask=False):
     """Rings of one object's boundary on its grey crop `field` (object above `level`).
 
     `obj` marks the crop's pixels that count as object (the object with its
@@ -84,7 +84,10 @@ def trace_grey(field, level, obj, cls, n_filled, offset, presmooth, local_level)
 
     Returns (rings, presmoothed, local): the first of (local level, 3x3
     average), (global level, 3x3 average), (global level, raw) that keeps
-    the object whole.
+    the object whole: its traced area within 2 % of its pixel count or,
+    with `near_mask` (a mask from elsewhere, e.g. a photo's figure-ground,
+    which may be a pixel off the field's edge), its outer ring within the
+    pixels next to the mask's boundary (:func:`_near_mask`).
     """
     import cv2
 
@@ -124,7 +127,9 @@ def trace_grey(field, level, obj, cls, n_filled, offset, presmooth, local_level)
         if smooth:
             e = cv2.blur(e, (3, 3), borderType=cv2.BORDER_REPLICATE)
         rings = _rings_from_find_contours(e, level, offset)
-        if i == len(tries) - 1 or (rings and _same_topology(rings, n_filled)):
+        whole = rings and (_near_mask(rings, obj, (offset[0] + pad, offset[1] + pad)) if near_mask
+                           else _same_topology(rings, n_filled))
+        if i == len(tries) - 1 or whole:
             return rings, smooth, local
     raise AssertionError("unreachable")  # pragma: no cover
 
@@ -138,6 +143,23 @@ def _same_topology(rings, n):
     # the traced area differs from the pixel count by well under a pixel per
     # boundary pixel; losing a part of the object costs far more
     return abs(a - n) <= 0.02 * n + 2.0
+
+
+def _near_mask(rings, obj, origin):
+    """Whether the rings (an outline and its holes) differ from the mask `obj` (a crop whose
+    pixel (0, 0) is at `origin` (x, y)) only on pixels next to the mask's boundary: the outline
+    moved within a pixel of the mask's own, and lost or gained no part."""
+    import cv2
+
+    shift = 4  # 1/16 px
+    pts = [np.round((r - np.asarray(origin, float)) * (1 << shift)).astype(np.int32) for r in rings]
+    raster = np.zeros(obj.shape, np.uint8)
+    cv2.fillPoly(raster, pts, 1, lineType=cv2.LINE_8, shift=shift)  # even-odd: holes stay empty
+    m = obj.view(np.uint8) if obj.dtype == bool else obj.astype(np.uint8)
+    k3 = np.ones((3, 3), np.uint8)
+    band = cv2.dilate(m, k3) > cv2.erode(m, k3, borderType=cv2.BORDER_CONSTANT, borderValue=1)
+    off = (raster.astype(bool) != m.astype(bool)) & ~band
+    return int(np.count_nonzero(off)) <= 2
 
 
 def trace_mask(obj, offset):
