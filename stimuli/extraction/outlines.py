@@ -64,7 +64,7 @@ The pipeline
    method) has no grey levels to interpolate: its marching-squares outline
    (a staircase) is smoothed lightly along the arc (``mask_sigma`` px,
    default 1) instead. A photograph's figure-ground mask (``'photo'``,
-   boxes, scribbles) is traced the same way on the photo's colour edge
+   boxes, scribbles, ``'grabcut'``) is traced the same way on the photo's colour edge
    (:mod:`stimuli.extraction.colour_edge`: each pixel's colour projected
    on the line from the local background colour to the local object
    colour), so that the outline lies on the edge where the edge is sharp

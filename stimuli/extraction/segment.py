@@ -191,7 +191,9 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         on, rect = grabcut_mask(img, rect, grabcut_iterations, name)
         params.update(polarity="grabcut", threshold=None, level=None, rect=list(rect),
                       iterations=int(grabcut_iterations))
-        return Segmentation(on, params)
+        from stimuli.extraction.colour_edge import colour_edge_field
+
+        return Segmentation(on, params, colour_edge_field(img, on), 1.0, 0.5, near_mask=True)
     if method == "alpha":
         _, alpha = split_channels(img, name)
         if alpha is None:
