@@ -228,6 +228,21 @@ def test_colour_edge_field_keeps_the_mask_where_the_edge_is_faint():
     assert f[10, 14] == pytest.approx(1.0, abs=1e-4) and f[10, 15] == pytest.approx(0.0, abs=1e-4)
 
 
+def test_colour_edge_source_computes_only_the_crop_asked_for():
+    from stimuli.extraction.colour_edge import ColourEdgeSource, colour_edge_field
+
+    img, truth = _photo(seed=2)
+    whole = colour_edge_field(img, truth)
+    crop = ColourEdgeSource(img, truth)[20:90, 35:130]
+    assert crop.shape == (70, 95) and crop.dtype == np.float32
+    # the same field on the pixels the outline can pass through (those next to the mask's
+    # boundary): the local colours are taken over the same window, on another block grid
+    from scipy import ndimage as ndi
+
+    band = (ndi.binary_dilation(truth) & ~ndi.binary_erosion(truth))[20:90, 35:130]
+    assert band.sum() > 100 and np.abs(crop - whole[20:90, 35:130])[band].max() < 0.02
+
+
 def test_scribbles_alone_and_with_a_box():
     img, truth = _photo(seed=5)
     marks = np.zeros(truth.shape, np.uint8)

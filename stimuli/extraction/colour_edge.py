@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SHARP_CONTRAST", "LOCAL_RADIUS", "colour_edge_field"]
+__all__ = ["SHARP_CONTRAST", "LOCAL_RADIUS", "colour_edge_field", "ColourEdgeSource"]
 
 #: Distance (8-bit RGB) between the object's and the background's local colours below which the
 #: edge is not used; the edge is used fully from twice this distance.
@@ -116,3 +116,39 @@ def colour_edge_field(image, mask, sharp=SHARP_CONTRAST, radius=LOCAL_RADIUS):
     known = (n_in > 1e-3) & (n_out > 1e-3)
     wgt = np.where(known, np.clip(np.sqrt(n2) / sharp - 1.0, 0.0, 1.0), 0.0)
     return (wgt * np.clip(t, -0.5, 1.5) + (1.0 - wgt) * m).astype(np.float32)
+
+
+class ColourEdgeSource:
+    """:func:`colour_edge_field` computed only where it is asked for.
+
+    Indexing with two slices (``source[r0:r1, c0:c1]``, as
+    :class:`~stimuli.extraction.segment.Segmentation` crops its source)
+    returns the field of that crop, computed on the crop widened by the
+    local window, so that a large photo never holds its whole field and
+    the temporaries of its computation (several float copies of the
+    photo) at once.
+
+    Parameters
+    ----------
+    image : ndarray
+        The photo (grey, RGB or RGBA in RGB order).
+    mask : (H, W) bool ndarray
+        The object's pixels.
+    """
+
+    ndim = 2
+
+    def __init__(self, image, mask):
+        self.image = image
+        self.mask = mask
+        self.shape = mask.shape
+
+    def __getitem__(self, key):
+        rows, cols = key
+        h, w = self.shape
+        r0, r1, _ = rows.indices(h)
+        c0, c1, _ = cols.indices(w)
+        pad = LOCAL_RADIUS + 2 * _BLOCK
+        R0, R1, C0, C1 = max(0, r0 - pad), min(h, r1 + pad), max(0, c0 - pad), min(w, c1 + pad)
+        f = colour_edge_field(self.image[R0:R1, C0:C1], self.mask[R0:R1, C0:C1])
+        return f[r0 - R0 : r1 - R0, c0 - C0 : c1 - C0]

@@ -172,12 +172,12 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
     if method == "photo":
         from stimuli.extraction.photo import segment_photo
 
-        from stimuli.extraction.colour_edge import colour_edge_field
+        from stimuli.extraction.colour_edge import ColourEdgeSource
 
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
         # the mask's outline, moved onto the photo's colour edge where it is sharp
-        return Segmentation(res.mask, params, colour_edge_field(img, res.mask), 1.0, 0.5, near_mask=True)
+        return Segmentation(res.mask, params, ColourEdgeSource(img, res.mask), 1.0, 0.5, near_mask=True)
     if method == "model":
         from stimuli.extraction.model import object_probability
 
@@ -191,9 +191,9 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         on, rect = grabcut_mask(img, rect, grabcut_iterations, name)
         params.update(polarity="grabcut", threshold=None, level=None, rect=list(rect),
                       iterations=int(grabcut_iterations))
-        from stimuli.extraction.colour_edge import colour_edge_field
+        from stimuli.extraction.colour_edge import ColourEdgeSource
 
-        return Segmentation(on, params, colour_edge_field(img, on), 1.0, 0.5, near_mask=True)
+        return Segmentation(on, params, ColourEdgeSource(img, on), 1.0, 0.5, near_mask=True)
     if method == "alpha":
         _, alpha = split_channels(img, name)
         if alpha is None:
