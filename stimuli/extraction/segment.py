@@ -97,13 +97,14 @@ class Segmentation:
     returns a float32 crop in which the object is *above* ``level`` (the
     grey levels, negated for a dark object), or ``field`` is None when the
     image is two-valued (a mask: traced as a staircase, then smoothed).
+    ``near_mask``: the mask was found by other means than the field (a
+    photo's figure-ground traced on its colour edge), so the traced outline
+    is held near the mask (:func:`stimuli.extraction.trace.trace_grey`).
     """
 
     def __init__(self, on, params, source=None, sign=1.0, level=0.5, near_mask=False):
         self.on = on
         self.params = params
-        # the mask comes from elsewhere than the field (a photo's figure-ground):
-        # the traced outline is checked against it (trace.trace_grey)
         self.near_mask = near_mask
         self._source = source
         self._sign = sign
@@ -170,9 +171,8 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         method = "photo" if box is not None or scribbles is not None else image_kind(img, name)
         params["resolved"] = method
     if method == "photo":
-        from stimuli.extraction.photo import segment_photo
-
         from stimuli.extraction.colour_edge import ColourEdgeSource
+        from stimuli.extraction.photo import segment_photo
 
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
