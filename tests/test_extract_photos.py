@@ -371,6 +371,30 @@ def test_model_method_through_a_tiny_onnx_network(tmp_path, capsys):
     assert "model-size" in (out / "summary.csv").read_text()
 
 
+def test_model_on_a_box_sees_the_boxed_object_at_its_full_input_size(tmp_path):
+    # two red disks; the box points the network at the smaller one, which it
+    # then sees at its whole 32 px input instead of a few px of a 32 px map
+    _tiny_network(tmp_path / "tiny.onnx", 32)
+    cov = np.maximum(_disk((120, 160), 50.3, 60.2, 30), _disk((120, 160), 127.6, 40.4, 14))
+    img = np.empty(cov.shape + (3,), np.uint8)
+    img[..., 0] = np.round(40 + 180 * cov)
+    img[..., 1] = np.round(200 - 160 * cov)
+    img[..., 2] = 90
+    model = dict(model_file=tmp_path / "tiny.onnx", size=32, mean=(0, 0, 0), std=(1, 1, 1))
+    whole = extract(img, method="model", model=model)
+    boxed = extract(img, method="model", model=model, boxes=[(112, 25, 31, 31)])
+    assert whole.contour.centroid[0] < 80  # the larger disk
+    cx, cy = boxed.contour.centroid
+    assert abs(cx - 127.6) < 0.5 and abs(cy - 40.4) < 0.5 and boxed.params["box"] == [112, 25, 31, 31]
+    assert boxed.contour.area == pytest.approx(np.pi * 14**2, rel=0.03)
+    both = extract(img, method="model", model=model, boxes=[(18, 28, 65, 65), (112, 25, 31, 31)], objects="all")
+    assert len(both.contours) == 2
+    with pytest.raises(InputError, match="inside the 160x120 image"):
+        extract(img, method="model", model=model, boxes=[(150, 25, 31, 31)])
+    with pytest.raises(InputError, match="scribbles need"):
+        extract(img, method="model", model=model, scribbles=np.zeros(cov.shape, np.uint8))
+
+
 def test_auto_keeps_the_exact_paths_of_masks_renders_and_cut_outs():
     from stimuli.extraction.segment import image_kind
 

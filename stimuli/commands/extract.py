@@ -35,7 +35,8 @@ def add_parser(sub):
         "photograph by photo; otsu: one object on a plain background; threshold: a known edge grey level "
         "(--threshold); mask: a binary silhouette of either polarity; alpha: the alpha channel of a "
         "cut-out; grabcut: plain GrabCut (--rect); photo: automatic figure-ground for photographs, or "
-        "box/scribble-assisted (--boxes, --scribbles); model: an ONNX network (--model-file)",
+        "box/scribble-assisted (--boxes, --scribbles); model: an ONNX network (--model-file), on each box "
+        "with --boxes",
     )
     p.add_argument("--boxes", metavar="BOXES.csv", default=None,
                    help="boxes around the objects: columns image,x,y,width,height (image: file name or stem; "

@@ -11,6 +11,12 @@ the object's probability. Values outside [0, 1] are taken as logits
 (passed through a sigmoid). The map is brought back to the photo's size and
 the outline is traced on it at probability 0.5 to sub-pixel accuracy.
 
+With a box (``--boxes``), the network sees only the box widened by
+:data:`BOX_CONTEXT` of its size on every side (within the photo), resized
+to its input: the object it is pointed at, at the network's full
+resolution, and some of its surroundings; outside the box the probability
+is 0, so the outline never leaves it.
+
 References
 ----------
 .. [1] Qin, X., Zhang, Z., Huang, C., Dehghan, M., Zaiane, O. R., &
@@ -24,13 +30,15 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "object_probability"]
+__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "BOX_CONTEXT", "object_probability", "boxed_probability"]
 
 #: Default network input size (px, square): U^2-Net's.
 MODEL_SIZE = 320
 #: Default per-channel normalisation (RGB, on [0, 1] values): ImageNet's.
 MODEL_MEAN = (0.485, 0.456, 0.406)
 MODEL_STD = (0.229, 0.224, 0.225)
+#: With a box, the network sees the box widened by this fraction of its width and height on every side.
+BOX_CONTEXT = 0.1
 
 _SESSIONS = {}
 
@@ -108,3 +116,43 @@ def object_probability(image, model_file, size=MODEL_SIZE, mean=MODEL_MEAN, std=
     if p.min() < 0 or p.max() > 1:
         p = 1.0 / (1.0 + np.exp(-p))
     return np.clip(cv2.resize(p, (w, h), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
+
+
+def boxed_probability(image, box, name="image", **model):
+    """The network's object probability inside a box, from the box and its surroundings alone.
+
+    Parameters
+    ----------
+    image : ndarray
+        Grey, RGB or RGBA (RGB order), any depth.
+    box : (x, y, width, height)
+        Image pixels, inside the image.
+    name : str
+        Names the image in messages.
+    **model
+        ``model_file``, ``size``, ``mean``, ``std`` as for :func:`object_probability`.
+
+    Returns
+    -------
+    prob : (H, W) float32 ndarray
+        The probability the network gives on the box widened by
+        :data:`BOX_CONTEXT` (clipped to the photo), 0 outside the box.
+    box : (x, y, width, height)
+        The box, checked.
+
+    Raises
+    ------
+    InputError
+        A box outside the image, and as :func:`object_probability`.
+    """
+    from stimuli.extraction.grabcut import check_box
+
+    box = check_box(box, np.shape(image), name, "box")
+    h, w = np.shape(image)[:2]
+    x, y, bw, bh = box
+    mx, my = int(round(BOX_CONTEXT * bw)), int(round(BOX_CONTEXT * bh))
+    x0, y0, x1, y1 = max(0, x - mx), max(0, y - my), min(w, x + bw + mx), min(h, y + bh + my)
+    prob = np.zeros((h, w), np.float32)
+    window = object_probability(np.asarray(image)[y0:y1, x0:x1], **model)
+    prob[y : y + bh, x : x + bw] = window[y - y0 : y - y0 + bh, x - x0 : x - x0 + bw]
+    return prob, box

@@ -238,7 +238,9 @@ def extract(
         'grabcut' initial rectangle; default the image inset by 5 %.
     boxes : list of (x, y, width, height), optional
         Boxes around the object(s) (image pixels): one outline per box, in
-        box order ('photo' method; several need ``objects='all'``).
+        box order ('photo' and 'model' methods; several need
+        ``objects='all'``). With 'model' the network sees the box widened
+        by :data:`~stimuli.extraction.model.BOX_CONTEXT` on every side.
     scribbles : (H, W) uint8 ndarray, optional
         0 unmarked, 1 object, 2 background
         (:func:`stimuli.extraction.photo.read_scribbles`); 'photo' method.
@@ -286,8 +288,10 @@ def extract(
         raise InputError(f"mask_sigma must be >= 0, got {mask_sigma}")
     img, default_name = load_image(image_or_path)
     name = default_name if name is None else str(name)
-    if (boxes is not None or scribbles is not None) and method not in ("auto", "photo"):
-        raise InputError(f"{name}: boxes and scribbles need method 'auto' or 'photo', not {method!r}")
+    if scribbles is not None and method not in ("auto", "photo"):
+        raise InputError(f"{name}: scribbles need method 'auto' or 'photo', not {method!r}")
+    if boxes is not None and method not in ("auto", "photo", "model"):
+        raise InputError(f"{name}: boxes need method 'auto', 'photo' or 'model', not {method!r}")
     if boxes is not None and len(boxes) > 1 and objects != "all":
         raise InputError(f"{name}: {len(boxes)} boxes for one image need objects='all' (--objects all)")
     opts = (objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level)

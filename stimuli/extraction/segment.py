@@ -183,8 +183,14 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
 
         if not model or not model.get("model_file"):
             raise InputError("method 'model' needs a model file (--model-file FILE.onnx)")
-        prob = object_probability(img, **model)
-        params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]))
+        if box is None:
+            prob = object_probability(img, **model)
+        else:
+            from stimuli.extraction.model import boxed_probability
+
+            prob, box = boxed_probability(img, box, name=name, **model)
+        params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]),
+                      box=None if box is None else list(box))
         return Segmentation(prob > 0.5, params, prob, 1.0, 0.5)
     if method == "grabcut":
         split_channels(img, name)  # validates the array
