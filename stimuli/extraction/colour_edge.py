@@ -46,7 +46,12 @@ _BLOCK = 4
 def _local_means(values, weight, radius):
     """Per-pixel weighted means of `values` (H, W, C) over a square window, weights (H, W) in {0, 1};
     and the weight sums. Sums are taken on 4 x 4 blocks and brought back bilinearly before they are
-    divided (the means vary slowly; a block without weight then does not pull its neighbours' means)."""
+    divided (the means vary slowly; a block without weight then does not pull its neighbours' means).
+
+    The grey path's local level (:func:`stimuli.extraction.trace._local_level_field`) divides on
+    the blocks instead, where a block without weight holds the global level; it was measured as
+    it is (disks to 0.004 px), and the same sums divided after interpolation trace graded
+    backgrounds 2 % less accurately, so the two are kept apart."""
     import cv2
 
     h, w = weight.shape
