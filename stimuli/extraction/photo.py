@@ -10,7 +10,7 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   inset by 5 % is the answer; GrabCut again from the box around what it found (5 %
   margin) is a second hypothesis, and the agreement (IoU) of the two is a
   measure of how sure the answer is (it feeds the verdict); median IoU on
-  the development photos 0.725 horses (halves A / B 0.718 / 0.730) and
+  the development photos 0.724 horses (halves A / B 0.718 / 0.730) and
   0.590 objects (0.688 / 0.414). Starting GrabCut instead from the
   geodesic distance to the photo's frame through the colour gradient (the
   background prior of Wei et al. 2012, Otsu on it as probable object) gave
@@ -26,14 +26,14 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   falling short of a side of the box is the answer; its agreement is the
   IoU with the next best. On the development photos
   (``benchmarks/validate_photos.py``, one box per photo: the mask's box
-  plus 5 %) the median IoU is 0.792 for horses (halves A / B 0.794 /
-  0.790; plain GrabCut from the same box 0.701, halves 0.722 / 0.692;
+  plus 5 %) the median IoU is 0.792 for horses (halves A / B 0.793 /
+  0.791; plain GrabCut from the same box 0.701, halves 0.722 / 0.692;
   the previous single Lab-band answer 0.736, halves 0.769 / 0.689) and
-  0.771 for objects (mean 0.803; halves 0.820 / 0.766; plain GrabCut
+  0.773 for objects (mean 0.802; halves 0.821 / 0.768; plain GrabCut
   0.761, mean 0.756, halves 0.731 / 0.786; the previous answer 0.812,
   halves 0.877 / 0.791): the choice helps horses on both halves and is
-  level or worse on the objects' medians (B: two of its eight photos). The targets (0.80 horses, 0.88
-  objects) are not met. Tried and dropped: guided-filter and SLIC
+  level or worse on the objects' medians (B: two of its eight photos).
+  The targets (0.80 horses, 0.88 objects) are not met. Tried and dropped: guided-filter and SLIC
   superpixel snapping of the mask and 10 GrabCut iterations (51 photos:
   median level or lower), more starts (cores of 0.6 and 0.8, GrabCut on
   a copy reduced to 0.7x, Lab from the plain box: the choice no better;
