@@ -134,8 +134,8 @@ __all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "BOX_BAND", "SCRIBBLE_OBJECT",
 #: The automatic search runs on at most this many pixels (larger photos are reduced).
 WORK_PIXELS = 250_000
 #: Box and scribble modes run on at most this many pixels: a person's box or strokes are drawn
-#: on the full photo, and reducing a 0.27-0.49 Mpx photo to WORK_PIXELS lost thin parts (see
-#: the module notes).
+#: on the full photo, and reducing the 0.27-0.49 Mpx development photos to WORK_PIXELS lowered
+#: five of eight of them (see the module notes); 1 Mpx took 45 s per box on an 8 Mpx photo.
 ASSISTED_WORK_PIXELS = 500_000
 #: Scribble colours (RGB): object strokes pure red, background strokes pure blue.
 SCRIBBLE_OBJECT = (255, 0, 0)
