@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from stimuli.extraction.grabcut import grabcut, largest_filled, to_bgr8
+from stimuli.extraction.grabcut import fill_holes, grabcut, largest_part, to_bgr8
 from stimuli.extraction.photo import box_around, mask_iou, segment_photo
 
 
@@ -22,7 +22,7 @@ def test_box_band_excludes_background_seen_only_inside_the_box():
     img[patch] = rng.normal((40, 200, 60), 10, (np.count_nonzero(patch), 3))
     img = np.clip(img, 0, 255).astype(np.uint8)
 
-    plain = largest_filled(grabcut(to_bgr8(img), box=box))
+    plain = fill_holes(largest_part(grabcut(to_bgr8(img), box=box)))
     assert np.count_nonzero(plain & patch) > 0.5 * np.count_nonzero(patch)  # the case is a real one
     res = segment_photo(img, box=box)
     assert np.count_nonzero(res.mask & patch) == 0

@@ -141,8 +141,6 @@ class ColourEdgeSource:
         The object's pixels.
     """
 
-    ndim = 2
-
     def __init__(self, image, mask):
         self.image = image
         self.mask = mask

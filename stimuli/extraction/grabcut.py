@@ -19,7 +19,7 @@ import numpy as np
 from stimuli.errors import InputError
 
 __all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "core_labels", "grabcut", "largest_part",
-           "fill_holes", "largest_filled"]
+           "fill_holes"]
 
 #: GrabCut's labels (as cv2.GC_BGD, GC_FGD, GC_PR_BGD, GC_PR_FGD).
 BGD, FGD, PR_BGD, PR_FGD = 0, 1, 2, 3
@@ -222,8 +222,3 @@ def fill_holes(mask):
     filled = np.zeros(mask.shape, np.uint8)
     cv2.drawContours(filled, outlines, -1, 1, thickness=-1)
     return filled.astype(bool)
-
-
-def largest_filled(mask):
-    """The largest 8-connected part of a mask, with its holes filled (all False if the mask is empty)."""
-    return fill_holes(largest_part(mask))

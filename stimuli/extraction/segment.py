@@ -81,6 +81,13 @@ def _polarity_from_border(on):
     return "light" if on.mean() <= 0.5 else "dark"
 
 
+def _on_colour_edge(img, on, params):
+    """A photo's figure-ground mask `on`, to be traced on the photo's colour edge where it is sharp."""
+    from stimuli.extraction.colour_edge import ColourEdgeSource
+
+    return Segmentation(on, params, ColourEdgeSource(img, on), 1.0, 0.5, near_mask=True)
+
+
 def grabcut_mask(image, rect, iterations, name):
     """GrabCut from a box (default: the image inset by 5 %): (object mask, the box used)."""
     from stimuli.extraction.grabcut import check_box, grabcut, inset_box, to_bgr8
@@ -171,13 +178,11 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         method = "photo" if box is not None or scribbles is not None else image_kind(img, name)
         params["resolved"] = method
     if method == "photo":
-        from stimuli.extraction.colour_edge import ColourEdgeSource
         from stimuli.extraction.photo import segment_photo
 
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
-        # the mask's outline, moved onto the photo's colour edge where it is sharp
-        return Segmentation(res.mask, params, ColourEdgeSource(img, res.mask), 1.0, 0.5, near_mask=True)
+        return _on_colour_edge(img, res.mask, params)
     if method == "model":
         from stimuli.extraction.model import object_probability
 
@@ -197,9 +202,7 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         on, rect = grabcut_mask(img, rect, grabcut_iterations, name)
         params.update(polarity="grabcut", threshold=None, level=None, rect=list(rect),
                       iterations=int(grabcut_iterations))
-        from stimuli.extraction.colour_edge import ColourEdgeSource
-
-        return Segmentation(on, params, ColourEdgeSource(img, on), 1.0, 0.5, near_mask=True)
+        return _on_colour_edge(img, on, params)
     if method == "alpha":
         _, alpha = split_channels(img, name)
         if alpha is None:

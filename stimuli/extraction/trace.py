@@ -155,10 +155,10 @@ def _near_mask(rings, obj, origin):
     pts = [np.round((r - np.asarray(origin, float)) * (1 << shift)).astype(np.int32) for r in rings]
     raster = np.zeros(obj.shape, np.uint8)
     cv2.fillPoly(raster, pts, 1, lineType=cv2.LINE_8, shift=shift)  # even-odd: holes stay empty
-    m = obj.view(np.uint8) if obj.dtype == bool else obj.astype(np.uint8)
+    m = obj.view(np.uint8)
     k3 = np.ones((3, 3), np.uint8)
     band = cv2.dilate(m, k3) > cv2.erode(m, k3, borderType=cv2.BORDER_CONSTANT, borderValue=1)
-    off = (raster.astype(bool) != m.astype(bool)) & ~band
+    off = (raster.view(bool) != obj) & ~band
     return int(np.count_nonzero(off)) <= 2
 
 
