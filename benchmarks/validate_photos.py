@@ -11,7 +11,10 @@ Per photo and per mode:
 * ``box``: one box per image, the mask's bounding box plus a 5 % margin on
   every side (as a person would draw it), ``extract(photo, boxes=[box])``;
 * ``grabcut``: the anchor, plain ``cv2.grabCut`` with the same box and 5
-  iterations on the raw photo (its mask taken as it is).
+  iterations on the raw photo (its mask taken as it is);
+* ``model`` and ``model-box``: ``method='model'`` with the network given by
+  ``--model-file`` (and ``--model-size``, ``--model-mean``,
+  ``--model-std``), without and with the box.
 
 IoU: the extracted outline rendered with exact coverage
 (``stimuli.render.coverage``) and thresholded at 0.5, against the mask;
@@ -33,7 +36,7 @@ With ``--holes`` the outlines' holes are traced too
 its holes (the verdict then measures the object's own pixels).
 
 Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.csv] [--modes auto,box,grabcut]
-       [--workers N] [--progress] [--holes]
+       [--workers N] [--progress] [--holes] [--model-file NET.onnx --model-size PX --model-mean M,M,M --model-std S,S,S]
 """
 
 from __future__ import annotations
@@ -111,11 +114,12 @@ def _progress(args, got):
               file=sys.stderr, flush=True)
 
 
-def measure_photo(path, modes, holes=False):
+def measure_photo(path, modes, holes=False, model=None):
     """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask.
 
     With `holes`, the outline's holes are traced too and the object is the
-    outline's inside less its holes' insides."""
+    outline's inside less its holes' insides. `model` holds the network's
+    options (``model_file``, ``size``, ``mean``, ``std``) for the model modes."""
     import cv2
 
     from stimuli.errors import InputError
@@ -137,7 +141,9 @@ def measure_photo(path, modes, holes=False):
             pred = plain_grabcut(rgb, box)
         else:
             try:
-                ex = extract(rgb, method="auto", boxes=[box] if mode == "box" else None, holes=holes, name=p.name)
+                boxed = mode in ("box", "model-box")
+                ex = extract(rgb, method="model" if mode.startswith("model") else "auto", boxes=[box] if boxed else None,
+                             holes=holes, name=p.name, model=model if mode.startswith("model") else None)
             except InputError as exc:
                 row.update(status="failed", reason=str(exc), iou=0.0, seconds=time.perf_counter() - t0)
                 rows.append(row)
@@ -163,6 +169,10 @@ def main(argv=None):
     ap.add_argument("--workers", type=int, default=1, help="processes (default 1)")
     ap.add_argument("--holes", action="store_true",
                     help="trace the outlines' holes too; the object is the outline less its holes")
+    ap.add_argument("--model-file", default=None, help="ONNX network for the modes model and model-box")
+    ap.add_argument("--model-size", type=int, default=None, help="the network's input size (px)")
+    ap.add_argument("--model-mean", default=None, help="per-channel mean, R,G,B on [0, 1] values")
+    ap.add_argument("--model-std", default=None, help="per-channel std, R,G,B")
     args = ap.parse_args(argv)
 
     import pandas as pd
@@ -176,9 +186,16 @@ def main(argv=None):
         print(f"validate_photos: no NAME.jpg + NAME.mask.png pairs in {data}", file=sys.stderr)
         return 2
     modes = args.modes.split(",")
+    model = {k: v for k, v in (("model_file", args.model_file), ("size", args.model_size),
+                               ("mean", args.model_mean and [float(v) for v in args.model_mean.split(",")]),
+                               ("std", args.model_std and [float(v) for v in args.model_std.split(",")]))
+             if v is not None}
+    if any(m.startswith("model") for m in modes) and "model_file" not in model:
+        print("validate_photos: the modes model and model-box need --model-file", file=sys.stderr)
+        return 2
     rows = []
     t_start = time.perf_counter()
-    tasks = [(str(p), modes, args.holes) for p in photos]
+    tasks = [(str(p), modes, args.holes, model) for p in photos]
     if args.workers > 1:
         from concurrent.futures import ProcessPoolExecutor
 
@@ -195,18 +212,18 @@ def main(argv=None):
     df = pd.DataFrame(rows)
     df["half"] = df.image.map(halves(df.image.unique()))
     print(f"{len(photos)} photos, {time.perf_counter() - t_start:.0f} s in all")
-    print(f"{'group':10s} {'mode':8s} {'n':>3s} {'medIoU':>7s} {'meanIoU':>7s} {'>=0.8':>6s} {'<0.5':>6s} "
+    print(f"{'group':10s} {'mode':9s} {'n':>3s} {'medIoU':>7s} {'meanIoU':>7s} {'>=0.8':>6s} {'<0.5':>6s} "
           f"{'dist px':>7s} {'ok':>5s} {'ok>=0.8':>7s} {'ok min':>6s}")
     for (group, mode), g in df.groupby(["group", "mode"], sort=True):
         okshare, prec, okmin = ok_figures(g) if mode != "grabcut" else ("-", "-", "-")
-        print(f"{group:10s} {mode:8s} {len(g):3d} {g.iou.median():7.3f} {g.iou.mean():7.3f} "
+        print(f"{group:10s} {mode:9s} {len(g):3d} {g.iou.median():7.3f} {g.iou.mean():7.3f} "
               f"{(g.iou >= 0.8).mean():6.2f} {(g.iou < 0.5).mean():6.2f} {g.distance.median():7.2f} "
               f"{okshare:>5s} {prec:>7s} {okmin:>6s}")
-    print(f"\nper half\n{'group':10s} {'mode':8s} {'half':4s} {'n':>3s} {'medIoU':>7s} {'ok':>5s} {'ok>=0.8':>7s} "
+    print(f"\nper half\n{'group':10s} {'mode':9s} {'half':4s} {'n':>3s} {'medIoU':>7s} {'ok':>5s} {'ok>=0.8':>7s} "
           f"{'ok min':>6s}")
     for (group, mode, half), g in df.groupby(["group", "mode", "half"], sort=True):
         okshare, prec, okmin = ok_figures(g) if mode != "grabcut" else ("-", "-", "-")
-        print(f"{group:10s} {mode:8s} {half:4s} {len(g):3d} {g.iou.median():7.3f} {okshare:>5s} {prec:>7s} {okmin:>6s}")
+        print(f"{group:10s} {mode:9s} {half:4s} {len(g):3d} {g.iou.median():7.3f} {okshare:>5s} {prec:>7s} {okmin:>6s}")
     if args.csv:
         df.to_csv(args.csv, index=False)
     return 0

@@ -359,14 +359,13 @@ def test_model_method_through_a_tiny_onnx_network(tmp_path, capsys):
     _write_photo(tmp_path / "red.png", img)
     out = tmp_path / "out"
     args = ["extract", str(tmp_path / "red.png"), "-o", str(out), "--method", "model",
-            "--model-file", str(tmp_path / "tiny.onnx"), "--model-size", "64", "--model-mean", "0", "0", "0",
-            "--model-std", "1", "1", "1"]
-    assert main(args) == 0
+            "--model-file", str(tmp_path / "tiny.onnx"), "--model-mean", "0", "0", "0", "--model-std", "1", "1", "1"]
+    assert main(args) == 0  # no --model-size: the network's own fixed input size (64), not the default 320
     c = Contour.from_csv(out / "red.contour.csv")
     # a 64 px map of a 70 px disk, brought back to the photo: the area within 3 %
     assert c.area == pytest.approx(np.pi * 35**2, rel=0.03)
     capsys.readouterr()
-    assert main(args[:-12] + ["--method", "model", "--model-file", str(tmp_path / "tiny.onnx"),
+    assert main(args[:-10] + ["--method", "model", "--model-file", str(tmp_path / "tiny.onnx"),
                               "--model-size", "32"]) == 1  # a fixed-size network given another size
     assert "model-size" in (out / "summary.csv").read_text()
 
@@ -389,6 +388,12 @@ def test_model_on_a_box_sees_the_boxed_object_at_its_full_input_size(tmp_path):
     assert boxed.contour.area == pytest.approx(np.pi * 14**2, rel=0.03)
     both = extract(img, method="model", model=model, boxes=[(18, 28, 65, 65), (112, 25, 31, 31)], objects="all")
     assert len(both.contours) == 2
+    # the verdict's box rule holds for the model's outline from a box drawn with a margin, as for GrabCut's
+    from stimuli.extraction.verdict import judge
+
+    roomy = extract(img, method="model", model=model, boxes=[(111, 24, 33, 33)])
+    assert roomy.params["mode"] == "box" and judge(img, roomy).status == "ok"
+    assert "cannot be verified" in judge(img, whole).reason
     with pytest.raises(InputError, match="inside the 160x120 image"):
         extract(img, method="model", model=model, boxes=[(150, 25, 31, 31)])
     with pytest.raises(InputError, match="scribbles need"):

@@ -45,7 +45,8 @@ def add_parser(sub):
                    help="per image STEM.png of the same size: object strokes pure red, background pure blue")
     p.add_argument("--model-file", metavar="FILE.onnx", default=None,
                    help="ONNX salient-object network for --method model (e.g. rembg's u2net.onnx; needs attneave[model])")
-    p.add_argument("--model-size", type=int, default=None, metavar="PX", help="network input size (default 320)")
+    p.add_argument("--model-size", type=int, default=None, metavar="PX",
+                   help="network input size (default: the network's own if fixed, else 320)")
     p.add_argument("--model-mean", type=float, nargs=3, default=None, metavar=("R", "G", "B"),
                    help="input normalisation mean on [0, 1] values (default ImageNet's 0.485 0.456 0.406)")
     p.add_argument("--model-std", type=float, nargs=3, default=None, metavar=("R", "G", "B"),

@@ -3,7 +3,9 @@
 ``method='model'`` runs an ONNX file through ``onnxruntime`` (the optional
 extra ``attneave[model]``); nothing is downloaded. Networks of the U^2-Net
 family (e.g. the ``u2net.onnx`` / ``u2netp.onnx`` files that rembg uses)
-work with the defaults: the photo is resized to ``size x size``, scaled to
+work with the defaults: the photo is resized to ``size x size`` (the
+network's own input size when its input has a fixed one, else
+:data:`MODEL_SIZE`), scaled to
 [0, 1], normalised per channel by ``(v - mean) / std`` (ImageNet's mean and
 std) and given as one ``(1, 3, size, size)`` float32 RGB tensor; the first
 output, of shape ``(1, 1, size, size)`` or ``(1, size, size)``, is read as
@@ -30,9 +32,10 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "BOX_CONTEXT", "object_probability", "boxed_probability"]
+__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "BOX_CONTEXT", "input_size", "object_probability",
+           "boxed_probability"]
 
-#: Default network input size (px, square): U^2-Net's.
+#: Network input size (px, square) for a network whose input size is not fixed: U^2-Net's.
 MODEL_SIZE = 320
 #: Default per-channel normalisation (RGB, on [0, 1] values): ImageNet's.
 MODEL_MEAN = (0.485, 0.456, 0.406)
@@ -63,7 +66,15 @@ def _session(model_file):
     return _SESSIONS[key]
 
 
-def object_probability(image, model_file, size=MODEL_SIZE, mean=MODEL_MEAN, std=MODEL_STD):
+def input_size(session):
+    """A network's fixed square input size (px), or None when its input's height or width is free."""
+    shape = list(session.get_inputs()[0].shape)
+    if len(shape) == 4 and isinstance(shape[2], int) and shape[2] == shape[3] and shape[2] > 0:
+        return shape[2]
+    return None
+
+
+def object_probability(image, model_file, size=None, mean=MODEL_MEAN, std=MODEL_STD):
     """The network's object probability at every pixel of a photo.
 
     Parameters
@@ -72,8 +83,9 @@ def object_probability(image, model_file, size=MODEL_SIZE, mean=MODEL_MEAN, std=
         Grey, RGB or RGBA (RGB order), any depth.
     model_file : str or Path
         The ONNX network.
-    size : int
-        Network input size in px (square).
+    size : int, optional
+        Network input size in px (square); by default the network's own
+        when its input has a fixed square size, else :data:`MODEL_SIZE`.
     mean, std : sequence of 3 floats
         Per-channel normalisation of the [0, 1] RGB values.
 
@@ -93,13 +105,13 @@ def object_probability(image, model_file, size=MODEL_SIZE, mean=MODEL_MEAN, std=
 
     from stimuli.extraction.grabcut import to_bgr8
 
-    size = int(size)
-    if size < 8:
-        raise InputError(f"model size must be >= 8 px, got {size}")
     mean, std = np.asarray(mean, np.float32), np.asarray(std, np.float32)
     if mean.shape != (3,) or std.shape != (3,) or not np.all(std > 0):
         raise InputError("model mean and std must be three numbers each, std > 0")
     sess = _session(model_file)
+    size = int(size if size is not None else input_size(sess) or MODEL_SIZE)
+    if size < 8:
+        raise InputError(f"model size must be >= 8 px, got {size}")
     rgb = to_bgr8(image)[:, :, ::-1]
     h, w = rgb.shape[:2]
     x = cv2.resize(rgb, (size, size), interpolation=cv2.INTER_AREA).astype(np.float32) / 255.0

@@ -195,7 +195,7 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
 
             prob, box = boxed_probability(img, box, name=name, **model)
         params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]),
-                      box=None if box is None else list(box))
+                      mode="auto" if box is None else "box", box=None if box is None else list(box))
         return Segmentation(prob > 0.5, params, prob, 1.0, 0.5)
     if method == "grabcut":
         split_channels(img, name)  # validates the array
