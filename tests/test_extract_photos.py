@@ -14,6 +14,7 @@ import pytest
 
 from stimuli.errors import InputError
 from stimuli.extraction import extract
+from stimuli.extraction.segment import NoObject
 from stimuli.extraction.verdict import frame_contact, judge
 from stimuli.render import coverage
 
@@ -308,6 +309,24 @@ def test_cli_box_errors_are_one_line(tmp_path, capsys, rows, message):
     assert not (tmp_path / "o").exists()
 
 
+@pytest.mark.parametrize("extra, message", [
+    (["--method", "model"], "needs --model-file"),
+    (["--model-file", "net.onnx"], "apply to --method model only"),
+    (["--method", "photo", "--model-size", "320"], "--model-size apply to --method model only"),
+    (["--method", "model", "--model-file", "nothere.onnx"], "nothere.onnx: no such model file"),
+])
+def test_cli_model_option_errors_are_one_line(tmp_path, capsys, extra, message):
+    from analysis.cli import main
+
+    _write_photo(tmp_path / "a.png", _photo()[0])
+    (tmp_path / "net.onnx").write_bytes(b"")
+    extra = [str(tmp_path / e) if e.endswith(".onnx") else e for e in extra]
+    assert main(["extract", str(tmp_path / "a.png"), "-o", str(tmp_path / "o"), *extra]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err
+    assert not (tmp_path / "o").exists()
+
+
 def test_cli_scribble_errors_are_one_line(tmp_path, capsys):
     import cv2
 
@@ -389,8 +408,6 @@ def test_model_on_a_box_sees_the_boxed_object_at_its_full_input_size(tmp_path):
     both = extract(img, method="model", model=model, boxes=[(18, 28, 65, 65), (112, 25, 31, 31)], objects="all")
     assert len(both.contours) == 2
     # the verdict's box rule holds for the model's outline from a box drawn with a margin, as for GrabCut's
-    from stimuli.extraction.verdict import judge
-
     roomy = extract(img, method="model", model=model, boxes=[(111, 24, 33, 33)])
     assert roomy.params["mode"] == "box" and judge(img, roomy).status == "ok"
     assert "cannot be verified" in judge(img, whole).reason
@@ -398,6 +415,23 @@ def test_model_on_a_box_sees_the_boxed_object_at_its_full_input_size(tmp_path):
         extract(img, method="model", model=model, boxes=[(150, 25, 31, 31)])
     with pytest.raises(InputError, match="scribbles need"):
         extract(img, method="model", model=model, scribbles=np.zeros(cov.shape, np.uint8))
+
+
+def test_model_finding_nothing_in_a_box_falls_back_to_grabcut_and_says_so(tmp_path):
+    _tiny_network(tmp_path / "tiny.onnx", 32)  # object = redder than green: a blue disk is not one
+    cov = _disk((120, 160), 80.3, 60.2, 25)
+    img = np.empty(cov.shape + (3,), np.uint8)
+    img[..., 0] = 40
+    img[..., 1] = np.round(200 - 160 * cov)
+    img[..., 2] = np.round(40 + 160 * cov)
+    model = dict(model_file=tmp_path / "tiny.onnx", mean=(0, 0, 0), std=(1, 1, 1))
+    with pytest.raises(NoObject):
+        extract(img, method="model", model=model)  # no box: nothing to fall back on
+    ex = extract(img, method="model", model=model, boxes=[(50, 30, 61, 61)])
+    assert ex.params["resolved"] == "photo" and ex.params["model_found_nothing"]
+    assert ex.contour.area == pytest.approx(np.pi * 25**2, rel=0.03)
+    v = judge(img, ex)
+    assert v.status == "suspect" and "network found no object" in v.reason
 
 
 def test_auto_keeps_the_exact_paths_of_masks_renders_and_cut_outs():

@@ -8,6 +8,7 @@ this module parses the arguments, calls
 from __future__ import annotations
 
 import math
+import os
 
 
 def add_parser(sub):
@@ -95,6 +96,14 @@ def _check_args(args):
         raise InputError(f"--min-area must be >= 0, got {args.min_area}")
     if not (math.isfinite(args.max_pixels) and args.max_pixels >= 1):
         raise InputError(f"--max-pixels must be a number >= 1, got {args.max_pixels}")
+    model_opts = [f"--{k.replace('_', '-')}" for k in ("model_file", "model_size", "model_mean", "model_std")
+                  if getattr(args, k) is not None]
+    if args.method == "model" and args.model_file is None:
+        raise InputError("--method model needs --model-file FILE.onnx (a salient-object network you downloaded)")
+    if args.method != "model" and model_opts:
+        raise InputError(f"{', '.join(model_opts)} apply to --method model only, not --method {args.method}")
+    if args.model_file is not None and not os.path.isfile(args.model_file):
+        raise InputError(f"{args.model_file}: no such model file (an ONNX network, e.g. u2net.onnx)")
     if args.model_size is not None and args.model_size < 8:
         raise InputError(f"--model-size must be >= 8, got {args.model_size}")
     if args.workers < 1:

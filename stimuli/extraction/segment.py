@@ -196,6 +196,13 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
             prob, box = boxed_probability(img, box, name=name, **model)
         params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]),
                       mode="auto" if box is None else "box", box=None if box is None else list(box))
+        if box is not None and not np.any(prob > 0.5):
+            # the person drew the box around an object: GrabCut's outline from it
+            # beats none, and the verdict says whose outline it is
+            seg = segment(img, "photo", threshold, polarity, name, box=box, scribbles=scribbles)
+            seg.params.update(method="model", resolved="photo", model_file=params["model_file"],
+                              model_found_nothing=True)
+            return seg
         return Segmentation(prob > 0.5, params, prob, 1.0, 0.5)
     if method == "grabcut":
         split_channels(img, name)  # validates the array
