@@ -17,7 +17,7 @@ excluded; the image is an array in memory):
 Target: the full pipeline at most 2x ``find_contours`` alone.
 
 Photographs: ``extract(method='photo')`` (what ``--method auto`` does with
-a photograph: bilateral smoothing and two GrabCut hypotheses on at most
+a photograph: bilateral smoothing and five GrabCut hypotheses on at most
 0.25 Mpx, the mask brought back to full size, sub-pixel outline) against
 plain ``cv2.grabCut`` with 5 iterations from the 5 % inset box on the full
 image, in ms per megapixel (target: at most 2x).

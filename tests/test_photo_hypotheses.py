@@ -60,3 +60,24 @@ def test_box_mode_runs_every_hypothesis_and_records_its_choice():
     x, y, w, h = box
     assert not res.mask[:, : x].any() and not res.mask[:, x + w :].any()
     assert not res.mask[: y].any() and not res.mask[y + h :].any()
+
+
+def test_without_gap_the_score_is_the_colour_error_alone():
+    # the automatic search's inset frame is no box around the object: falling short of it costs nothing
+    img, truth = _two_colour()
+    assert hypothesis_score(img, truth, (28, 18, 44, 60)) > 0
+    assert hypothesis_score(img, truth, (28, 18, 44, 60), gap=False) == 0.0
+    assert hypothesis_score(img, truth, (5, 5, 90, 70), gap=False) == 0.0
+
+
+def test_the_automatic_search_chooses_among_the_inset_frames_hypotheses():
+    from stimuli.extraction.photo import AUTO_FIRST
+
+    clean, truth = _two_colour()
+    noise = np.random.default_rng(5).normal(0, 10, clean.shape)
+    img = np.clip(clean + noise, 0, 255).astype(np.uint8)
+    res = segment_photo(img)
+    assert res.params["mode"] == "auto"
+    assert set(res.params["scores"]) == set(HYPOTHESES) | {AUTO_FIRST}
+    assert res.params["hypothesis"] in res.params["scores"]
+    assert mask_iou(res.mask, truth) > 0.95 and res.agreement > 0.95 and res.params["competing"] == 0.0

@@ -58,7 +58,7 @@ HYPOTHESES = {"lab_band": ("lab", "band"), "rgb_box": ("rgb", "box"), "lab_core"
               "rgb_core": ("rgb", "core")}
 
 
-def box_hypotheses(bgr, box, iterations=5):
+def box_hypotheses(bgr, box, iterations=5, extra=None, parts="largest"):
     """The object as each of :data:`HYPOTHESES` finds it.
 
     Parameters
@@ -69,33 +69,43 @@ def box_hypotheses(bgr, box, iterations=5):
         Image pixels, inside the image.
     iterations : int
         GrabCut iterations per hypothesis.
+    extra : dict, optional
+        More hypotheses, name -> (image, start): a 3-channel 8-bit image of
+        the photo's size (another colour space or a smoothed copy) and a
+        start ``'box'``, ``'band'`` or ``'core'``.
+    parts : {'largest', 'all'}
+        Keep each mask's largest part (its holes kept), or every part
+        GrabCut found.
 
     Returns
     -------
     dict
-        Hypothesis name -> (H, W) bool mask (largest part, its holes kept).
+        Hypothesis name -> (H, W) bool mask.
     """
     import cv2
 
     from concurrent.futures import ThreadPoolExecutor
 
     images = {"rgb": bgr, "lab": cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)}
+    starts = {name: (images[space], start) for name, (space, start) in HYPOTHESES.items()}
+    starts.update(extra or {})
 
-    def run(space, start):
-        img = images[space]
+    def run(img, start):
         if start == "box":
-            return largest_part(grabcut(img, box=box, iterations=iterations))
-        labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, CORE)
-        return largest_part(grabcut(img, labels=labels, iterations=iterations))
+            raw = grabcut(img, box=box, iterations=iterations)
+        else:
+            labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, CORE)
+            raw = grabcut(img, labels=labels, iterations=iterations)
+        return largest_part(raw) if parts == "largest" else raw
 
     # OpenCV releases the GIL and seeds each thread's generator in grabcut(),
     # so the starts run side by side and give what they give one by one
-    with ThreadPoolExecutor(min(len(HYPOTHESES), os.cpu_count() or 1)) as pool:
-        futures = {name: pool.submit(run, *how) for name, how in HYPOTHESES.items()}
+    with ThreadPoolExecutor(min(len(starts), os.cpu_count() or 1)) as pool:
+        futures = {name: pool.submit(run, *how) for name, how in starts.items()}
         return {name: f.result() for name, f in futures.items()}
 
 
-def hypothesis_score(image, mask, box):
+def hypothesis_score(image, mask, box, gap=True):
     """How doubtful a box-mode mask is: lower is better, inf when it found no boundary.
 
     Parameters
@@ -105,11 +115,16 @@ def hypothesis_score(image, mask, box):
     mask : (H, W) bool ndarray
         Its holes are filled before it is measured.
     box : (x, y, width, height)
+    gap : bool
+        Penalise falling short of the box's sides (a box a person drew
+        around the object); False for the automatic search's inset frame,
+        which the object need not reach.
 
     Returns
     -------
     float
-        ``colour_error + GAP_WEIGHT * max(0, box_gap - GAP_FREE)``
+        ``colour_error + GAP_WEIGHT * max(0, box_gap - GAP_FREE)`` (the
+        second term with `gap` only)
         (:func:`~stimuli.extraction.quality.colour_error`,
         :func:`~stimuli.extraction.quality.box_gap`); inf for a mask that
         is empty, covers less than 3 % or more than 97 % of the box, or has
@@ -139,6 +154,8 @@ def hypothesis_score(image, mask, box):
     err = colour_error(image, mask)
     if not np.isfinite(err):
         return float("inf")
+    if not gap:
+        return float(err)
     # the mask's extent as the outline of its outer pixels (edges half a pixel beyond their centres)
     ys, xs = np.nonzero(mask)
     x0, x1, y0, y1 = xs.min() - 0.5, xs.max() + 0.5, ys.min() - 0.5, ys.max() + 0.5
@@ -146,7 +163,7 @@ def hypothesis_score(image, mask, box):
     return float(err + GAP_WEIGHT * max(0.0, box_gap(extent, box) - GAP_FREE))
 
 
-def choose_hypothesis(image, box, masks):
+def choose_hypothesis(image, box, masks, gap=True):
     """The hypothesis of the lowest :func:`hypothesis_score`, with every score.
 
     Parameters
@@ -156,6 +173,8 @@ def choose_hypothesis(image, box, masks):
     box : (x, y, width, height)
     masks : dict
         Name -> mask, as :func:`box_hypotheses` gives.
+    gap : bool
+        As for :func:`hypothesis_score`.
 
     Returns
     -------
@@ -164,6 +183,6 @@ def choose_hypothesis(image, box, masks):
     scores : dict
         Name -> score (rounded to 4 decimals; inf where none).
     """
-    scores = {k: hypothesis_score(image, m, box) for k, m in masks.items()}
+    scores = {k: hypothesis_score(image, m, box, gap) for k, m in masks.items()}
     best = min(scores, key=scores.get)
     return (best if np.isfinite(scores[best]) else None), {k: round(v, 4) for k, v in scores.items()}
