@@ -11,7 +11,8 @@ Per photo and per mode:
 * ``box``: one box per image, the mask's bounding box plus a 5 % margin on
   every side (as a person would draw it), ``extract(photo, boxes=[box])``;
 * ``grabcut``: the anchor, plain ``cv2.grabCut`` with the same box and 5
-  iterations on the raw photo (its mask taken as it is);
+  iterations on the raw photo (its mask taken as it is), its random start
+  seeded (0) as attneave seeds its own: GrabCut's answer depends on it;
 * ``model`` and ``model-box``: ``method='model'`` with the network given by
   ``--model-file`` (and ``--model-size``, ``--model-mean``,
   ``--model-std``), without and with the box.
@@ -96,9 +97,12 @@ def boundary_distance(a, b):
     return float(0.5 * (da[ea].mean() + db[eb].mean()))
 
 
-def plain_grabcut(rgb, box, iterations=5):
+def plain_grabcut(rgb, box, iterations=5, seed=0):
+    """Plain cv2.grabCut from the box; `seed` fixes its random start (k-means of the colour models),
+    which otherwise depends on what ran before in the thread."""
     import cv2
 
+    cv2.setRNGSeed(seed)
     gc = np.zeros(rgb.shape[:2], np.uint8)
     bgd, fgd = np.zeros((1, 65)), np.zeros((1, 65))
     try:
@@ -114,13 +118,18 @@ def _progress(args, got):
               file=sys.stderr, flush=True)
 
 
-def measure_photo(path, modes, holes=False, model=None):
+def measure_photo(path, modes, holes=False, model=None, seed=0):
     """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask.
 
     With `holes`, the outline's holes are traced too and the object is the
     outline's inside less its holes' insides. `model` holds the network's
-    options (``model_file``, ``size``, ``mean``, ``std``) for the model modes."""
+    options (``model_file``, ``size``, ``mean``, ``std``) for the model modes.
+    `seed` seeds every GrabCut's random start, attneave's and the anchor's."""
     import cv2
+
+    import importlib
+
+    importlib.import_module("stimuli.extraction.grabcut").SEED = seed
 
     from stimuli.errors import InputError
     from stimuli.extraction import extract, read_image
@@ -138,7 +147,7 @@ def measure_photo(path, modes, holes=False, model=None):
         t0 = time.perf_counter()
         row = dict(image=p.name, group=group, mode=mode, status="", reason="")
         if mode == "grabcut":
-            pred = plain_grabcut(rgb, box)
+            pred = plain_grabcut(rgb, box, seed=seed)
         else:
             try:
                 boxed = mode in ("box", "model-box")
