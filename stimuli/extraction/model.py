@@ -44,9 +44,9 @@ targets (0.80, 0.88) that GrabCut's colour models do not reach on these
 photos. The verdict's box rule, calibrated on GrabCut's outlines and not
 changed, marks 14 (44 MB) and 18 (88 MB) of the 95 box outlines ``ok``,
 all of IoU >= 0.90. The one box in which both networks found nothing (a
-photo almost all black: mean grey 0.2 of 255) fell back to GrabCut (IoU 0.09, ``suspect``). A photo took 2.5 s (44 MB)
-and 2.0 s (88 MB), median, two photos at a time on this project's 2-core
-machine.
+photo almost all black: mean grey 0.2 of 255) fell back to GrabCut (IoU
+0.09, ``suspect``). A photo took 2.5 s (44 MB) and 2.0 s (88 MB), median,
+two photos at a time on this project's 2-core machine.
 
 References
 ----------
