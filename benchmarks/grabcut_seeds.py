@@ -24,7 +24,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import header  # noqa: E402
-from validate_photos import DEFAULT_DIR, measure_photo  # noqa: E402
+from validate_photos import DEFAULT_DIR, map_tasks, measure_photo, photo_pairs  # noqa: E402
 
 
 def _measure(path, modes, seed):
@@ -48,23 +48,14 @@ def main(argv=None):
 
     header("grabcut_seeds: photo figures under GrabCut's random start")
     data = Path(args.data)
-    photos = sorted(str(p) for p in data.glob("*.jpg") if (data / f"{p.stem}.mask.png").is_file())[: args.limit]
+    photos = [str(p) for p in photo_pairs(data)][: args.limit]
     if not photos or args.seeds < 1:
         print(f"grabcut_seeds: no NAME.jpg + NAME.mask.png pairs in {data}, or --seeds < 1", file=sys.stderr)
         return 2
     modes = args.modes.split(",")
     tasks = [(p, modes, k) for k in range(args.seeds) for p in photos]
     t0 = time.perf_counter()
-    rows = []
-    if args.workers > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
-        with ProcessPoolExecutor(args.workers) as pool:
-            for got in pool.map(_measure, *zip(*tasks), chunksize=4):
-                rows += got
-    else:
-        for task in tasks:
-            rows += _measure(*task)
+    rows = [r for got in map_tasks(_measure, tasks, args.workers, chunksize=4) for r in got]
     df = pd.DataFrame(rows)
     print(f"{len(photos)} photos x {args.seeds} seeds, {time.perf_counter() - t0:.0f} s in all")
     med = df.groupby(["group", "mode", "seed"]).iou.median().unstack("seed")

@@ -112,6 +112,24 @@ def plain_grabcut(rgb, box, iterations=5, seed=0):
     return (gc == cv2.GC_FGD) | (gc == cv2.GC_PR_FGD)
 
 
+def photo_pairs(data):
+    """The photos of a directory that have a mask beside them (``NAME.jpg`` + ``NAME.mask.png``), by name."""
+    data = Path(data)
+    return sorted(p for p in data.glob("*.jpg") if (data / f"{p.stem}.mask.png").is_file())
+
+
+def map_tasks(fn, tasks, workers=1, chunksize=1):
+    """``fn(*task)`` for every task, in order, in `workers` processes (in this one when 1)."""
+    if workers > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        with ProcessPoolExecutor(workers) as pool:
+            yield from pool.map(fn, *zip(*tasks), chunksize=chunksize)
+    else:
+        for task in tasks:
+            yield fn(*task)
+
+
 def _progress(args, got):
     if args.progress:
         print(f"{got[0]['image']}: " + ", ".join(f"{r['mode']} {r['iou']:.3f} {r['status']}" for r in got),
@@ -188,7 +206,7 @@ def main(argv=None):
 
     header("validate_photos: outlines from photographs against ground-truth masks")
     data = Path(args.data)
-    photos = sorted(p for p in data.glob("*.jpg") if (data / f"{p.stem}.mask.png").is_file())
+    photos = photo_pairs(data)
     if args.limit:
         photos = photos[: args.limit]
     if not photos:
@@ -205,19 +223,9 @@ def main(argv=None):
     rows = []
     t_start = time.perf_counter()
     tasks = [(str(p), modes, args.holes, model) for p in photos]
-    if args.workers > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
-        with ProcessPoolExecutor(args.workers) as pool:
-            results = pool.map(measure_photo, *zip(*tasks))
-            for got in results:
-                rows += got
-                _progress(args, got)
-    else:
-        for task in tasks:
-            got = measure_photo(*task)
-            rows += got
-            _progress(args, got)
+    for got in map_tasks(measure_photo, tasks, args.workers):
+        rows += got
+        _progress(args, got)
     df = pd.DataFrame(rows)
     df["half"] = df.image.map(halves(df.image.unique()))
     print(f"{len(photos)} photos, {time.perf_counter() - t_start:.0f} s in all")
