@@ -1,9 +1,12 @@
 """Validate outline extraction on real photographs with ground-truth masks.
 
-Data: a directory of ``NAME.jpg`` photos with ``NAME.mask.png`` masks
-(object = 255), e.g. ``../shared/data/photos`` (Weizmann horses and
-GrabCut/GSC objects; see its README). Groups are the name's prefix before
-the first ``_`` (``weizmann``, ``gsc``).
+Data: a directory of ``NAME.jpg`` photos (or ``.jpeg``, ``.png``, ``.bmp``,
+``.tif``) with ``NAME.mask.png`` masks of the same size (object > 127),
+e.g. ``../shared/data/photos`` (Weizmann horses and GrabCut/GSC objects;
+see its README). Photos without a mask, or whose mask is unreadable, of
+another size or empty, are named on stderr and skipped. Groups are the
+name's prefix before the first ``_`` (``weizmann``, ``gsc``), or its
+leading letters when it has none (``horse001`` -> ``horse``).
 
 Per photo and per mode:
 
@@ -43,6 +46,7 @@ Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.cs
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import time
 from pathlib import Path
@@ -59,11 +63,11 @@ MEASURES = ("frame", "fill", "contrast", "competing", "agreement", "colour_error
 
 
 def halves(names):
-    """'A' or 'B' for each photo name: alternate photos of each group (prefix before '_') in name order."""
+    """'A' or 'B' for each photo name: alternate photos of each group (:func:`group_of`) in name order."""
     seen = {}
     out = {}
     for n in sorted(names):
-        group = n.split("_")[0]
+        group = group_of(n)
         out[n] = "AB"[seen.get(group, 0) % 2]
         seen[group] = seen.get(group, 0) + 1
     return out
@@ -112,10 +116,35 @@ def plain_grabcut(rgb, box, iterations=5, seed=0):
     return (gc == cv2.GC_FGD) | (gc == cv2.GC_PR_FGD)
 
 
-def photo_pairs(data):
-    """The photos of a directory that have a mask beside them (``NAME.jpg`` + ``NAME.mask.png``), by name."""
+#: Photo formats read from the data directory (any case); each photo's mask is ``STEM.mask.png``.
+PHOTO_SUFFIXES = (".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff")
+
+
+def photo_pairs(data, report=None):
+    """The photos of a directory that have a mask beside them (``NAME.jpg`` + ``NAME.mask.png``), by name.
+
+    Photos in any of :data:`PHOTO_SUFFIXES`; the masks themselves are not
+    photos. Photos without a mask are skipped and, with `report` (a file),
+    counted there with the first few names, never dropped silently."""
     data = Path(data)
-    return sorted(p for p in data.glob("*.jpg") if (data / f"{p.stem}.mask.png").is_file())
+    photos = sorted(p for p in data.iterdir() if p.is_file() and p.suffix.lower() in PHOTO_SUFFIXES
+                    and not p.name.lower().endswith(".mask.png"))
+    paired = [p for p in photos if (data / f"{p.stem}.mask.png").is_file()]
+    lone = [p.name for p in photos if p not in paired]
+    if lone and report is not None:
+        print(f"validate_photos: {len(lone)} photo(s) without a STEM.mask.png skipped: {', '.join(lone[:5])}"
+              + (" ..." if len(lone) > 5 else ""), file=report)
+    return paired
+
+
+def group_of(name):
+    """A photo's group: its name's prefix before the first '_' (``weizmann_horse001`` -> ``weizmann``), or
+    its leading letters when it has no '_' (``horse001`` -> ``horse``)."""
+    stem = Path(name).stem
+    if "_" in stem:
+        return stem.split("_")[0]
+    letters = re.match(r"[^\W\d_]*", stem).group(0)
+    return letters or stem
 
 
 def map_tasks(fn, tasks, workers=1, chunksize=1):
@@ -131,7 +160,7 @@ def map_tasks(fn, tasks, workers=1, chunksize=1):
 
 
 def _progress(args, got):
-    if args.progress:
+    if args.progress and got:
         print(f"{got[0]['image']}: " + ", ".join(f"{r['mode']} {r['iou']:.3f} {r['status']}" for r in got),
               file=sys.stderr, flush=True)
 
@@ -157,9 +186,15 @@ def measure_photo(path, modes, holes=False, model=None, seed=0):
 
     p = Path(path)
     rgb = read_image(p)
-    truth = cv2.imread(str(p.with_name(f"{p.stem}.mask.png")), cv2.IMREAD_GRAYSCALE) > 127
+    truth = cv2.imread(str(p.with_name(f"{p.stem}.mask.png")), cv2.IMREAD_GRAYSCALE)
+    if truth is None or truth.shape != rgb.shape[:2] or not (truth > 127).any():
+        why = ("unreadable" if truth is None else f"{truth.shape[1]}x{truth.shape[0]}, the photo "
+               f"{rgb.shape[1]}x{rgb.shape[0]}" if truth.shape != rgb.shape[:2] else "empty")
+        print(f"validate_photos: {p.stem}.mask.png: {why}; photo skipped", file=sys.stderr)
+        return []
+    truth = truth > 127
     box = box_around(truth, 0.05)
-    group = p.stem.split("_")[0]
+    group = group_of(p.name)
     rows = []
     for mode in modes:
         t0 = time.perf_counter()
@@ -206,7 +241,10 @@ def main(argv=None):
 
     header("validate_photos: outlines from photographs against ground-truth masks")
     data = Path(args.data)
-    photos = photo_pairs(data)
+    if not data.is_dir():
+        print(f"validate_photos: {data}: not a directory", file=sys.stderr)
+        return 2
+    photos = photo_pairs(data, report=sys.stderr)
     if args.limit:
         photos = photos[: args.limit]
     if not photos:
@@ -226,9 +264,12 @@ def main(argv=None):
     for got in map_tasks(measure_photo, tasks, args.workers):
         rows += got
         _progress(args, got)
+    if not rows:
+        print(f"validate_photos: no photo in {data} could be measured", file=sys.stderr)
+        return 2
     df = pd.DataFrame(rows)
     df["half"] = df.image.map(halves(df.image.unique()))
-    print(f"{len(photos)} photos, {time.perf_counter() - t_start:.0f} s in all")
+    print(f"{df.image.nunique()} of {len(photos)} photos measured, {time.perf_counter() - t_start:.0f} s in all")
     print(f"{'group':10s} {'mode':9s} {'n':>3s} {'medIoU':>7s} {'meanIoU':>7s} {'>=0.8':>6s} {'<0.5':>6s} "
           f"{'dist px':>7s} {'ok':>5s} {'ok>=0.8':>7s} {'ok min':>6s}")
     for (group, mode), g in df.groupby(["group", "mode"], sort=True):
