@@ -248,6 +248,8 @@ def temporary_directory(out):
         If the directory cannot be made (naming `out` and the reason).
     """
     out = Path(out)
+    # the working directory cannot be renamed aside (EBUSY) and would vanish under the user
+    check_output_spares_inputs(out, [])
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
         return Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{out.name[:80]}",
@@ -279,3 +281,78 @@ def replace_directory(tmp, out):
         os.replace(old, out)
         raise
     shutil.rmtree(old, ignore_errors=True)
+
+
+def _resolved(path):
+    """`path` made absolute with its links followed, as far as it exists."""
+    return Path(os.path.realpath(Path(path).expanduser()))
+
+
+def check_output_spares_inputs(output, inputs, what="-o"):
+    """Refuse an output that would overwrite or delete one of the command's inputs.
+
+    A file output may not be an input file; a directory output (replaced
+    whole by ``--force``) may not be an input, nor contain one, nor be the
+    working directory or one of its parents.
+
+    Parameters
+    ----------
+    output : str or Path
+        The output file or directory.
+    inputs : iterable of str or Path
+        The input files and directories the command reads.
+    what : str
+        The option that named `output`, for the message.
+
+    Raises
+    ------
+    InputError
+        One line naming the output and the input it would destroy.
+
+    Examples
+    --------
+    >>> check_output_spares_inputs("clicks.csv", ["clicks.csv"])
+    Traceback (most recent call last):
+    ...
+    stimuli.errors.InputError: -o clicks.csv: is an input of this command (clicks.csv); choose another output
+    """
+    if str(output) == "":
+        raise InputError(f"{what}: empty output path; name a file or directory")
+    out = _resolved(output)
+    for item in inputs:
+        if item is None:
+            continue
+        src = _resolved(item)
+        if src == out:
+            raise InputError(f"{what} {output}: is an input of this command ({item}); choose another output")
+        if out in src.parents:
+            raise InputError(f"{what} {output}: holds an input of this command ({item}), which replacing it "
+                             "would delete; choose another output")
+    if out == _resolved(os.getcwd()) or out in _resolved(os.getcwd()).parents:
+        raise InputError(f"{what} {output}: is the working directory or holds it; choose another output")
+
+
+def make_output_dir(out, what="-o"):
+    """Create the output directory `out` (and its parents) or raise one line saying why not.
+
+    Raises
+    ------
+    InputError
+        `out` is empty, exists and is not a directory, or cannot be created
+        (a parent is a file, no permission, a read-only or virtual file system).
+    """
+    if str(out) == "":
+        raise InputError(f"{what}: empty output path; name a directory")
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{what} {out}: exists and is not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{what} {out}: cannot be created ({exc.strerror or exc})") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise InputError(f"{what} {out}: no permission to write in it")
+    return out
+
+
+__all__ += ["check_output_spares_inputs", "make_output_dir"]
