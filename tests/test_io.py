@@ -76,3 +76,46 @@ def test_line_numbers_count_blank_lines(tmp_path):
     f.write_text("x,y\n10,10\n\n10,50\n50,zz\n")
     with pytest.raises(InputError, match=r"line 5: column 'y' must be a finite number, got 'zz'"):
         read_points(f)
+
+
+def test_an_output_may_not_destroy_an_input(tmp_path, monkeypatch):
+    from stimuli.io import check_output_spares_inputs
+
+    (tmp_path / "set").mkdir()
+    (tmp_path / "set" / "manifest.csv").write_text("id\n")
+    (tmp_path / "clicks.csv").write_text("x\n")
+    monkeypatch.chdir(tmp_path)
+    for out, inputs in (("clicks.csv", ["clicks.csv"]),                   # the same file
+                        ("./clicks.csv", ["clicks.csv"]),                 # the same file, spelt otherwise
+                        ("set", ["set/manifest.csv"]),                   # a directory holding an input
+                        ("set", ["set"]),                                # the input directory itself
+                        (".", []), ("..", []),                           # the working directory or its parent
+                        ("", [])):
+        with pytest.raises(InputError):
+            check_output_spares_inputs(out, inputs)
+    # a link to an input is that input
+    (tmp_path / "link.csv").symlink_to(tmp_path / "clicks.csv")
+    with pytest.raises(InputError, match="is an input"):
+        check_output_spares_inputs("link.csv", ["clicks.csv"])
+    check_output_spares_inputs("out", ["set", "clicks.csv"])        # a fresh sibling is fine
+    check_output_spares_inputs("set/out.csv", ["set/manifest.csv"])  # beside an input, not on it
+
+
+def test_make_output_dir_says_why_not_in_one_line(tmp_path):
+    from stimuli.io import make_output_dir
+
+    (tmp_path / "file").write_text("")
+    for out, why in ((tmp_path / "file", "not a directory"), (tmp_path / "file" / "sub", "cannot be created"),
+                     ("", "empty output path")):
+        with pytest.raises(InputError, match=why):
+            make_output_dir(out)
+    assert make_output_dir(tmp_path / "a" / "b").is_dir()
+
+
+def test_temporary_directory_refuses_the_working_directory(tmp_path, monkeypatch):
+    from stimuli.io import temporary_directory
+
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(InputError, match="working directory"):
+        temporary_directory(".")
+    assert list(tmp_path.iterdir()) == []
