@@ -24,7 +24,8 @@ def add_parser(sub):
             "summary.csv (image, status, reason, n_points, perimeter, area, ...). With --objects all "
             "the per-object files are STEM.0.*, STEM.1.*, ... (largest first). A file that fails is "
             "listed with status 'failed' and its reason (exit status 1); an outline that may be wrong is "
-            "written but marked 'suspect' with its reasons (exit status 0)."
+            "written but marked 'suspect' with its reasons (exit status 0). Option mistakes are refused before "
+            "any image is read (one line, exit status 2)."
         ),
     )
     p.add_argument("images", nargs="+", metavar="IMAGE", help="image files (PNG, JPEG, TIFF, BMP)")
@@ -41,9 +42,10 @@ def add_parser(sub):
     )
     p.add_argument("--boxes", metavar="BOXES.csv", default=None,
                    help="boxes around the objects: columns image,x,y,width,height (image: file name or stem; "
-                   "several rows per image with --objects all)")
+                   "several rows per image with --objects all; methods auto, photo, model)")
     p.add_argument("--scribbles", metavar="DIR", default=None,
-                   help="per image STEM.png of the same size: object strokes pure red, background pure blue")
+                   help="per image STEM.png of the same size: object strokes pure red, background pure blue "
+                   "(methods auto, photo)")
     p.add_argument("--model-file", metavar="FILE.onnx", default=None,
                    help="ONNX salient-object network for --method model (e.g. rembg's u2net.onnx; needs attneave[model])")
     p.add_argument("--model-size", type=int, default=None, metavar="PX",
@@ -56,7 +58,8 @@ def add_parser(sub):
                    help="largest image accepted, width x height read from the header before decoding "
                    "(default 1e8 = 100 Mpx)")
     p.add_argument("--threshold", type=float, default=None, metavar="V",
-                   help="edge level in the image's units (method threshold) or alpha level (method alpha)")
+                   help="edge level in the image's units (method threshold) or alpha level (method alpha); "
+                   "refused with other methods")
     p.add_argument("--polarity", choices=("auto", "dark", "light"), default="auto",
                    help="which class is the object (default: the one touching the border less)")
     p.add_argument("--objects", choices=("largest", "all"), default="largest",
@@ -65,12 +68,13 @@ def add_parser(sub):
                    help="smallest object in pixels (default max(9, 1e-4 * image pixels))")
     p.add_argument("--holes", action="store_true", help="also trace holes: STEM.holes.csv, and cut them from the silhouette")
     p.add_argument("--rect", type=int, nargs=4, default=None, metavar=("X", "Y", "W", "H"),
-                   help="grabcut initial rectangle (default: the image inset by 5%%)")
+                   help="grabcut initial rectangle (method grabcut only; default: the image inset by 5%%)")
     g = p.add_mutually_exclusive_group()
     g.add_argument("-n", type=int, default=None, help="number of equally spaced surprisal points (default 100)")
     g.add_argument("--spacing", type=float, default=None, metavar="PX", help="spacing in pixels instead of -n")
     p.add_argument("--sigma", type=float, default=None, metavar="PX",
-                   help="smoothing/curvature scale in px of arc length (default 1%% of the perimeter, >= 1 px)")
+                   help="smoothing/curvature scale in px of arc length (default 1%% of the perimeter, >= 1 px; "
+                   "at most half the perimeter)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
     p.add_argument("--A", type=float, default=0.25, help="A' of the paper's form (default 0.25)")
     p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
@@ -81,6 +85,7 @@ def add_parser(sub):
 
 def _check_args(args):
     from stimuli.errors import InputError
+    from stimuli.extraction.pipeline import check_options
 
     if args.threshold is not None and not math.isfinite(args.threshold):
         raise InputError(f"--threshold must be a finite number, got {args.threshold}")
@@ -90,18 +95,18 @@ def _check_args(args):
         raise InputError(f"-n must be >= 3, got {args.n}")
     if args.spacing is not None and not args.spacing > 0:
         raise InputError(f"--spacing must be > 0, got {args.spacing}")
-    if args.sigma is not None and not args.sigma > 0:
-        raise InputError(f"--sigma must be > 0, got {args.sigma}")
-    if args.min_area is not None and not args.min_area >= 0:
-        raise InputError(f"--min-area must be >= 0, got {args.min_area}")
+    if args.spacing is not None and not math.isfinite(args.spacing):
+        raise InputError(f"--spacing must be a finite number, got {args.spacing}")
+    if args.sigma is not None and not (math.isfinite(args.sigma) and args.sigma > 0):
+        raise InputError(f"--sigma must be a finite number > 0 (px of arc length, at most half the outline's "
+                         f"perimeter), got {args.sigma}")
+    if args.min_area is not None and not (math.isfinite(args.min_area) and args.min_area >= 0):
+        raise InputError(f"--min-area must be a finite number >= 0, got {args.min_area}")
     if not (math.isfinite(args.max_pixels) and args.max_pixels >= 1):
         raise InputError(f"--max-pixels must be a number >= 1, got {args.max_pixels}")
-    model_opts = [f"--{k.replace('_', '-')}" for k in ("model_file", "model_size", "model_mean", "model_std")
-                  if getattr(args, k) is not None]
     if args.method == "model" and args.model_file is None:
         raise InputError("--method model needs --model-file FILE.onnx (a salient-object network you downloaded)")
-    if args.method != "model" and model_opts:
-        raise InputError(f"{', '.join(model_opts)} apply to --method model only, not --method {args.method}")
+    check_options(vars(args))  # an option for another method (--threshold, --rect, --boxes, --model-*, ...)
     if args.model_file is not None and not os.path.isfile(args.model_file):
         raise InputError(f"{args.model_file}: no such model file (an ONNX network, e.g. u2net.onnx)")
     if args.model_size is not None and args.model_size < 8:
@@ -128,6 +133,12 @@ def run(args):
         scribbles=args.scribbles, model_file=args.model_file, model_size=args.model_size,
         model_mean=args.model_mean, model_std=args.model_std, max_pixels=int(args.max_pixels),
     )
+    left = summary.attrs.get("left") or []
+    if left:
+        shown = ", ".join(left[:6]) + (f", ... ({len(left)} files)" if len(left) > 6 else "")
+        print(f"attneave extract: warning: left {shown} in {args.output}: per-object outputs of an earlier run "
+              "that this run did not write and cannot tell from another image's (an input named STEM.K.png); "
+              "remove them if they are stale", file=sys.stderr)
     counts = summary["status"].value_counts()
     n_ok, n_suspect, n_failed = (int(counts.get(k, 0)) for k in ("ok", "suspect", "failed"))
     print(f"attneave extract: {len(summary)} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "

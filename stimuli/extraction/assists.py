@@ -33,7 +33,7 @@ def _matcher(images):
         p = Path(img)
         for key in {str(img), p.name, p.stem}:
             index.setdefault(key, set()).add(str(img))
-    return lambda name: index.get(name, set())
+    return lambda name: frozenset(index.get(name, ()))
 
 
 def read_boxes(path, images, objects="largest"):
@@ -55,7 +55,7 @@ def read_boxes(path, images, objects="largest"):
     Raises
     ------
     InputError
-        Missing columns, a non-numeric value, an image that is no input,
+        No rows, missing columns, a non-numeric value, an image that is no input,
         a box not inside its image, or several boxes without
         ``objects='all'``; one line naming the file and its line.
     """
@@ -64,6 +64,8 @@ def read_boxes(path, images, objects="largest"):
     from stimuli.tables import read_table
 
     df = read_table(path, required=("image", "x", "y", "width", "height"), numeric=("x", "y", "width", "height"))
+    if len(df) == 0:
+        raise InputError(f"{path}: no boxes (a header but no rows); expected rows image,x,y,width,height")
     match = _matcher(images)
     sizes, out = {}, {}
     for i, row in enumerate(df.itertuples(index=False)):
@@ -73,7 +75,7 @@ def read_boxes(path, images, objects="largest"):
         if len(found) != 1:
             what = "matches no input image" if not found else "matches several input images"
             raise InputError(f"{path}: line {line}: image {name!r} {what} (use the file name or stem of one input)")
-        img = found.pop()
+        img = next(iter(found))  # the matcher's own set: read, never emptied
         if img not in sizes:
             sizes[img] = header_size(img)
         box = (row.x, row.y, row.width, row.height)
@@ -105,7 +107,7 @@ def scribble_files(directory, images):
     Raises
     ------
     InputError
-        Not a directory, a PNG that belongs to no input, or one whose size
+        Not a directory, one without any scribble image, a PNG that belongs to no input, or one whose size
         differs from its photo's; one line naming the file.
     """
     from stimuli.extraction.imageio import header_size
@@ -128,4 +130,6 @@ def scribble_files(directory, images):
             raise InputError(f"{f}: scribbles of {size[0]}x{size[1]} pixels, but {img} is {own[0]}x{own[1]}; "
                              "expected the same size")
         out[img] = f
+    if not out:
+        raise InputError(f"{d}: no scribbles (no STEM.png for an input STEM.*); expected one PNG per scribbled input")
     return out

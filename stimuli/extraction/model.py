@@ -64,7 +64,7 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "BOX_CONTEXT", "input_size", "object_probability",
+__all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "BOX_CONTEXT", "load_model", "input_size", "object_probability",
            "boxed_probability"]
 
 #: Network input size (px, square) for a network whose input size is not fixed: U^2-Net's.
@@ -96,6 +96,18 @@ def _session(model_file):
         except Exception as exc:  # noqa: BLE001 - onnxruntime's own error types
             raise InputError(f"{path}: not a usable ONNX model ({' '.join(str(exc).split())[:200]})") from None
     return _SESSIONS[key]
+
+
+def load_model(model_file):
+    """Load an ONNX network (cached per process) or raise one line saying why it cannot be used.
+
+    Raises
+    ------
+    InputError
+        No such file, onnxruntime not installed, or a file onnxruntime
+        cannot load.
+    """
+    return _session(model_file)
 
 
 def input_size(session):

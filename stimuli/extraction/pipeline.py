@@ -30,11 +30,24 @@ measures behind it (``frame``, ``fill``, ``contrast``, ``agreement``; for
 photographs ``colour_error``, ``edge_support``, ``box_contact``), and
 ``resolved``, the method ``auto`` chose. Reasons are always one line. A
 failed file does not stop the others.
-Outputs that an earlier run wrote for an input that now fails
-(``STEM.contour.csv``, ...) are removed so that the directory agrees with
-``summary.csv``; per-object ``STEM.K.*`` files are left alone (an input
-named ``STEM.K.png`` writes the same names). Every file is written under a
+Outputs that an earlier run wrote for an input and this run did not
+(``STEM.contour.csv`` after a switch to ``objects='all'``, or for an input
+that now fails) are removed so that the directory agrees with
+``summary.csv``. Per-object ``STEM.K.*`` files are removed only when the
+earlier run's ``summary.csv`` in the directory shows that run wrote them
+for this input (``objects='all'``, at least K + 1 objects); otherwise they
+may be the outputs of an input named ``STEM.K.png`` and are left, and
+:func:`extract_images` returns their names in ``summary.attrs['left']``
+(the command says so on stderr). Every file is written under a
 temporary name and renamed.
+
+Option mistakes are refused before any image is processed (one line, an
+:class:`~stimuli.errors.InputError`): an option for another method
+(``threshold`` without method threshold or alpha, ``rect`` without
+grabcut, ``boxes`` without auto, photo or model, ``scribbles`` without
+auto or photo, ``model_*`` without model), a ``rect`` outside an image, a
+model file that does not load, an output directory that cannot be made or
+whose outputs would overwrite an input.
 """
 
 from __future__ import annotations
@@ -46,7 +59,8 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.extraction.verdict import PHOTO_MEASURES
 
-__all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "output_stems", "extract_images", "process_one"]
+__all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "OPTION_METHODS", "output_stems", "check_options", "extract_images",
+           "process_one"]
 
 OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
 SUMMARY_COLUMNS = (
@@ -60,6 +74,12 @@ DEFAULTS = dict(
     n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False, boxes=None, scribbles=None,
     model_file=None, model_size=None, model_mean=None, model_std=None, max_pixels=None,
 )
+#: The methods each method-specific option applies to (any other method refuses it).
+OPTION_METHODS = {
+    "threshold": ("threshold", "alpha"), "rect": ("grabcut",), "boxes": ("auto", "photo", "model"),
+    "scribbles": ("auto", "photo"), "model_file": ("model",), "model_size": ("model",), "model_mean": ("model",),
+    "model_std": ("model",),
+}
 
 
 def output_stems(images, objects="largest"):
@@ -121,14 +141,20 @@ def extract_images(images, output, workers=1, progress=None, **options):
         The summary, one row per input in input order (as written to
         ``summary.csv``).
 
+        ``summary.attrs['left']`` lists the per-object files of an earlier
+        run that were left (see the module notes).
+
     Raises
     ------
     InputError
-        Colliding output names, an output path that is not a directory,
-        an unknown option.
+        Colliding output names, an output directory that cannot be made or
+        whose outputs would overwrite an input, an unknown option, an
+        option for another method (:func:`check_options`), a model file
+        that does not load.
     """
     from tqdm import tqdm
 
+    from stimuli.io import make_output_dir
     from stimuli.tables import write_table
 
     unknown = set(options) - set(DEFAULTS)
@@ -136,21 +162,27 @@ def extract_images(images, output, workers=1, progress=None, **options):
         raise InputError(f"unknown extraction option(s): {', '.join(sorted(unknown))}")
     opts = {**DEFAULTS, **options}
     stems = output_stems(images, opts["objects"])
+    check_options(opts, images)
+    inputs = [str(i) for i in images]
     if opts["boxes"] is not None and not isinstance(opts["boxes"], dict):
         from stimuli.extraction.assists import read_boxes
 
+        inputs.append(str(opts["boxes"]))
         opts["boxes"] = read_boxes(opts["boxes"], [str(i) for i in images], opts["objects"])
     if opts["scribbles"] is not None and not isinstance(opts["scribbles"], dict):
         from stimuli.extraction.assists import scribble_files
 
         opts["scribbles"] = scribble_files(opts["scribbles"], [str(i) for i in images])
-    if opts["method"] == "model" and not opts["model_file"]:
-        raise InputError("--method model needs --model-file FILE.onnx")
-    out = Path(output)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a directory")
-    out.mkdir(parents=True, exist_ok=True)
-    tasks = [(str(img), stem, str(out), opts) for img, stem in zip(images, stems)]
+    inputs += [str(f) for f in (opts["scribbles"] or {}).values()]
+    if opts["method"] == "model":
+        from stimuli.extraction.model import load_model
+
+        load_model(opts["model_file"])  # a file that is no usable network is refused before any image
+        inputs.append(str(opts["model_file"]))
+    out = make_output_dir(output)
+    _check_spares_inputs(out, stems, inputs)
+    ours = _earlier_objects(out, stems)
+    tasks = [(str(img), stem, str(out), {**opts, "_earlier": ours.get(stem, 0)}) for img, stem in zip(images, stems)]
     rows = [None] * len(tasks)
     bar = tqdm(total=len(tasks), desc="extract", unit="image", disable=None if progress is None else not progress)
     try:
@@ -170,9 +202,111 @@ def extract_images(images, output, workers=1, progress=None, **options):
                     bar.update()
     finally:
         bar.close()
+    # per-object names left by an earlier run, unless an input of this run writes them
+    left = sorted(f for r in rows for f in r.pop("_left", ()) if _prefix(f) not in stems)
     summary = _summary_frame(rows)
     write_table(summary, out / "summary.csv")
+    summary.attrs["left"] = left
     return summary
+
+
+def _prefix(name):
+    """``STEM.K`` of an output file name ``STEM.K.KIND``."""
+    kind = next(k for k in OUTPUT_KINDS if name.endswith("." + k))
+    return name[: -len(kind) - 1]
+
+
+def check_options(opts, images=()):
+    """Refuse options that do not apply to the method, or a rectangle outside an image (one line).
+
+    Parameters
+    ----------
+    opts : dict
+        The options of :func:`extract_images` (:data:`DEFAULTS` filled in).
+    images : list of str or Path
+        The inputs; a ``rect`` must fit in each one whose header gives its size.
+
+    Raises
+    ------
+    InputError
+        ``--OPTION applies to --method A or B only, not --method M``, or the
+        rectangle and the image it does not fit.
+    """
+    from stimuli.extraction.grabcut import check_box
+    from stimuli.extraction.imageio import header_size
+
+    method = opts["method"]
+    if method == "model" and not opts["model_file"]:
+        raise InputError("--method model needs --model-file FILE.onnx")
+    given = [k for k in OPTION_METHODS if opts.get(k) is not None and method not in OPTION_METHODS[k]]
+    if given:
+        *first, last = OPTION_METHODS[given[0]]
+        need = f"{', '.join(first)} or {last}" if first else last
+        names = ", ".join(f"--{k.replace('_', '-')}" for k in given if OPTION_METHODS[k] == OPTION_METHODS[given[0]])
+        raise InputError(f"{names} {'apply' if ',' in names else 'applies'} to --method {need} only, "
+                         f"not --method {method}")
+    if opts["rect"] is not None:
+        rect = opts["rect"]
+        try:
+            x, y, w, h = (float(v) for v in rect)
+        except (TypeError, ValueError):
+            raise InputError(f"--rect must be four numbers X Y W H, got {rect!r}") from None
+        if not (all(np.isfinite([x, y, w, h])) and x >= 0 and y >= 0 and w >= 2 and h >= 2):
+            raise InputError(f"--rect {' '.join(f'{v:g}' for v in (x, y, w, h))}: expected X Y >= 0 and a width and "
+                             "height W H of at least 2 px (the rectangle around the object, image pixels)")
+        for img in images:
+            size = header_size(img)
+            if size is not None:
+                check_box(rect, (size[1], size[0]), f"{img}: --rect", what="the rectangle")
+
+
+def _check_spares_inputs(out, stems, inputs):
+    """Refuse a run whose outputs in `out` would overwrite one of its inputs (one line)."""
+    import re
+
+    from stimuli.io import check_output_spares_inputs
+
+    kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS)
+    ours = re.compile(rf"(?:{'|'.join(re.escape(s) for s in stems)})(?:\.\d+)?\.(?:{kinds})")
+    check_output_spares_inputs(out / "summary.csv", inputs)
+    where = out.resolve()
+    for item in inputs:
+        p = Path(item)
+        if p.resolve().parent == where and ours.fullmatch(p.name):
+            check_output_spares_inputs(out / p.name, [item])
+
+
+def _earlier_objects(out, stems):
+    """Per stem, how many per-object files ``STEM.K.*`` the earlier run in `out` provably wrote.
+
+    Its ``summary.csv`` must list an input of this stem with an outline
+    (ok or suspect) and ``n_objects`` N, no input named ``STEM.K``, and
+    ``STEM.contour.csv`` must be absent (a run with ``objects='all'``
+    removes it; one with ``objects='largest'`` writes it): then that run
+    wrote ``STEM.0.*`` to ``STEM.{N-1}.*``. Anything unreadable is no proof.
+    """
+    import csv
+
+    try:
+        with open(out / "summary.csv", newline="", encoding="utf-8") as fh:
+            rows = list(csv.DictReader(fh))
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return {}
+    earlier_stems = {Path(str(r.get("image") or "")).stem for r in rows}
+    proof = {}
+    for r in rows:
+        stem = Path(str(r.get("image") or "")).stem
+        if stem not in stems or r.get("status") not in ("ok", "suspect"):
+            continue
+        try:
+            n = int(float(r.get("n_objects") or "nan"))
+        except ValueError:
+            continue
+        if (out / f"{stem}.contour.csv").exists():
+            continue
+        n = next((k for k in range(n) if f"{stem}.{k}" in earlier_stems or f"{stem}.{k}" in stems), n)
+        proof[stem] = max(proof.get(stem, 0), n)
+    return proof
 
 
 def _summary_frame(rows):
@@ -188,18 +322,46 @@ def _summary_frame(rows):
     return df
 
 
-def _remove_stale(outdir, stem, keep):
-    """Remove this stem's outputs of an earlier run that this run did not write.
+def _remove_stale(outdir, stem, keep, earlier=0):
+    """Remove this stem's outputs of an earlier run that this run did not write; list those left.
 
-    Only names that no other input can produce are touched: ``STEM.KIND``
-    (one object per image) and ``STEM.overlay.png``. Per-object files
-    ``STEM.K.KIND`` of an earlier ``--objects all`` run are left alone,
-    since an input named ``STEM.K.png`` writes the same names.
+    ``STEM.KIND`` (one object per image, and ``STEM.overlay.png``) only
+    this stem can produce: removed. Per-object files ``STEM.K.KIND`` are
+    removed for ``K < earlier``, the objects the earlier run provably wrote
+    for this stem (:func:`_earlier_objects`); others may be the outputs of
+    an input named ``STEM.K.png`` and are left, and returned unless
+    ``STEM.K.overlay.png`` shows that they are (no per-object overlay is
+    written).
+
+    Returns
+    -------
+    list of str
+        The names of the per-object files left.
     """
+    import re
+
     for kind in OUTPUT_KINDS:
         f = outdir / f"{stem}.{kind}"
         if f.name not in keep and f.is_file():
             f.unlink()
+    # --objects all writes no per-object overlay: STEM.K.overlay.png is an input STEM.K's
+    kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS if k != "overlay.png")
+    per_object = re.compile(rf"{re.escape(stem)}\.(\d+)\.(?:{kinds})")
+    left = []
+    try:
+        names = sorted(f.name for f in outdir.iterdir())
+    except OSError:
+        return left
+    for name in names:
+        m = per_object.fullmatch(name)
+        if not m or name in keep or not (outdir / name).is_file():
+            continue
+        k = m.group(1)
+        if int(k) < earlier and k == str(int(k)):
+            (outdir / name).unlink()
+        elif not (outdir / f"{stem}.{k}.overlay.png").exists():
+            left.append(name)
+    return left
 
 
 def process_one(image, stem, outdir, opts):
@@ -211,21 +373,26 @@ def process_one(image, stem, outdir, opts):
     outdir = Path(outdir)
     row = {c: "" for c in SUMMARY_COLUMNS}
     row.update(image=image, method=opts["method"])
+    earlier = opts.get("_earlier", 0)
+    written, done = set(), []
     try:
         files, info = _analyse(image, stem, opts)
         for name, writer in files.items():
             writer(outdir / name)
-        _remove_stale(outdir, stem, set(files))
+            done.append(name)
+        written = set(files)
         row.update(info)
     except InputError as exc:
         msg = str(exc)
         if msg.startswith(image + ": "):
             msg = msg[len(image) + 2 :]
         row.update(status="failed", reason=msg)
-        _remove_stale(outdir, stem, set())
     except Exception as exc:  # noqa: BLE001 - one bad file must not stop a batch
         row.update(status="failed", reason=f"internal error: {type(exc).__name__}: {exc}")
-        _remove_stale(outdir, stem, set())
+    if not written:  # a failed file has no outputs: not even those it wrote before failing
+        for name in done:
+            (outdir / name).unlink(missing_ok=True)
+    row["_left"] = _remove_stale(outdir, stem, written, earlier)
     # a reason is one line of a CSV cell, whatever a library put in its message
     row["reason"] = " ".join(str(row["reason"]).split())[:500]
     for k, v in row.items():

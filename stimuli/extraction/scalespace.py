@@ -20,13 +20,17 @@ from stimuli.errors import InputError
 from stimuli.geometry.contour import Contour
 from stimuli.geometry.polyline import gaussian_curvature
 
-__all__ = ["SIGMA_FRACTION", "MIN_SIGMA", "ContourInfo", "default_sigma", "smooth", "contour_curvature",
+__all__ = ["SIGMA_FRACTION", "MIN_SIGMA", "MAX_SIGMA_FRACTION", "ContourInfo", "default_sigma", "smooth", "contour_curvature",
            "describe", "curvature_peaks", "fourier_smooth"]
 
 #: Default curvature/smoothing scale as a fraction of the contour's perimeter.
 SIGMA_FRACTION = 0.01
 #: Smallest default smoothing scale, in pixels (pixel noise sets this floor).
 MIN_SIGMA = 1.0
+#: Largest smoothing scale given, as a fraction of the perimeter: beyond it
+#: the periodic Gaussian shrinks the outline to a point (its first harmonic
+#: by a factor under exp(-pi**2 / 2) = 0.007).
+MAX_SIGMA_FRACTION = 0.5
 
 def fourier_smooth(q, sigma, length):
     """Equally spaced closed points `q` (perimeter `length`) smoothed by a periodic Gaussian of `sigma` px."""
@@ -54,7 +58,10 @@ def _resolve_sigma(c, sigma):
         return default_sigma(c)
     sigma = float(sigma)
     if not (np.isfinite(sigma) and sigma > 0):
-        raise InputError(f"sigma must be > 0 px, got {sigma}")
+        raise InputError(f"sigma must be a finite number > 0 px, got {sigma}")
+    if sigma > MAX_SIGMA_FRACTION * c.perimeter:
+        raise InputError(f"sigma (--sigma) {sigma:g} px is over {MAX_SIGMA_FRACTION:g} times this outline's perimeter "
+                         f"({c.perimeter:.4g} px): smoothing at that scale shrinks it to a point; give a smaller sigma")
     return sigma
 
 

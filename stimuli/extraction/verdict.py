@@ -15,7 +15,9 @@ the measure and its value:
 ``contrast``
     The mean colour-gradient magnitude along the outline over its median
     over the image (:func:`boundary_contrast`): about 1 for an outline
-    along no visible edge.
+    along no visible edge. A cut-out's outline (method ``alpha``) is the
+    edge of its alpha channel, so its contrast is measured on the alpha
+    channel, not on the colours (often uniform under transparency).
 ``competing``
     With ``objects='largest'``: the next object's area over the largest's
     (for the automatic photo method, the parts GrabCut found); two objects
@@ -226,9 +228,10 @@ def judge(image, extraction, decoder=(), thresholds=None):
     c = extraction.contours[0]
     h, w = extraction.mask.shape
     p = extraction.params
+    method = p.get("resolved", p.get("method"))
     frame = max(frame_contact(k, (h, w)) for k in extraction.contours)
     fill = float(c.area / (h * w))
-    contrast = min(boundary_contrast(image, k) for k in extraction.contours)
+    contrast = min(boundary_contrast(_contrast_source(image, method), k) for k in extraction.contours)
     areas = p.get("candidate_areas") or []
     competing = areas[1] / areas[0] if p.get("objects") == "largest" and len(areas) > 1 and areas[0] else None
     if p.get("competing") is not None and p.get("objects") == "largest":  # the photo method's own parts
@@ -247,7 +250,6 @@ def judge(image, extraction, decoder=(), thresholds=None):
         reasons.append(f"competing region of {100 * competing:.0f}% of the object's size")
     if agreement is not None and agreement < th["agreement"]:
         reasons.append(f"the method's hypotheses disagree (IoU {agreement:.2f})")
-    method = p.get("resolved", p.get("method"))
     photo = photo_measures(image, extraction) if method in UNVERIFIABLE else dict.fromkeys(PHOTO_MEASURES)
     if photo["box_contact"] is not None and photo["box_contact"] > th["box"]:
         reasons.append(f"runs along its box over {100 * photo['box_contact']:.0f}% of its outline "
@@ -269,6 +271,14 @@ def judge(image, extraction, decoder=(), thresholds=None):
     measures = dict(frame=frame, fill=fill, contrast=contrast, competing=competing, agreement=agreement,
                     **photo, decoder=list(decoder))
     return Verdict("suspect" if reasons else "ok", reasons, measures)
+
+
+def _contrast_source(image, method):
+    """The channels an outline found by `method` lies on: a cut-out's alpha, else the image."""
+    img = np.asarray(image)
+    if method == "alpha" and img.ndim == 3 and img.shape[2] in (2, 4):
+        return img[:, :, -1]
+    return img
 
 
 def box_verified(params, measures, thresholds=None):
