@@ -208,7 +208,7 @@ def test_resume_needs_a_batch_to_resume(tiny, tmp_path, capsys):
     [
         (("canvas: {width: 64", "canvas: {widht: 64"), "canvas.widht: unknown key"),  # unknown key
         (("repeats: 2", "repeats: two"), "conditions[0].repeats: must be an integer"),  # wrong type
-        (("height: 64", "height: -64"), "canvas.height: must be > 0"),  # negative size
+        (("height: 64", "height: -64"), "canvas.height: must be >= 8"),  # negative size
         (("amplitude: [0.05, 0.15]", "amplitude: [0.05, -0.15]"), "conditions[1].grid.amplitude[1]: must be >= 0"),
         (("    recipe: radial_frequency\n", "    recipe: radial_frequency\n   oops\n"), "invalid YAML"),  # YAML
     ],

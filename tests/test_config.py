@@ -86,7 +86,7 @@ def test_dotted_grid_keys_reach_nested_parameters(tmp_path):
         ("seed: 1.5\nconditions:\n  - name: a\n    recipe: blob\n", "cfg.yaml:1: seed: must be an integer"),
         # negative size
         ("seed: 1\ncanvas: {width: -64}\nconditions:\n  - name: a\n    recipe: blob\n",
-         "cfg.yaml:2: canvas.width: must be > 0, got -64"),
+         "cfg.yaml:2: canvas.width: must be >= 8, got -64"),
         # a recipe parameter out of range, in a grid: the path names the list item
         ("seed: 1\nconditions:\n  - name: a\n    recipe: radial_frequency\n    grid:\n"
          "      amplitude: [0.05,\n                  -0.1]\n",
@@ -104,7 +104,7 @@ def test_dotted_grid_keys_reach_nested_parameters(tmp_path):
         ("seed: 1\nstyle: {figure: abc}\nconditions:\n  - name: a\n    recipe: blob\n",
          "cfg.yaml:2: style.figure: must be a grey level in [0, 1] or an [r, g, b] triple of them, got 'abc'"),
         ("seed: 1\ncanvas: {width: 64}\nconditions:\n  - name: a\n    recipe: blob\n    canvas: {margin: 40}\n",
-         "cfg.yaml:6: conditions[0].canvas.margin: must be < 32"),
+         "cfg.yaml:6: conditions[0].canvas.margin: must be <= 28"),
         ("seed: 1\nconditions:\n  - name: a\n    recipe: blobb\n",
          "cfg.yaml:4: conditions[0].recipe: unknown recipe 'blobb' (did you mean 'blob'?)"),
         ("seed: 1\nconditions:\n  - name: a\n    recipe: blob\n  - name: a\n    recipe: blob\n",

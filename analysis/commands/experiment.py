@@ -64,7 +64,14 @@ def run(args):
     from analysis.experiment.options import load_options
     from stimuli.stimulus_set import read_stimulus_set
 
+    from stimuli.errors import InputError
+    from stimuli.io import check_output_spares_inputs
+
+    check_output_spares_inputs(args.output, [args.stimuli, args.config])
     options = load_options(args.config, {k: getattr(args, k) for k in _SETTINGS})
+    if not args.psychopy and "psychopy_units" in options.model_fields_set:
+        where = "--psychopy-units" if args.psychopy_units is not None else f"{args.config}: psychopy_units"
+        raise InputError(f"{where}: applies only to the PsychoPy export; add --psychopy (or leave it out)")
     stimset = read_stimulus_set(args.stimuli)
     res = build_experiment(stimset, args.output, options, psychopy=args.psychopy, force=args.force)
     if res["moved_aside"] is not None:

@@ -16,6 +16,7 @@ other content is the user's, and is moved aside (never deleted) with
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import shutil
@@ -174,22 +175,47 @@ def _read_rgba(path):
 
 
 def check_image_sizes(stimuli, mpath):
-    """Raise InputError when an image's pixel size differs from its manifest size.
+    """Raise InputError when an image cannot be shown or its pixel size differs from its manifest size.
 
+    Every raster image is decoded in full (with Pillow, which reads every
+    format browsers show but SVG): a file that is not an image, or whose
+    data are truncated or corrupt, would show participants a broken image.
     Clicks are converted with the manifest's width and height (what
     ``analyze`` uses) and the page with the image's natural size; the two must
     agree.
     """
-    import cv2
-
     for s in stimuli:
-        img = cv2.imread(str(s.source), cv2.IMREAD_UNCHANGED) if s.source.suffix.lower() != ".svg" else None
-        if img is None:
+        if s.source.suffix.lower() == ".svg":
             continue
-        h, w = img.shape[:2]
+        w, h = _decoded_size(s, mpath)
         if (w, h) != (s.width, s.height):
             raise InputError(f"{mpath}: {s.id}: image {s.source.name} is {w} x {h} px but the manifest says "
                              f"{s.width} x {s.height}")
+
+
+def _decoded_size(s, mpath):
+    """(width, height) of a stimulus's image, decoded in full; InputError naming the file if it cannot be."""
+    import warnings
+
+    from PIL import Image, UnidentifiedImageError
+
+    where = f"{mpath}: {s.id}: image {s.source}"
+    try:
+        with warnings.catch_warnings():
+            # Pillow's DecompressionBombWarning is an error here: no stimulus image is that large
+            warnings.simplefilter("error", Image.DecompressionBombWarning)
+            with Image.open(s.source) as im:
+                im.load()  # the whole file: a truncated one raises here, not when the browser shows it
+                return im.size
+    except UnidentifiedImageError:
+        with contextlib.suppress(OSError):
+            if s.source.stat().st_size == 0:
+                raise InputError(f"{where}: empty file; participants would see a broken image") from None
+        raise InputError(f"{where}: not an image file (or a format Pillow cannot read); participants would "
+                         "see a broken image") from None
+    except (OSError, SyntaxError, ValueError, Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:
+        reason = " ".join(str(exc).split())[:200] or type(exc).__name__
+        raise InputError(f"{where}: cannot be decoded ({reason}); participants would see a broken image") from None
 
 
 def background_colour(paths):
@@ -332,6 +358,15 @@ def check_output(out, force=False):
     return "move-aside"
 
 
+def _check_parents(out):
+    """InputError when a parent of `out` exists but is a file (the directory could never be made there)."""
+    for parent in out.parents:
+        if parent.exists() or parent.is_symlink():
+            if not parent.is_dir():
+                raise InputError(f"{out}: cannot be created: {parent} is a file, not a directory")
+            return
+
+
 def _aside_name(out):
     i = 1
     while True:
@@ -383,6 +418,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
 
     options = options or ExperimentOptions()
     out = Path(out)
+    _check_parents(out)
     mpath = Path(stimset.directory) / "manifest.csv"
     # every check on the inputs happens before anything is written
     practice, main = select_stimuli(stimset, options)

@@ -9,6 +9,7 @@ receives an :class:`ExperimentOptions`.
 from __future__ import annotations
 
 import difflib
+import math
 import re
 from pathlib import Path
 from typing import Literal, Optional, Union
@@ -52,6 +53,15 @@ def _whole(value, name, low):
     if not isinstance(value, int) or value < low:
         raise ValueError(f"expected a whole number >= {low}, got {value!r}")
     return value
+
+
+def _refuse_repeats(values, what):
+    """ValueError naming the first value given twice (a practice trial or a condition would count twice)."""
+    seen = set()
+    for v in values:
+        if v in seen:
+            raise ValueError(f"{what} {v!r} is given twice; give each once")
+        seen.add(v)
 
 
 class ExperimentOptions(BaseModel):
@@ -150,6 +160,7 @@ class ExperimentOptions(BaseModel):
         if isinstance(v, (list, tuple)):
             if not all(isinstance(s, str) and s for s in v):
                 raise ValueError("expected a number of stimuli or a list of stimulus ids")
+            _refuse_repeats(v, "stimulus id")
             return list(v)
         return _whole(v, "practice", 0)
 
@@ -188,6 +199,23 @@ class ExperimentOptions(BaseModel):
             v = [s.strip() for s in v.split(",") if s.strip()]
         if v is not None and (not isinstance(v, list) or not v or not all(isinstance(s, str) for s in v)):
             raise ValueError("expected a non-empty list of condition names")
+        if v is not None:
+            _refuse_repeats(v, "condition")
+        return v
+
+    @field_validator("size_deg", "size_px", "px_per_deg", "viewing_distance_cm", mode="before")
+    @classmethod
+    def _finite(cls, v):
+        # NaN fails every bound, and pydantic would name the bound rather than the NaN
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"must be a finite number, got {v!r}")
+        if isinstance(v, str):
+            try:
+                f = float(v)
+            except ValueError:
+                return v  # pydantic says it is not a number
+            if not math.isfinite(f):
+                raise ValueError(f"must be a finite number, got {v!r}")
         return v
 
     @field_validator("background", mode="before")
@@ -243,17 +271,13 @@ class ExperimentOptions(BaseModel):
         return b.lower()
 
 
-def _yaml_lines(text):
-    """Line (1-based) of each top-level key of a YAML mapping, for messages."""
+def _yaml_lines(root):
+    """Line (1-based) of each top-level key of a composed YAML mapping, for messages."""
     import yaml
 
-    try:
-        node = yaml.compose(text, Loader=yaml.SafeLoader)
-    except yaml.YAMLError:
+    if not isinstance(root, yaml.MappingNode):
         return {}
-    if not isinstance(node, yaml.MappingNode):
-        return {}
-    return {getattr(k, "value", None): k.start_mark.line + 1 for k, _ in node.value}
+    return {getattr(k, "value", None): k.start_mark.line + 1 for k, _ in root.value}
 
 
 def _read_yaml(path):
@@ -262,13 +286,12 @@ def _read_yaml(path):
     from stimuli.batch.config_file import parse_yaml, read_text
 
     path = Path(path)
-    text = read_text(path)
-    data = parse_yaml(text, path)[1]
+    root, data = parse_yaml(read_text(path), path)  # also refuses a key given twice
     if data is None:
         data = {}
     if not isinstance(data, dict):
         raise InputError(f"{path}: expected a mapping of settings (key: value), got {type(data).__name__}")
-    return data, _yaml_lines(text)
+    return data, _yaml_lines(root)
 
 
 def load_options(config=None, overrides=None):

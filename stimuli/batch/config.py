@@ -82,6 +82,8 @@ __all__ = [
 ]
 
 NAME_PATTERN = r"^[A-Za-z0-9][A-Za-z0-9_.-]*$"
+#: Smallest figure area (px, each side, inside the margins): a smaller image shows no usable shape.
+MIN_FIGURE_PX = 8
 MAX_JOBS = 100_000  # recipe calls per batch: planning and validating them takes seconds, not minutes
 
 _STRICT = ConfigDict(extra="forbid", strict=True)
@@ -92,17 +94,17 @@ class CanvasConfig(BaseModel):
 
     model_config = _STRICT
 
-    width: int = Field(512, gt=0, le=16384)
-    height: int = Field(512, gt=0, le=16384)
-    margin: float = Field(32.0, ge=0)
+    width: int = Field(512, ge=MIN_FIGURE_PX, le=16384)
+    height: int = Field(512, ge=MIN_FIGURE_PX, le=16384)
+    margin: float = Field(32.0, ge=0, allow_inf_nan=False)
 
     @field_validator("margin")
     @classmethod
     def _margin_fits(cls, margin, info):
         w, h = info.data.get("width"), info.data.get("height")
-        if w is not None and h is not None and 2 * margin >= min(w, h):
-            raise ValueError(f"must be < {min(w, h) / 2:g} (half the smaller side of the {w}x{h} image), "
-                             f"got {margin:g}")
+        if w is not None and h is not None and min(w, h) - 2 * margin < MIN_FIGURE_PX:
+            raise ValueError(f"must be <= {(min(w, h) - MIN_FIGURE_PX) / 2:g} (the figure needs at least "
+                             f"{MIN_FIGURE_PX} px between the margins of the {w}x{h} image), got {margin:g}")
         return margin
 
 

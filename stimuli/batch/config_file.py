@@ -4,7 +4,10 @@ A config file is refused before it is parsed when it is not a regular file
 (a FIFO would block forever) or is larger than ``MAX_CONFIG_BYTES``; while
 it is composed, nesting deeper than ``MAX_DEPTH`` and documents whose
 aliases expand to more than ``MAX_NODES`` values are refused, each with
-one line naming the file. Only the safe loader is used.
+one line naming the file, and so is a mapping that gives a key twice (YAML
+would silently keep the last value). Only the safe loader is used; it is
+shared with every other YAML input of the project (the experiment's
+settings).
 """
 
 from __future__ import annotations
@@ -65,6 +68,11 @@ def parse_yaml(text, path):
             finally:
                 self.depth -= 1
 
+        def compose_mapping_node(self, anchor):
+            node = super().compose_mapping_node(anchor)
+            _refuse_duplicate_keys(node, path)
+            return node
+
     loader = Loader(text)
     try:
         root = loader.get_single_node()
@@ -81,6 +89,22 @@ def parse_yaml(text, path):
         raise InputError(f"{where}: invalid YAML: {problem}") from None
     finally:
         loader.dispose()
+
+
+def _refuse_duplicate_keys(node, path):
+    """InputError naming the file, the key and both its lines when a mapping gives a key twice."""
+    import yaml
+
+    seen = {}
+    for key, _ in node.value:
+        if not isinstance(key, yaml.ScalarNode) or key.tag == "tag:yaml.org,2002:merge":
+            continue  # a complex key, or '<<' (a merge of an alias, whose keys the mapping's own override)
+        ident = (key.tag, key.value)
+        if ident in seen:
+            raise InputError(f"{path}:{key.start_mark.line + 1}: duplicate key {key.value!r} (first given on "
+                             f"line {seen[ident] + 1}); give each key once")
+        seen[ident] = key.start_mark.line
+    return node
 
 
 def _expanded_size(root):

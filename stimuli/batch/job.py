@@ -29,7 +29,7 @@ from stimuli.errors import InputError
 from stimuli.io import atomic_write
 from stimuli.stimulus_set import encode_json, to_jsonable
 
-__all__ = ["ROWS_DIR", "plan_jobs", "run_job", "journal_path"]
+__all__ = ["ROWS_DIR", "JobError", "plan_jobs", "run_job", "journal_path"]
 
 ROWS_DIR = ".rows"
 _SUFFIX_RE = re.compile(r"[A-Za-z0-9_.-]*")
@@ -76,6 +76,11 @@ def plan_jobs(batch):
 def run_job(job, out_dir):
     """Make one recipe call and write its files; return its manifest rows.
 
+    Errors name the condition, the call and its seed: an InputError (bad
+    input met by the recipe, a figure that would render blank) keeps its
+    type; any other exception but an OSError (the disk) is a bug, raised
+    again as a :class:`JobError` with the same words.
+
     The job's parameters, style and canvas were validated when the config
     was read; they are used as they are.
 
@@ -92,6 +97,23 @@ def run_job(job, out_dir):
     list of dict
         Manifest rows (all values strings), one per item the recipe returned.
     """
+    where = f"condition {job['condition']!r}, call {job['key']} (seed {job['seed']})"
+    try:
+        return _run_job(job, out_dir)
+    except InputError as exc:
+        # the recipe names the parameter or file; say which condition and call met it
+        raise InputError(f"{where}: {exc}") from None
+    except (OSError, MemoryError):
+        raise
+    except Exception as exc:
+        raise JobError(f"{where}: {type(exc).__name__}: {' '.join(str(exc).split())}") from exc
+
+
+class JobError(RuntimeError):
+    """An unexpected error (a bug, not the input) in one recipe call; the message names the call."""
+
+
+def _run_job(job, out_dir):
     import numpy as np
 
     from stimuli.batch.drawing import draw_item, item_svg
@@ -101,11 +123,7 @@ def run_job(job, out_dir):
     out = Path(out_dir)
     fn = RECIPES[job["recipe"]][1]
     canvas, style = job["canvas"], job["style"]
-    try:
-        items = fn(job["params"], np.random.default_rng(job["seed"]), canvas)
-    except InputError as exc:
-        # the recipe names the parameter or file; say which condition and call met it
-        raise InputError(f"condition {job['condition']!r}, call {job['key']} (seed {job['seed']}): {exc}") from None
+    items = fn(job["params"], np.random.default_rng(job["seed"]), canvas)
 
     key = job["key"]
     suffixes = [it.suffix for it in items]
@@ -122,7 +140,9 @@ def run_job(job, out_dir):
         stim = sid(it.suffix)
         image = f"images/{stim}.png"
         contour = f"contours/{stim}.csv"
-        write_png(out / image, draw_item(it, style, canvas), job["output"]["png_bit_depth"])
+        img = draw_item(it, style, canvas)
+        _check_visible(f"item {it.suffix!r}" if it.suffix else "", it, img, canvas)
+        write_png(out / image, img, job["output"]["png_bit_depth"])
         row = {"stimulus_id": stim, "image": image, "contour": contour}
         if svg:
             row["svg"] = f"images/{stim}.svg"
@@ -145,11 +165,39 @@ def run_job(job, out_dir):
             "rep": str(job["rep"]),
             "style": style_json,
         })
+        if it.warnings:
+            row["warning"] = _as_written(" | ".join(" ".join(str(w).split()) for w in it.warnings), job["path_map"])
         rows.append(row)
     line = json.dumps({"job": key, "rows": rows}, sort_keys=True) + "\n"
     with open(journal_path(out), "a", encoding="utf-8") as fh:
         fh.write(line)  # one write of one line, after the job's files are in place
     return rows
+
+
+def _as_written(text, path_map):
+    """`text` with absolute input paths put back as the config wrote them (files must not depend on
+    where the config lives)."""
+    for absolute in sorted(path_map, key=len, reverse=True):
+        text = text.replace(absolute, path_map[absolute])
+    return text
+
+
+#: Smallest extent (px) of a figure on its canvas: below it the image shows a speck, not a shape.
+MIN_FIGURE_EXTENT = 1.0
+
+
+def _check_visible(label, item, img, canvas):
+    """InputError when a stimulus would show no shape: a figure below 1 px, or an image of one colour."""
+    label = f"{label}: " if label else ""
+    x0, y0, x1, y1 = item.contour.bbox
+    w, h = x1 - x0, y1 - y0
+    if max(w, h) < MIN_FIGURE_EXTENT:
+        raise InputError(f"{label}the figure is {w:.2g} x {h:.2g} px on the {canvas.width}x{canvas.height} "
+                         f"canvas, below {MIN_FIGURE_EXTENT:g} px: its image would be blank; make it larger "
+                         "(e.g. r0 or scale) or use placement: fit")
+    if img.min() == img.max():
+        raise InputError(f"{label}the image is blank (one colour everywhere): the figure lies outside the "
+                         f"{canvas.width}x{canvas.height} canvas or is drawn in the ground's colour")
 
 
 def journal_path(out):

@@ -83,6 +83,10 @@ class Item:
         polygon) or ``"radius"`` (dots) overrides the style's.
     params : dict
         Every resolved parameter (JSON-serialisable).
+    warnings : list of str
+        Why this stimulus may be poor (e.g. the outline taken from an image
+        is ``suspect``), one line each; empty for a clean one. ``generate``
+        prints them and writes them to the manifest's ``warning`` column.
     """
 
     suffix: str
@@ -91,6 +95,7 @@ class Item:
     contour: Contour
     draw: dict
     params: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
 
 
 
@@ -164,13 +169,19 @@ def _shape(name, p, rng):
 
 
 def _from_image(p):
-    from stimuli.extraction import extract_contours  # lazily: it pulls in OpenCV and scikit-image
+    """The largest object's outline and the extraction's verdict (``ok`` or ``suspect``, with its reasons)."""
+    # lazily: these pull in OpenCV and scikit-image
+    from stimuli.extraction.imageio import open_image
+    from stimuli.extraction.outlines import extract
+    from stimuli.extraction.verdict import judge
 
-    found = extract_contours(p.path, method=p.method, threshold=p.threshold, polarity=p.polarity,
-                             objects="largest")
-    if not found:
+    f = open_image(p.path)  # the decoder's complaints are collected, not printed
+    ex = extract(f.image, method=p.method, threshold=p.threshold, polarity=p.polarity, objects="largest",
+                 name=p.path)
+    if not ex.contours:
         raise InputError(f"{p.path}: no object found in the image")
-    c = found[0]
+    verdict = judge(f.image, ex, f.warnings)
+    c = ex.contours[0]
     n_read = c.n
     if p.resample is not None:
         c = c.resample(n=p.resample)
@@ -179,8 +190,16 @@ def _from_image(p):
     x0, y0, x1, y1 = c.bbox
     return c, dict(path=p.path, method=p.method, threshold=p.threshold, polarity=p.polarity,
                    n_points=int(n_read), n=int(c.n),
-                   centre=[(x0 + x1) / 2.0, (y0 + y1) / 2.0])
+                   centre=[(x0 + x1) / 2.0, (y0 + y1) / 2.0],
+                   extraction=dict(status=verdict.status, reasons=list(verdict.reasons)))
 
+
+def _shape_warnings(shape_params):
+    """The warnings a shape's parameters carry: a ``suspect`` outline taken from an image."""
+    ex = (shape_params.get("shape") or {}).get("extraction") or {}
+    if ex.get("status") == "suspect":
+        return [f"outline from {shape_params['shape'].get('path')} is suspect: {'; '.join(ex.get('reasons') or [])}"]
+    return []
 
 
 def _validated(model, params):
@@ -211,7 +230,7 @@ def _lone_shape(name):
                 Item("polygon", "polygon", None, placed[0], _draw(p.draw), dict(base, version="polygon")),
                 Item("curved", "curved", "polygon", placed[1], _draw(p.draw), dict(base, version="curved")),
             ]
-        return [Item("", "", None, placed[0], _draw(p.draw), base)]
+        return [Item("", "", None, placed[0], _draw(p.draw), base, _shape_warnings(base))]
 
     fn.__name__ = f"{name}_recipe"
     fn.__doc__ = f"Recipe {name!r}: one item (two for Attneave version 'both'); params {model.__name__}."
@@ -251,10 +270,11 @@ def deformation_recipe(params, rng, canvas):
         dparams = dict(dfm.params, base_tries=tries, resample=p.resample)
         common = dict(bparams, deformation=dparams)
         draw = _draw(p.draw)
+        warn = _shape_warnings(bparams)
         return [
-            Item("base", "base", None, dfm.base, dict(draw), dict(common, condition="base")),
-            Item("concave", "concave", "base", dfm.concave, dict(draw), dict(common, condition="concave")),
-            Item("convex", "convex", "base", dfm.convex, dict(draw), dict(common, condition="convex")),
+            Item("base", "base", None, dfm.base, dict(draw), dict(common, condition="base"), list(warn)),
+            Item("concave", "concave", "base", dfm.concave, dict(draw), dict(common, condition="concave"), list(warn)),
+            Item("convex", "convex", "base", dfm.convex, dict(draw), dict(common, condition="convex"), list(warn)),
         ]
     raise InputError(f"deformation: no valid {p.mode} change on {p.max_tries} base shapes; last: {last}")
 
@@ -316,6 +336,7 @@ def guided_recipe(params, rng, canvas):
     parent = "base" if "base" in kinds else None
     common = dict(bparams, base_tries=tries, base_rejected=rejected, base_random=not fixed)
     items = []
+    warn = _shape_warnings(bparams)
     for kind in kinds:
         if kind == "base":
             items.append(Item("base", "base", None, contour, _draw(p.base_draw), dict(common, condition="base")))
@@ -332,6 +353,8 @@ def guided_recipe(params, rng, canvas):
             pts, g = made[kind]
             items.append(Item(kind, kind, parent, contour, {"mode": "dots", "points": pts},
                               dict(common, condition=kind, guided=g)))
+    for it in items:
+        it.warnings = list(warn)
     return items
 
 

@@ -29,9 +29,15 @@ How that is kept
   survived it) and removes ``.rows/``, the marker, the lock and the
   temporary files an interrupted write left behind.
 * A config that does not validate writes nothing. An error inside a recipe
-  call (e.g. an unreadable image) stops the batch; a directory that this run
-  created is then removed again. A full disk (an ``OSError``) stops it too
-  but keeps what is complete: the rerun completes it.
+  call (e.g. an unreadable image, or a bug: :class:`BatchError`) stops the
+  batch; a directory that this run created is then removed again, and one
+  that existed keeps its complete stimuli (the message says which). A full
+  disk (an ``OSError``) stops it too but keeps what is complete: the rerun
+  completes it.
+* A stimulus that may be poor (an outline taken from an image that the
+  extraction's verdict calls ``suspect``) is made, and its reasons are
+  written to the manifest's ``warning`` column and returned in
+  :attr:`BatchResult.warnings`.
 """
 
 from __future__ import annotations
@@ -40,7 +46,7 @@ import contextlib
 import os
 import shutil
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from stimuli.batch import outdir
@@ -48,10 +54,10 @@ from stimuli.batch.config import ResolvedBatch, load_config
 from stimuli.batch.execution import execute
 from stimuli.batch.job import ROWS_DIR, plan_jobs
 from stimuli.errors import InputError
-from stimuli.io import DISK_ERRORS, atomic_write
+from stimuli.io import DISK_ERRORS, atomic_write, check_output_spares_inputs, make_output_dir
 from stimuli.stimulus_set import write_manifest
 
-__all__ = ["BatchResult", "run_batch", "DISK_ERRORS"]
+__all__ = ["BatchError", "BatchResult", "run_batch", "DISK_ERRORS"]
 
 # errors of the disk rather than of the input: the batch stops, keeps what is complete, exit 1
 
@@ -71,6 +77,9 @@ class BatchResult:
         Recipe calls made by this run (the others were complete already).
     seconds : float
         Wall time of this run (not written to any file).
+    warnings : list of (str, str)
+        ``(stimulus_id, warning)`` of every stimulus that may be poor (its
+        manifest ``warning`` column), in manifest order.
     """
 
     directory: Path
@@ -78,6 +87,7 @@ class BatchResult:
     n_jobs: int
     n_run: int
     seconds: float
+    warnings: list = field(default_factory=list)
 
 
 def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=False, progress=None):
@@ -128,25 +138,68 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
         raise InputError("--resume and --force contradict each other; give one")
     if scheduler is None and (not isinstance(workers, int) or workers < 1):
         raise InputError(f"--workers must be a positive integer, got {workers!r}")
+    if str(out_dir) == "":
+        raise InputError("-o: empty output path; name a directory")
     out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a directory")
+    _check_spares_inputs(batch, out, force)
     created = not out.exists()
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(f"{out}: cannot write there ({exc.strerror or exc})") from None
+    make_output_dir(out)
     held = False
     try:
         with outdir.locked(out):
             held = True
-            n_stimuli, n_jobs, n_run = _run_locked(batch, out, workers, scheduler, resume, force, progress)
+            rows, n_jobs, n_run = _run_locked(batch, out, workers, scheduler, resume, force, progress)
     except InputError:
         if created and held:  # only this run wrote there
             shutil.rmtree(out, ignore_errors=True)
         raise
-    return BatchResult(directory=out, n_stimuli=n_stimuli, n_jobs=n_jobs, n_run=n_run,
-                       seconds=time.perf_counter() - t0)
+    except Exception as exc:
+        if isinstance(exc, OSError) and exc.errno in DISK_ERRORS:
+            raise  # the disk: what is complete is kept, the rerun completes it
+        # a bug, not the input: never leave a half-written directory without saying so
+        if created and held:
+            shutil.rmtree(out, ignore_errors=True)
+            fate = f"nothing was written ({out} was removed)"
+        else:
+            fate = (f"{out} keeps the stimuli completed so far; once the cause is fixed, rerun the same command "
+                    "(or with --resume) to complete the set, or use --force to start again")
+        raise BatchError(f"{exc}; {fate}") from exc
+    warnings = [(row["stimulus_id"], row["warning"]) for row in rows if row.get("warning")]
+    return BatchResult(directory=out, n_stimuli=len(rows), n_jobs=n_jobs, n_run=n_run,
+                       seconds=time.perf_counter() - t0, warnings=warnings)
+
+
+class BatchError(RuntimeError):
+    """An unexpected error (a bug) stopped a batch; the message says what became of the directory."""
+
+
+def _check_spares_inputs(batch, out, force):
+    """Refuse an output directory whose batch files would overwrite or delete one of the batch's inputs.
+
+    The inputs are the config file and the files its recipes read (``path``
+    parameters). ``force`` deletes an earlier batch's files, so with it the
+    directory may hold no input at all (:func:`stimuli.io.check_output_spares_inputs`);
+    without it, no input may be one of the files the batch writes there
+    (``config.yaml``, ``manifest.csv``, ``images/``, ``contours/``), except
+    the set's own resolved ``config.yaml`` run again (it is written back
+    byte for byte).
+    """
+    inputs = [batch.source] if Path(batch.source).is_file() else []
+    inputs += sorted({p for c in batch.conditions for p in c.path_map if os.path.isabs(p)})
+    if force:
+        check_output_spares_inputs(out, inputs)
+        return
+    root = Path(os.path.realpath(out))
+    ours = {root / "config.yaml", root / "manifest.csv"}
+    for item in inputs:
+        src = Path(os.path.realpath(item))
+        if src == root / "config.yaml" and item == batch.source:
+            with contextlib.suppress(OSError):
+                if src.read_bytes() == batch.text.encode("utf-8"):
+                    continue  # the set's resolved config, run again: written back as it is
+        if src == root or src in ours or src.parent in (root / "images", root / "contours"):
+            raise InputError(f"-o {out}: the batch would overwrite one of its inputs ({item}) there; "
+                             "choose another output directory")
 
 
 def _run_locked(batch, out, workers, scheduler, resume, force, progress):
@@ -201,4 +254,4 @@ def _run_locked(batch, out, workers, scheduler, resume, force, progress):
     outdir.remove_temporaries(out)
     with contextlib.suppress(FileNotFoundError):
         os.unlink(out / outdir.MARKER)
-    return len(rows), len(jobs), len(pending)
+    return rows, len(jobs), len(pending)

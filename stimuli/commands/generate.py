@@ -37,12 +37,14 @@ def run(args):
     import sys
 
     from stimuli.batch.config import load_config
-    from stimuli.batch.runner import run_batch
+    from stimuli.batch.runner import BatchError, run_batch
     from stimuli.io import disk_error_exit
     from stimuli.errors import InputError
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
+    if args.output == "":
+        raise InputError("-o: empty output path; name a directory")
     batch = load_config(args.config)
     if args.dry_run:
         for c in batch.conditions:
@@ -56,16 +58,54 @@ def run(args):
               f"more processes than cores only compete (at most one per recipe call is started)",
               file=sys.stderr)
     try:
-        res = run_batch(
-            batch, args.output, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
-            force=args.force, progress=False if args.no_progress else None,
-        )
+        with _one_line_warnings():
+            res = run_batch(
+                batch, args.output, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
+                force=args.force, progress=False if args.no_progress else None,
+            )
     except OSError as exc:
         # the disk, not the input: exit 1; every file in place is complete, the rerun completes the set
         return disk_error_exit("generate", args.output, exc, "the files written so far are complete: free space "
                                                                "and run the same command again to finish the set")
+    except BatchError as exc:
+        # a bug, not the input: the traceback for a report, then one line on what became of DIR
+        import traceback
+
+        traceback.print_exception(exc.__cause__ or exc, file=sys.stderr)
+        print(f"attneave generate: internal error (please report it): {exc}", file=sys.stderr)
+        return 1
+    for sid, warning in res.warnings:
+        print(f"attneave generate: warning: {sid}: {warning}", file=sys.stderr)
     skipped = res.n_jobs - res.n_run
     note = f" ({skipped} already complete)" if skipped else ""
+    flagged = (f"; {len(res.warnings)} flagged as possibly poor (manifest column 'warning')"
+               if res.warnings else "")
     print(f"attneave generate: {res.n_stimuli} stimuli from {res.n_jobs} recipe calls in {res.directory}"
-          f"{note}", file=sys.stderr)
+          f"{note}{flagged}", file=sys.stderr)
     return 0
+
+
+def _one_line_warnings():
+    """Python warnings met while generating as one line each (no file name and source line).
+
+    Set before the workers are forked, so that they print the same way.
+    """
+    import contextlib
+    import sys
+    import warnings
+
+    @contextlib.contextmanager
+    def scope():
+        old = warnings.showwarning
+
+        def show(message, category, filename, lineno, file=None, line=None):
+            text = " ".join(str(message).split())
+            print(f"attneave generate: warning: {text}", file=file or sys.stderr)
+
+        warnings.showwarning = show
+        try:
+            yield
+        finally:
+            warnings.showwarning = old
+
+    return scope()

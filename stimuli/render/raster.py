@@ -399,6 +399,12 @@ def box_coverage(acc):
     if acc is None:
         return None, 0, 0
     win, r0, c0 = winding(acc), acc[1], acc[2]
+    if win.size <= 4:
+        # OpenCV takes a (1, 1) array for a scalar and returns a (4, 1) one: numpy for tiny boxes
+        cov = np.minimum(np.abs(win), 1.0)
+        cov[cov <= _SNAP] = 0.0
+        cov[cov > 1.0 - _SNAP] = 1.0
+        return cov, r0, c0
     cov = cv2.absdiff(win, 0.0)  # a new contiguous array
     cv2.min(cov, 1.0, dst=cov)  # overlapping rings give > 1
     cv2.threshold(cov, _SNAP, 0.0, cv2.THRESH_TOZERO, dst=cov)

@@ -288,17 +288,30 @@ def superformula(m=5, n1=2.0, n2=7.0, n3=7.0, a=1.0, b=1.0, scale=100.0, n=1024)
     n1, n2, n3, a, b = (as_number(v, name, gt=0) for v, name in zip((n1, n2, n3, a, b), ("n1", "n2", "n3", "a", "b")))
     scale = as_number(scale, "scale", gt=0)
     n = as_int(n, "n", lo=8)
-    # one turn closes only if r and its one-sided slopes agree at 0 and 2*pi
-    probe = np.array([0.0, 1e-3, 2 * np.pi, 2 * np.pi + 1e-3])
-    rp = superformula_radius(probe, m, n1, n2, n3, a, b)
+    what = f"superformula(m={m:g}, n1={n1:g}, n2={n2:g}, n3={n3:g}, a={a:g}, b={b:g}, scale={scale:g})"
+    # extreme exponents or axes overflow or underflow the float range: the radius is checked
+    # below, so numpy's warnings would only repeat it (with a source line) before the error
+    with np.errstate(over="ignore", under="ignore", divide="ignore", invalid="ignore"):
+        # one turn closes only if r and its one-sided slopes agree at 0 and 2*pi
+        probe = np.array([0.0, 1e-3, 2 * np.pi, 2 * np.pi + 1e-3])
+        rp = superformula_radius(probe, m, n1, n2, n3, a, b)
+        phi = _angles(n)
+        r = scale * superformula_radius(phi, m, n1, n2, n3, a, b)
+        pts = _polar(r, phi)
+    bad = ~(np.isfinite(r) & (r > 0)) | ~np.isfinite(pts).all(axis=1)
+    if bad.any():
+        kind = "infinite or undefined" if not np.isfinite(r[bad]).all() else "zero"
+        raise InputError(f"{what}: the radius is {kind} at {int(bad.sum())} of {n} angles (beyond the float "
+                         "range); use exponents and axes nearer 1")
     if not np.allclose(rp[[0, 1]], rp[[2, 3]], rtol=1e-9, atol=0):
         raise InputError(
             f"m: the superformula with m={m:g} does not close after one turn; use an even integer m, "
             f"or an odd integer with a == b and n2 == n3"
         )
-    phi = _angles(n)
-    r = scale * superformula_radius(phi, m, n1, n2, n3, a, b)
-    c = Contour(_polar(r, phi), simple=True)
+    try:
+        c = Contour(pts, simple=True)
+    except InputError as exc:
+        raise InputError(f"{what}: {exc}") from None
     return c, dict(m=m, n1=n1, n2=n2, n3=n3, a=a, b=b, scale=scale, n=n, centre=[0.0, 0.0])
 
 
