@@ -358,13 +358,56 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
                               "paper's form; models.csv lists only predictors whose z differ")
     if mixed:
         bar.stage("mixed model")
-        summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level, start=main["beta"])
-        if d.U and not summary["mixed"]["converged"]:
+        m = summary["mixed"] = fit_mixed(d.Z, d.sidx, d.pidx, d.j, d.G, level=level, start=main["beta"])
+        if d.U and not m["estimable"]:
+            summary["warnings"].append(m["note"])
+        elif d.U and not m["converged"]:
             summary["warnings"].append("the mixed model's optimiser did not report convergence: treat its "
                                        "estimates as doubtful")
+    summary["warnings"] += list(getattr(stimset, "warnings", ())) + degenerate_warnings(d, main, tests)
     bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)
+
+
+#: Fewest used clicks for which the pooled fit's Wald interval is taken at face value.
+MIN_CLICKS = 10
+
+
+def degenerate_warnings(d, main, tests):
+    """Warnings for a design too small or too extreme for some results to mean what they seem to.
+
+    Parameters
+    ----------
+    d : Design
+    main : dict
+        The pooled fit (:func:`analysis.choice.fit_beta`).
+    tests : dict
+        From :func:`group_tests`.
+
+    Returns
+    -------
+    list of str
+        One sentence each: too few used clicks for the pooled interval, a
+        pooled beta at its search bound (near-separation), fewer than 2
+        participants (or stimuli) for the group (items) test.
+    """
+    out = []
+    if d.U == 0:
+        return out
+    if d.U < MIN_CLICKS:
+        out.append(f"only {d.U} used click{'s' if d.U != 1 else ''}: the pooled beta_hat and its interval rest on "
+                   f"too few clicks (fewer than {MIN_CLICKS}) to be trusted")
+    if main.get("at_bound"):
+        out.append(f"the pooled beta_hat ({main['beta']:g}) is the bound of its search, not an estimate: the "
+                   "likelihood keeps increasing past it (near-separation: clicks almost only on the most, or least, "
+                   "surprising points); report the effect (top share) and the group test")
+    for key, unit, test in (("group", "participants", "group test"), ("by_stimulus", "stimuli", "items test")):
+        n = tests[key].get("n") or 0
+        if n < 2:
+            out.append(f"the {test} needs at least 2 {unit} with usable clicks and has {n}: its t and p are "
+                       "not computed")
+    return out
 
 
 def _predictor_names(names):

@@ -186,7 +186,15 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
         ``beta``, ``se``, ``ci_low``, ``ci_high``, ``df`` (of the t
         quantile), ``sd_participant``, ``sd_stimulus``, ``loglik`` (Laplace),
         ``converged``, ``n_participants``, ``n_stimuli`` (with clicks on a
-        stimulus whose prediction varies), ``method``.
+        stimulus whose prediction varies), ``method``, ``estimable`` and
+        ``note``. When the model is not estimable the estimates are NaN,
+        ``estimable`` is False and ``note`` says why (one sentence, for a
+        warning): fewer than 2 participants or 2 stimuli with usable clicks
+        (a variance of random slopes cannot be told apart from the mean
+        slope), near-separation (the likelihood of the mean slope still rises
+        at the edge of the tabulated range, ``|beta| = table.bound``: clicks
+        almost only on each contour's most, or least, surprising points), or
+        a fit that fails numerically. It never raises on such data.
     """
     import scipy.optimize
     import scipy.stats
@@ -201,20 +209,39 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
     out = dict(beta=np.nan, se=np.nan, ci_low=np.nan, ci_high=np.nan, df=None, sd_participant=np.nan,
                sd_stimulus=np.nan, loglik=np.nan, converged=False, n_participants=0, n_stimuli=0,
                method="Laplace approximation, crossed random slopes (participants, stimuli); Wald interval "
-                      "with t quantiles on min(G, S) - 1 df")
-    if len(stimulus) == 0:
+                      "with t quantiles on min(G, S) - 1 df", estimable=False, note=None)
+
+    def refuse(why):
+        out.update(note=f"mixed model not estimated: {why}")
         return out
+
+    if len(stimulus) == 0:
+        return refuse("no used click on a stimulus whose prediction varies")
     # renumber the units that have clicks
     su, s_of = np.unique(stimulus, return_inverse=True)
     pu, p_of = np.unique(participant, return_inverse=True)
     S, G = len(su), len(pu)
     out.update(n_participants=G, n_stimuli=S)
+    if G < 2 or S < 2:
+        unit, k = ("participant", G) if G < 2 else ("stimulus", S)
+        return refuse(f"only {k} {unit} with usable clicks, so the {unit}s' random slopes cannot be told apart "
+                      "from the mean slope (it needs at least 2 participants and 2 stimuli); see the pooled fit")
     table = CumulantTable(Z) if table is None else table
     cells, inv = np.unique(p_of * S + s_of, return_inverse=True)
     A = np.bincount(inv, weights=Z[stimulus, j])
     M = np.bincount(inv).astype(float)
     cp, cs = cells // S, cells % S
     ts = su[cs]
+    # near-separation: if the likelihood of a common slope still rises at the edge of the table (or
+    # falls at its other edge) the mode lies beyond it (or at infinity) and the curvature vanishes there
+    B = table.bound
+    rising = A.sum() - (M * table(ts, np.full(len(ts), B))[1]).sum() >= 0
+    falling = A.sum() - (M * table(ts, np.full(len(ts), -B))[1]).sum() <= 0
+    if rising or falling:
+        return refuse(f"the likelihood of the mean slope still {'rises' if rising else 'falls'} at beta = "
+                      f"{B if rising else -B:g} (near-separation: clicks almost only on each contour's "
+                      f"{'most' if rising else 'least'} surprising points), so it has no finite estimate; the "
+                      "effect (top share) and the group test do not depend on it")
     b0 = 0.0 if start is None or not np.isfinite(start) else float(np.clip(start, -10, 10))
     state = dict(u=np.zeros(G), v=np.zeros(S), beta=b0, var=np.nan)
 
@@ -228,13 +255,21 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
             state.update(u=u, v=v, beta=beta, var=var)
         return -(ll - G * lsp - S * lss - 0.5 * logdet)
 
-    res = scipy.optimize.minimize(wrapped, np.log([0.3, 0.3]), method="L-BFGS-B",
-                                  bounds=[_LOG_SD_BOUNDS, _LOG_SD_BOUNDS],
-                                  # finite-difference steps well above the inner solution's rounding
-                                  options=dict(maxiter=200, ftol=1e-11, gtol=1e-5, eps=1e-5))
-    wrapped(res.x)  # the modes at the optimum
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            res = scipy.optimize.minimize(wrapped, np.log([0.3, 0.3]), method="L-BFGS-B",
+                                          bounds=[_LOG_SD_BOUNDS, _LOG_SD_BOUNDS],
+                                          # finite-difference steps well above the inner solution's rounding
+                                          options=dict(maxiter=200, ftol=1e-11, gtol=1e-5, eps=1e-5))
+            wrapped(res.x)  # the modes at the optimum
+    except (np.linalg.LinAlgError, FloatingPointError, ValueError) as exc:
+        return refuse(f"its curvature matrix became singular during the fit ({exc}), as it does near "
+                      "separation or when the clicks barely constrain the slopes")
     lsp, lss = res.x
     beta = state["beta"]
+    if not (np.isfinite(beta) and np.isfinite(res.fun) and abs(beta) < B and state["var"] > 0):
+        return refuse(f"the fit did not reach a finite mode inside |beta| < {B:g} (beta = {beta:.4g}), as "
+                      "happens near separation")
     se = float(np.sqrt(state["var"])) if state["var"] > 0 else np.nan
     df = max(min(G, S) - 1, 1)
     q = scipy.stats.t.ppf(0.5 + level / 2, df)
@@ -242,5 +277,5 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
     out.update(beta=float(beta), se=se, ci_low=float(beta - q * se), ci_high=float(beta + q * se), df=int(df),
                sd_participant=float(sp) if lsp > _LOG_SD_BOUNDS[0] + 1e-3 else 0.0,
                sd_stimulus=float(ss) if lss > _LOG_SD_BOUNDS[0] + 1e-3 else 0.0,
-               loglik=float(-res.fun), converged=bool(res.success))
+               loglik=float(-res.fun), converged=bool(res.success), estimable=True)
     return out

@@ -123,7 +123,8 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
         participant_beta``; x, y in `coords` (image pixels, y down, by
         default). Rows by participant, then stimulus (set order), then trial.
     params : dict
-        Every resolved parameter.
+        Every resolved parameter, and ``outside_share``: the share of the
+        clicks that the noise put outside their image.
 
     Examples
     --------
@@ -157,11 +158,14 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
             disp[p] = noise * rng.standard_normal((S, K, 2))
     t = np.mod((j + offset) / n, 1.0)
     xy = np.empty((P, S, K, 2))
+    outside = 0
     for s, sid in enumerate(ids):
         pr = predictions[sid]
         pts = pr.contour.point_at(t[:, s, :].ravel()).reshape(P, K, 2)
-        x, y = from_image_coords(pts[..., 0] + disp[:, s, :, 0], pts[..., 1] + disp[:, s, :, 1],
-                                 pr.width, pr.height, coords, scale)
+        xi, yi = pts[..., 0] + disp[:, s, :, 0], pts[..., 1] + disp[:, s, :, 1]
+        # the image covers pixel centres 0 .. width-1, i.e. [-0.5, width - 0.5] (DESIGN.md, Conventions)
+        outside += int(((xi < -0.5) | (xi > pr.width - 0.5) | (yi < -0.5) | (yi > pr.height - 0.5)).sum())
+        x, y = from_image_coords(xi, yi, pr.width, pr.height, coords, scale)
         xy[:, s, :, 0], xy[:, s, :, 1] = x, y
     width = max(3, len(str(P)))
     df = pd.DataFrame(
@@ -180,8 +184,14 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
         participants=int(P), clicks=int(K), stimuli=int(S), beta=float(beta), beta_sd=float(beta_sd),
         noise=float(noise), seed=int(seed) if not isinstance(seed, np.random.SeedSequence) else str(seed.entropy),
         n=int(n), model=first.result.params["model"], coords=coords, scale=float(scale),
+        outside_share=outside / max(P * S * K, 1),
     )
     return df, params
+
+
+#: Fewest simulated experiments per design: with fewer, the Monte Carlo standard error of a
+#: power near 0.5 exceeds 0.1 (sqrt(0.25 / 20) = 0.11) and the table estimates nothing.
+MIN_SIMULATIONS = 20
 
 
 def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulations=200, alpha=0.05, seed=0,
@@ -216,9 +226,10 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     clicks : int
         Clicks per participant per stimulus.
     simulations : int
-        Simulated experiments per design.
+        Simulated experiments per design, at least :data:`MIN_SIMULATIONS`.
     alpha : float
-        Significance level.
+        Significance level; it must be at least ``1 / (group_simulations + 1)``,
+        the smallest p the Monte Carlo null can give.
     seed : int
     noise, beta_sd : float
         As in :func:`simulate`.
@@ -243,14 +254,21 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     participants = sorted({int(p) for p in participants})
     if not participants or participants[0] < 2:
         raise InputError(f"--participants needs numbers >= 2 (a t-test needs two), got {participants}")
-    if not (isinstance(simulations, (int, np.integer)) and simulations >= 1):
-        raise InputError(f"--simulations must be a whole number >= 1, got {simulations!r}")
+    if not (isinstance(simulations, (int, np.integer)) and simulations >= MIN_SIMULATIONS):
+        raise InputError(f"--simulations must be a whole number >= {MIN_SIMULATIONS} (fewer experiments give no "
+                         f"estimate of power: its Monte Carlo error would exceed 0.1), got {simulations!r}")
     if not 0 < alpha < 1:
         raise InputError(f"--alpha must be in (0, 1), got {alpha!r}")
     _check(participants[-1], clicks, noise, beta, beta_sd)
     if not (isinstance(group_simulations, (int, np.integer)) and group_simulations >= 1):
         raise InputError(f"--group-simulations must be a whole number >= 1, got {group_simulations!r}")
     R = int(group_simulations)
+    if 1.0 / (R + 1) > alpha:
+        # p = (1 + #{null >= t}) / (1 + R) is never below 1 / (1 + R): every design would show power 0
+        need = int(np.ceil(1.0 / alpha - 1.0 - 1e-9))
+        raise InputError(f"--alpha {alpha:g} is below the smallest p the Monte Carlo null can give, "
+                         f"1/(R+1) = {1.0 / (R + 1):.3g} with --group-simulations {R}: raise --group-simulations "
+                         f"to at least {need} (or --alpha to at least {1.0 / (R + 1):.3g})")
     ids = list(predictions)
     Z = np.stack([predictions[s].z["surprisal"] for s in ids])
     Pmax = participants[-1]

@@ -44,17 +44,66 @@ from pathlib import Path
 from stimuli.errors import InputError
 from stimuli.io import replace_directory, temporary_directory
 
-__all__ = ["check_output_dir", "write_analysis"]
+__all__ = ["ANALYSIS_FILES", "check_output_dir", "foreign_entries", "write_analysis"]
 
 
-def check_output_dir(out, force=False):
-    """Raise `InputError` if `out` exists (unless `force`), is not a directory, or cannot be created."""
+#: What ``write_analysis`` puts in the output directory: ``--force`` replaces a directory only when
+#: it holds ``summary.json`` and nothing else than these (and figures/ only PNG and SVG files), so
+#: that a user's own files are never deleted with an earlier output.
+ANALYSIS_FILES = frozenset({"clicks.csv", "per_stimulus.csv", "per_participant.csv", "models.csv", "points.csv",
+                            "choices.csv", "analysis.R", "summary.json", "report.html", "figures"})
+
+
+def foreign_entries(out):
+    """The entries of directory `out` that an analysis does not write (sorted names; '' -> none).
+
+    ``figures/`` counts as an analysis's when it holds only ``.png`` and ``.svg`` files.
+    A directory without ``summary.json`` is not an earlier analysis output at all:
+    then every entry is foreign.
+    """
+    from stimuli.io import is_temporary
+
     out = Path(out)
-    if out.exists():
+    names = sorted(p.name for p in out.iterdir())
+    if "summary.json" not in names:
+        return names
+    bad = [n for n in names if n not in ANALYSIS_FILES and not is_temporary(n)]
+    fig = out / "figures"
+    if "figures" in names:
+        if fig.is_symlink() or not fig.is_dir():
+            bad.append("figures")
+        else:
+            bad += [f"figures/{p.name}" for p in sorted(fig.iterdir())
+                    if p.suffix.lower() not in (".png", ".svg") or not p.is_file() or p.is_symlink()]
+    return sorted(bad)
+
+
+def check_output_dir(out, force=False, inputs=()):
+    """Raise `InputError` if `out` may not be written (before any work is done).
+
+    Refused: an `out` that is one of `inputs` or holds one (``--force``
+    would delete it), the working directory or one of its parents, a path
+    that exists and is not a directory, a non-empty directory without
+    `force`, and, even with `force`, a non-empty directory that is not an
+    earlier analysis output (one holding files :func:`write_analysis` does
+    not write: they would be deleted with it), or a directory that cannot
+    be created.
+    """
+    from stimuli.io import check_output_spares_inputs
+
+    check_output_spares_inputs(out, list(inputs), what="-o")
+    out = Path(out)
+    if out.exists() or out.is_symlink():
         if not out.is_dir():
-            raise InputError(f"{out}: exists and is not a directory")
-        if any(out.iterdir()) and not force:
-            raise InputError(f"{out}: directory exists and is not empty; choose another -o or pass --force")
+            raise InputError(f"-o {out}: exists and is not a directory")
+        if any(out.iterdir()):
+            if not force:
+                raise InputError(f"-o {out}: directory exists and is not empty; choose another -o or pass --force")
+            bad = foreign_entries(out)
+            if bad:
+                shown = ", ".join(bad[:3]) + (f" and {len(bad) - 3} more" if len(bad) > 3 else "")
+                raise InputError(f"-o {out}: --force replaces only an earlier analysis output, and this directory "
+                                 f"holds files analyze does not write ({shown}); move them or choose another -o")
     # found before the analysis runs, not after it
     anc = out.parent
     while not anc.exists() and anc != anc.parent:
@@ -78,7 +127,8 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
         Draw the figures (the slowest part); without them ``report.html``
         still holds the tables.
     inputs : dict, optional
-        Recorded in ``summary.json`` (e.g. the input paths as given).
+        Recorded in ``summary.json`` (e.g. the input paths as given); `out`
+        may not be or hold one of them.
 
     Returns
     -------
@@ -90,7 +140,7 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
     from stimuli.tables import write_table
 
     out = Path(out)
-    check_output_dir(out, force)
+    check_output_dir(out, force, (inputs or {}).values())
     tmp = temporary_directory(out)
     try:
         write_table(analysis.clicks, tmp / "clicks.csv")

@@ -48,6 +48,7 @@ from stimuli.tables import describe_columns, read_text_csv
 __all__ = [
     "StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS",
     "MANIFEST_COLUMNS", "FILE_COLUMNS", "to_jsonable", "encode_json", "write_manifest", "read_manifest_rows",
+    "image_size", "check_image_size", "check_contour_in_image",
 ]
 
 ID_PATTERN = re.compile(r"^[A-Za-z0-9_.-]+$")
@@ -179,6 +180,9 @@ class StimulusSet:
         ``(width, height)`` of each image in pixels.
     images : dict of str -> Path or None
         The image file when the manifest names one that exists, else None.
+    warnings : list of str
+        What reading found doubtful but not broken (a contour partly outside
+        its image), one sentence each, for the outputs of the commands.
     """
 
     directory: Path
@@ -187,12 +191,30 @@ class StimulusSet:
     contours: dict
     sizes: dict
     images: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
 
     def __len__(self):
         return len(self.ids)
 
     def __contains__(self, stimulus_id):
         return stimulus_id in self.contours
+
+    def files(self):
+        """Every file of the set that exists: manifest, ``config.yaml`` and the files the manifest names.
+
+        For commands that write a file: none of these may be an output
+        (:func:`stimuli.io.check_output_spares_inputs`).
+
+        Returns
+        -------
+        list of Path
+        """
+        d = Path(self.directory)
+        out = [d / "manifest.csv", d / "config.yaml"]
+        for col in FILE_COLUMNS:
+            if col in self.manifest.columns:
+                out += [d / str(v).strip() for v in self.manifest[col] if str(v).strip()]
+        return [p for p in dict.fromkeys(out) if p.is_file()]
 
 
 def _positive_size(value, where, name):
@@ -203,6 +225,86 @@ def _positive_size(value, where, name):
     if not (np.isfinite(v) and v > 0 and v == int(v)):
         raise InputError(f"{where}: column {name!r} must be a positive whole number of pixels, got {value!r}")
     return int(v)
+
+
+def image_size(path):
+    """``(width, height)`` in pixels of an image file from its header, or None if it cannot be read.
+
+    Only the header is read (Pillow opens images lazily), so checking a
+    large set costs little; a file Pillow does not know (e.g. SVG) or a
+    damaged one gives None: analysis does not need the image itself.
+    """
+    import warnings
+
+    try:
+        from PIL import Image
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with Image.open(path) as im:
+                return tuple(int(v) for v in im.size)
+    except Exception:  # not an image Pillow reads (SVG, text, truncated header): nothing to compare
+        return None
+
+
+def check_image_size(path, width, height, where):
+    """Raise `InputError` when the image at `path` is not `width` x `height` pixels.
+
+    Clicks are converted with the manifest's width and height, and a page or
+    a PsychoPy script shows the image at its own size: the two must agree.
+    An image whose header cannot be read is not checked (see :func:`image_size`).
+    """
+    size = image_size(path)
+    if size is not None and size != (width, height):
+        raise InputError(f"{where}: image {Path(path).name} is {size[0]} x {size[1]} px but the manifest says "
+                         f"{width} x {height}")
+
+
+def check_contour_in_image(contour, width, height, where):
+    """Check that a closed contour is simple and lies in its ``width`` x ``height`` image.
+
+    The image covers ``[-0.5, width - 0.5] x [-0.5, height - 0.5]`` (pixel
+    centres at integer coordinates).
+
+    Returns
+    -------
+    str or None
+        A warning when part of the contour lies outside the image (clicks
+        cannot reach it), else None.
+
+    Raises
+    ------
+    InputError
+        The contour crosses or touches itself (its inside, and so concavity,
+        is undefined), lies wholly outside the image, or reaches farther
+        outside it than the image's larger side (wrong units, or width and
+        height of another image).
+    """
+    import shapely
+
+    if not contour.is_simple():
+        x, y = contour.self_intersections()[0]
+        raise InputError(f"{where}: the contour crosses itself near (x={x:.3f}, y={y:.3f}); a simple closed "
+                         "curve is needed")
+    p = contour.points
+    lo, hi = np.array([-0.5, -0.5]), np.array([width - 0.5, height - 0.5])
+    ring = shapely.LineString(np.vstack([p, p[:1]]))
+    if not ring.intersects(shapely.box(*lo, *hi)):
+        x0, y0 = p.min(axis=0)
+        x1, y1 = p.max(axis=0)
+        raise InputError(f"{where}: the contour (x {x0:.4g} to {x1:.4g}, y {y0:.4g} to {y1:.4g}) lies wholly "
+                         f"outside its {width} x {height} image")
+    beyond = np.maximum(lo - p, p - hi).max(axis=1)  # how far each point lies outside the image (px)
+    far = int(np.argmax(beyond))
+    if beyond[far] > max(width, height):
+        raise InputError(f"{where}: the contour reaches ({p[far, 0]:.4g}, {p[far, 1]:.4g}), "
+                         f"{beyond[far]:.4g} px outside its {width} x {height} image; the contour must lie in "
+                         "the image (check its units and the manifest's width and height)")
+    if beyond[far] > 0:
+        share = float(np.mean(beyond > 0))
+        return (f"{where}: {100 * share:.3g}% of the contour's points lie outside its {width} x {height} image "
+                f"(up to {beyond[far]:.3g} px); no click can land there")
+    return None
 
 
 def read_stimulus_set(directory):
@@ -222,7 +324,12 @@ def read_stimulus_set(directory):
     InputError
         One line naming the file and line: no manifest, a missing column, a
         bad or duplicated id, a non-positive size, a missing or unreadable
-        contour file, or a contour with fewer than 3 distinct points.
+        contour file, a contour with fewer than 3 distinct points, a contour
+        that crosses itself, lies wholly outside its image or reaches farther
+        outside it than the image's size (:func:`check_contour_in_image`),
+        or an image file whose size differs from the manifest's
+        (:func:`check_image_size`). A contour partly outside its image is
+        kept, with a sentence in :attr:`StimulusSet.warnings`.
 
     Examples
     --------
@@ -247,7 +354,7 @@ def read_stimulus_set(directory):
         raise InputError(f"{mpath}: missing column(s) {', '.join(missing)}; {describe_columns(manifest.columns)}")
     if len(manifest) == 0:
         raise InputError(f"{mpath}: no stimuli (the manifest has no rows)")
-    ids, contours, sizes, images = [], {}, {}, {}
+    ids, contours, sizes, images, warnings = [], {}, {}, {}, []
     for i, row in enumerate(manifest.itertuples(index=False)):
         where = f"{mpath}: line {lines[i]}"
         sid = str(row.stimulus_id).strip()
@@ -264,15 +371,20 @@ def read_stimulus_set(directory):
         if not cpath.is_file():
             raise InputError(f"{where}: contour file {rel!r} not found in {directory}")
         contours[sid] = Contour.from_csv(cpath, closed=True)
+        warning = check_contour_in_image(contours[sid], w, h, f"{where} ({sid}, {rel})")
+        if warning:
+            warnings.append(warning)
         sizes[sid] = (w, h)
         image = None
         if "image" in manifest.columns and str(getattr(row, "image")).strip():
             ipath = inside(directory, str(getattr(row, "image")).strip(), where, "image")
             image = ipath if ipath.is_file() else None
+            if image is not None:
+                check_image_size(image, w, h, f"{where} ({sid})")
         images[sid] = image
         ids.append(sid)
     manifest = manifest.assign(stimulus_id=ids)
-    return StimulusSet(directory, manifest, ids, contours, sizes, images)
+    return StimulusSet(directory, manifest, ids, contours, sizes, images, warnings)
 
 
 def write_stimulus_set(directory, contours, size=(512, 512), generator="by_hand", condition="", params=None):

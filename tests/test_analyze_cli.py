@@ -260,8 +260,16 @@ def test_existing_output_is_kept_unless_forced(stimset, clicks, tmp_path, capsys
     (out / "keep.txt").write_text("mine")
     assert _analyze(clicks, stimset, out, "--no-figures") == 2
     assert "not empty" in capsys.readouterr().err and (out / "keep.txt").exists()
-    assert _analyze(clicks, stimset, out, "--no-figures", "--force") == 0
-    assert not (out / "keep.txt").exists() and (out / "summary.json").exists()
+    # --force never deletes a user's file: it replaces only an earlier analysis output
+    assert _analyze(clicks, stimset, out, "--no-figures", "--force") == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "keep.txt" in err and "earlier analysis output" in err
+    assert (out / "keep.txt").read_text() == "mine" and not (out / "summary.json").exists()
+    (out / "keep.txt").unlink()
+    assert _analyze(clicks, stimset, out, "--no-figures", "--group-simulations", "19") == 0
+    first = (out / "summary.json").read_text()
+    assert _analyze(clicks, stimset, out, "--no-figures", "--force", "--group-simulations", "19") == 0
+    assert (out / "summary.json").read_text() == first
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 

@@ -214,7 +214,8 @@ def test_item12_psychopy_and_jspsych_files_are_analysed_as_they_are(tmp_path, st
     m = _mapped(out)
     assert m["reason"].tolist() == ["missing_coordinate"] + [""] * 8
     assert m["distance"].iloc[1:].max() < 1e-3
-    assert "warning" not in err  # 1 of 9 excluded: under the 20% threshold
+    # 1 of 9 excluded: under the 20% threshold (one participant: the warnings of a design too small remain)
+    assert "excluded" not in err and "only 1 participant" in err
 
 
 def test_item12_many_exclusions_warn_and_none_usable_is_exit_1(tmp_path, stimset, capsys):

@@ -22,7 +22,9 @@ def add_parser(sub):
     )
     p.add_argument("clicks", metavar="CLICKS.csv")
     p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
-    p.add_argument("-o", "--output", required=True, metavar="OUT", help="output directory (must not exist or be empty)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="output directory (must not exist or be empty); it may not be an input, hold an input "
+                        "(CLICKS.csv, DIR) or be the working directory")
     p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper", help="surprisal model (default paper)")
     p.add_argument("--coords", choices=("image", "centered", "pix", "height", "norm"), default="image",
@@ -65,7 +67,9 @@ def add_parser(sub):
                    help="unit of arc length of the surprisal model, passed to the library (default: its default); "
                         "recorded in summary.json")
     p.add_argument("--no-figures", action="store_true", help="skip the figures (report.html keeps the tables)")
-    p.add_argument("--force", action="store_true", help="replace OUT if it exists")
+    p.add_argument("--force", action="store_true",
+                   help="replace OUT if it is an earlier analysis output (it holds summary.json and only files "
+                        "analyze writes); a directory holding anything else is refused, never deleted")
     return p
 
 
@@ -79,14 +83,15 @@ def run(args):
     from stimuli.errors import InputError
     from stimuli.stimulus_set import read_stimulus_set
 
-    # everything that can be wrong with the inputs is found before anything is written
+    # everything that can be wrong with the inputs is found before anything is written; first that
+    # OUT (replaced whole) is neither an input, nor holds one, nor is the working directory
+    check_output_dir(args.output, args.force, (args.clicks, args.stimuli))
     clicks = read_clicks(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
     window, coords = parse_window_size(args.window_size), args.coords
     if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
         clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
     elif window is not None:
         raise InputError(f"--window-size is for --coords {' or '.join(WINDOW_UNITS)}, not --coords {coords}")
-    check_output_dir(args.output, args.force)
     stimset = read_stimulus_set(args.stimuli)
     clicks = resolve_stimulus_ids(clicks, stimset)
     res = analyze(
@@ -115,7 +120,8 @@ def run(args):
     print(
         f"{s['n_clicks']} clicks, {s['n_used']} used, {s['n_excluded']} excluded"
         + (f" ({reasons})" if reasons else "")
-        + f"; beta_hat = {f(s['beta_hat'])} [{f(s['beta_ci'][0])}, {f(s['beta_ci'][1])}]"
+        + (f"; beta_hat = {f(s['beta_hat'])} (the search bound, not an estimate)" if s.get("beta_at_bound") else
+           f"; beta_hat = {f(s['beta_hat'])} [{f(s['beta_ci'][0])}, {f(s['beta_ci'][1])}]")
         + f"; group t = {f(g['statistic'])} ({g['n']} participants), Monte Carlo p = {f(g['p_value'])} "
         + f"(one-sided, R = {g['simulations']}); wrote {args.output}",
         file=sys.stdout,

@@ -8,6 +8,9 @@ from analysis.commands.simulate import add_effect_arguments, check_design
 #: float per replicate held at once, and beyond these the p-value's resolution gains nothing.
 MAX_SIMULATIONS = 100_000
 MAX_GROUP_SIMULATIONS = 1_000_000
+#: Fewest experiments per design: :data:`analysis.observers.MIN_SIMULATIONS`, repeated here (and
+#: checked equal by the tests) so that 'attneave --help' does not import scipy.
+MIN_SIMULATIONS = 20
 
 
 def _int_list(text):
@@ -40,8 +43,12 @@ def add_parser(sub):
     p.add_argument("--participants", type=_int_list, default=[4, 6, 8, 12, 16, 24, 32], metavar="P1,P2,...",
                    help="numbers of participants (default 4,6,8,12,16,24,32)")
     p.add_argument("--clicks", type=int, default=10, metavar="K", help="clicks per participant per stimulus (default 10)")
-    p.add_argument("--simulations", type=int, default=200, metavar="R", help="experiments per design (default 200)")
-    p.add_argument("--alpha", type=float, default=0.05)
+    p.add_argument("--simulations", type=int, default=200, metavar="R",
+                   help=f"experiments per design (default 200, at least {MIN_SIMULATIONS}: fewer give no estimate; "
+                        "the table's mc_se is the Monte Carlo standard error of each power)")
+    p.add_argument("--alpha", type=float, default=0.05,
+                   help="significance level (default 0.05); at least 1/(R+1), the smallest p of the group test's "
+                        "Monte Carlo null with --group-simulations R")
     p.add_argument("--target", type=float, default=0.8, help="power wanted (default 0.8)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--noise", type=float, default=0.0, metavar="PX", help="click noise sd in px (default 0; >0 is slower)")
@@ -65,20 +72,25 @@ def run(args):
     from stimuli.tables import write_table
     from stimuli.validate import as_int, as_number
 
-    if args.output:
+    from stimuli.io import check_output_spares_inputs
+
+    if args.output is not None:
         # found before minutes of simulation, not after
         from pathlib import Path
 
         from stimuli.errors import InputError
 
+        check_output_spares_inputs(args.output, [args.stimuli])
         out = Path(args.output)
         if out.is_dir():
             raise InputError(f"{out}: is a directory; expected a file name to write")
         if not out.parent.is_dir():
             raise InputError(f"{out}: cannot write there (no directory {out.parent})")
     stimset = read_stimulus_set(args.stimuli)
+    if args.output is not None:  # nor a file of the set (its manifest, a contour, an image)
+        check_output_spares_inputs(args.output, stimset.files())
     check_design(len(stimset), max(args.participants), args.clicks, args)
-    as_int(args.simulations, "--simulations", lo=1, hi=MAX_SIMULATIONS)
+    as_int(args.simulations, "--simulations", lo=MIN_SIMULATIONS, hi=MAX_SIMULATIONS)
     as_int(args.group_simulations, "--group-simulations", lo=1, hi=MAX_GROUP_SIMULATIONS)
     as_number(args.target, "--target", gt=0, le=1)
     pred = predict(stimset, n=args.n, model=args.model)

@@ -78,12 +78,15 @@ def add_parser(sub):
         ),
     )
     p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
-    p.add_argument("-o", "--output", required=True, metavar="CLICKS.csv")
+    p.add_argument("-o", "--output", required=True, metavar="CLICKS.csv",
+                   help="click file to write (not a file of the stimulus set)")
     p.add_argument("--participants", type=int, required=True, metavar="P")
     p.add_argument("--clicks", type=int, required=True, metavar="K", help="clicks per participant per stimulus")
     add_effect_arguments(p)
     p.add_argument("--seed", type=int, required=True, metavar="S")
-    p.add_argument("--noise", type=float, default=0.0, metavar="PX", help="click noise sd in pixels (default 0)")
+    p.add_argument("--noise", type=float, default=0.0, metavar="PX",
+                   help="click noise sd in pixels (default 0); a warning gives the share of clicks it puts "
+                        "outside their image")
     p.add_argument("--beta-sd", type=float, default=0.0, metavar="SD", help="between-participant sd of beta (default 0)")
     p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
@@ -102,7 +105,12 @@ def run(args):
     from stimuli.io import disk_error_exit
     from stimuli.tables import write_table
 
+    from stimuli.io import check_output_spares_inputs
+
+    check_output_spares_inputs(args.output, [args.stimuli])
     stimset = read_stimulus_set(args.stimuli)
+    # the output may not overwrite a file of the set (its manifest, a contour, an image)
+    check_output_spares_inputs(args.output, stimset.files())
     check_design(len(stimset), args.participants, args.clicks, args)
     pred = predict(stimset, n=args.n, model=args.model)
     eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
@@ -116,4 +124,11 @@ def run(args):
     print(f"{len(df)} clicks ({params['participants']} participants x {params['stimuli']} stimuli x "
           f"{params['clicks']} clicks, beta = {params['beta']:.4g}, expected top share {eff['top_share']:.3f} "
           f"(chance {eff['chance_share']:g}, lift {eff['lift']:.2f}), seed = {params['seed']}) -> {args.output}")
+    if params["outside_share"] > 0:
+        import sys
+
+        k = round(params["outside_share"] * len(df))
+        print(f"attneave simulate: warning: {k} of {len(df)} clicks ({100 * params['outside_share']:.3g}%) lie "
+              f"outside their image: --noise {args.noise:g} px is large for these images; 'attneave analyze' "
+              "excludes clicks farther from the contour than its --tolerance", file=sys.stderr)
     return 0
