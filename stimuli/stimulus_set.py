@@ -56,7 +56,7 @@ REQUIRED_COLUMNS = ("stimulus_id", "contour", "width", "height")
 # every column a manifest written by this package may have, in their order
 MANIFEST_COLUMNS = (
     "stimulus_id", "image", "contour", "svg", "width", "height", "generator", "seed", "params",
-    "condition", "parent_id", "batch_condition", "cell", "rep", "style",
+    "condition", "parent_id", "batch_condition", "cell", "rep", "style", "warning",
 )
 # the columns that name files, relative to the set's directory
 FILE_COLUMNS = ("image", "contour", "svg")
@@ -136,9 +136,13 @@ def read_manifest_rows(path):
     """
     try:
         with open(path, encoding="utf-8", newline="") as fh:
-            return [{k: v for k, v in row.items() if k in MANIFEST_COLUMNS} for row in csv.DictReader(fh)]
+            rows = [{k: v for k, v in row.items() if k in MANIFEST_COLUMNS} for row in csv.DictReader(fh)]
     except (OSError, csv.Error, UnicodeDecodeError):
         return []
+    for row in rows:  # write_manifest leaves a cell empty where a row has no value: no empty warning
+        if not row.get("warning"):
+            row.pop("warning", None)
+    return rows
 
 
 def inside(directory, rel, where, column):

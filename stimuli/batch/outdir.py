@@ -200,7 +200,7 @@ def completed(out, jobs):
     found = {key: rows for key, rows in _journal_rows(out) if key in keys}
     by_triple = {(j["condition"], j["cell"], j["rep"]): j["key"] for j in jobs}
     grouped = {}
-    for row in _manifest_rows(out / "manifest.csv"):
+    for row in read_manifest_rows(out / "manifest.csv"):
         key = by_triple.get((row.get("batch_condition"), _int(row.get("cell")), _int(row.get("rep"))))
         if key is not None:
             grouped.setdefault(key, []).append(row)
@@ -208,28 +208,6 @@ def completed(out, jobs):
         found.setdefault(key, rows)
     return {key: rows for key, rows in found.items()
             if rows and all(_nonempty(out / row[col]) for row in rows for col in FILE_COLUMNS if row.get(col))}
-
-
-#: Columns a batch writes besides stimulus_set.MANIFEST_COLUMNS: kept when a complete manifest is read back.
-BATCH_COLUMNS = ("warning",)
-
-
-def _manifest_rows(path):
-    """:func:`read_manifest_rows` plus the batch's own extra columns (a rerun must not drop a warning)."""
-    import csv
-
-    from stimuli.stimulus_set import MANIFEST_COLUMNS
-
-    keep = set(MANIFEST_COLUMNS) | set(BATCH_COLUMNS)
-    try:
-        with open(path, encoding="utf-8", newline="") as fh:
-            rows = [{k: v for k, v in row.items() if k in keep} for row in csv.DictReader(fh)]
-    except (OSError, csv.Error, UnicodeDecodeError):
-        return []
-    for row in rows:  # write_manifest leaves a cell empty where a row has no value: no empty warning
-        if not row.get("warning"):
-            row.pop("warning", None)
-    return rows
 
 
 def _nonempty(p):
