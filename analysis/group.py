@@ -94,9 +94,17 @@ def t_statistic(v, axis=0):
     """One-sample t statistic against 0 along `axis`, defined for every sample.
 
     ``mean * sqrt(k) / sd`` (sd with ddof = 1) for k >= 2 values; where the
-    values do not spread (sd = 0) it is ``+inf`` for a positive mean,
-    ``-inf`` for a negative one and 0 for all zeros, so that a Monte Carlo
-    null can rank every replicate. NaN for k < 2.
+    values do not spread (sd at rounding level, as in :func:`group_test`) it
+    is ``+inf`` for a positive mean, ``-inf`` for a negative one and 0 for
+    all zeros, so that a Monte Carlo null can rank every replicate. NaN for
+    k < 2.
+
+    Examples
+    --------
+    >>> float(t_statistic([1.0, 2.0, 3.0]))
+    3.4641016151377544
+    >>> float(t_statistic([-0.1] * 4 + [-0.1 * (1 + 1e-14)]))  # equal but for rounding: no spread
+    -inf
     """
     v = np.asarray(v, dtype=float)
     k = v.shape[axis]
@@ -106,7 +114,9 @@ def t_statistic(v, axis=0):
     sd = v.std(axis=axis, ddof=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         t = m * np.sqrt(k) / sd
-    return np.where(sd > 0, t, np.where(m > 0, np.inf, np.where(m < 0, -np.inf, 0.0)))
+    # a spread at rounding level is no spread: its t (e.g. -2e11) would be noise
+    spread = sd > 1e-12 * np.maximum(1.0, np.abs(m))
+    return np.where(spread, t, np.where(m > 0, np.inf, np.where(m < 0, -np.inf, 0.0)))
 
 
 def _index_dtype(n):
