@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 
 from stimuli.errors import InputError
@@ -34,8 +35,21 @@ COMMANDS = {
 }
 
 
+#: A negative number as an option value: argparse's own pattern takes
+#: ``-5`` and ``-0.5`` but not ``-1e9``, ``-1.5E-3`` or ``-5.``, which it
+#: reads as unknown options ("expected one argument").
+_NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$")
+
+
 class _Parser(argparse.ArgumentParser):
-    """An argument parser whose usage errors are one line and exit 2."""
+    """An argument parser whose usage errors are one line and exit 2, and
+    which takes negative numbers in scientific notation as option values
+    (``--alpha -1e9``). No option of ``attneave`` looks like a number, so
+    nothing else changes."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = _NEGATIVE_NUMBER
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")

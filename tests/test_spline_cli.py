@@ -101,7 +101,7 @@ def test_open_curve(tmp_path):
     ("x,z\n1,2\n3,4\n5,6\n", "missing column"),
     ("x,y\n1,2\n3,nan\n5,6\n", "line 3"),
     ("x,y\n1,2\n3,4\n3,4\n5,1\n", "lines 3 and 4"),
-    ("x,y\n1,2\n3,4\n5,1\n1,2\n", "repeats the first point"),
+    ("x,y\n1,2\n3,4\n1,2\n5,1\n", "double back"),  # a cusp: curvature undefined
     ("x,y\n1,2\n3,4\n", "at least 3"),
 ])
 def test_bad_input_exits_2(tmp_path, capsys, content, needle):
@@ -122,7 +122,7 @@ def test_non_convergence_is_a_clean_error(tmp_path, capsys):
         path = tmp_path / f"r{trial}.csv"
         _write_points(path, rng.uniform(0, 100, (25, 2)))
         summ = tmp_path / f"r{trial}.json"
-        rc = main(["spline", str(path), "-o", str(tmp_path / f"r{trial}.csv"), "--summary", str(summ)])
+        rc = main(["spline", str(path), "-o", str(tmp_path / f"o{trial}.csv"), "--summary", str(summ)])
         err = capsys.readouterr().err
         if rc == 0:
             assert "loops" in json.loads(summ.read_text())
@@ -154,20 +154,19 @@ def test_unwritable_summary_leaves_no_output(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["p.csv"]
 
 
-def test_cusp_in_a_polynomial_spline_is_nan_without_warnings(tmp_path):
+def test_cusp_in_a_polynomial_spline_is_refused_without_warnings(tmp_path):
     import subprocess
     import sys
 
     src = tmp_path / "back.csv"
-    src.write_text("x,y\n0,0\n10,0\n0,0\n5,5\n")  # doubles back: the cubic has a cusp
+    src.write_text("x,y\n0,0\n10,0\n0,0\n5,5\n")  # doubles back: the cubic would have a cusp
     out = tmp_path / "o.csv"
     proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "analysis.cli", "spline", str(src),
                            "-o", str(out), "--method", "cubic"], capture_output=True, text=True)
     assert "RuntimeWarning" not in proc.stderr
-    assert proc.returncode == 0, proc.stderr
-    import pandas as pd
-
-    assert pd.read_csv(out)["curvature"].isna().any()  # undefined at the cusp, and said so
+    # curvature is undefined at the cusp: one line naming the line, never blank cells
+    assert proc.returncode == 2 and "line 3" in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
+    assert not out.exists()
 
 
 LOOPING = np.array([[221.3, 200.0], [326.0, 128.1], [232.9, 83.6], [184.9, 153.4], [97.0, 130.0],

@@ -14,7 +14,8 @@ def add_parser(sub):
         help="QIC (clothoid), log-aesthetic or polynomial spline through points, with curvature",
         description=(
             "Fit a spline through the points of POINTS.csv (columns x, y in image pixels, y down; "
-            "a closed curve must not repeat its first point) and write samples with columns "
+            "a closed curve's last point may repeat its first: it is then dropped, with a note on "
+            "stderr; consecutive points must differ and may not double back exactly) and write samples with columns "
             "s, x, y, curvature, segment: s is arc length from the first point (px), curvature is "
             "1/px, positive where a closed curve is convex (for --open, positive for a left turn "
             "on the screen), and segment is the index of the input point at which the sample's "
@@ -46,14 +47,15 @@ def add_parser(sub):
                    help=f"samples per segment, both ends included (default 32); at most {MAX_ROWS} "
                         "rows in all")
     p.add_argument("--summary", metavar="OUT.json",
-                   help="write method, n_points, closed, g2_error, interior_extrema, loops, corners, "
+                   help="write (to a file other than POINTS.csv and OUT.csv) method, n_points, closed, g2_error, interior_extrema, loops, corners, "
                         "corner_kinds, self_intersections, max_segment_turn, iterations, seconds, "
                         "alpha (and more) as JSON")
     p.add_argument("--strict", action="store_true",
                    help="exit 1 and write nothing when the curve crosses itself or a segment turns "
                         "by more than pi")
     p.add_argument("--alpha", type=float, default=None,
-                   help="lac-g1 and lac only: log-aesthetic slope alpha (default 0 for lac-g1, -1 for lac)")
+                   help="lac-g1 and lac only (refused with other methods): log-aesthetic slope alpha "
+                        "(default 0 for lac-g1, -1 for lac)")
     return p
 
 
@@ -73,12 +75,50 @@ def _check_points(P, path, closed):
     if same.any():
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % len(P)
-        if closed and j == 0:
-            raise InputError(
-                f"{path}: line {i + 2} repeats the first point (line 2); a closed curve must not "
-                "repeat its first point at the end"
-            )
         raise InputError(f"{path}: lines {i + 2} and {j + 2} are the same point; consecutive points must differ")
+    # a polygon that turns back on itself (edges in and out antiparallel) makes every smooth
+    # curve through it stop and reverse there: a cusp, where curvature is undefined (a closed
+    # curve through collinear points always does this)
+    inner = np.arange(len(P)) if closed else np.arange(1, len(P) - 1)
+    if len(inner):
+        with np.errstate(all="ignore"):  # huge coordinates: edges as unit vectors (half-differences)
+            d_in = 0.5 * P - 0.5 * np.roll(P, 1, axis=0)
+            d_out = 0.5 * np.roll(P, -1, axis=0) - 0.5 * P
+            a, b = d_in[inner], d_out[inner]
+            a = a / np.hypot(a[:, 0], a[:, 1])[:, None]
+            b = b / np.hypot(b[:, 0], b[:, 1])[:, None]
+            cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+            dot = (a * b).sum(axis=1)
+            back = (dot < 0) & (np.abs(cross) <= 1e-12)
+        if back.any():
+            i = int(inner[np.flatnonzero(back)[0]])
+            what = " (all the points lie on one line)" if closed and _collinear(P) else ""
+            raise InputError(
+                f"{path}: line {i + 2}: the points double back here (the polygon turns by 180 degrees)"
+                f"{what}; a smooth curve through them has a cusp, where curvature is undefined"
+            )
+
+
+def _collinear(P):
+    import numpy as np
+
+    with np.errstate(all="ignore"):
+        c = P - P.mean(axis=0)
+        c = c / np.abs(c).max()
+        sv = np.linalg.svd(c, compute_uv=False) if np.all(np.isfinite(c)) else np.ones(2)
+    return bool(sv[-1] <= 1e-12 * sv[0])
+
+
+def _drop_closing_repeat(P, path, closed):
+    """A closed curve's file that ends on its first point (common in real data): drop that
+    last point and say so in one line (the segment indices of the others are unchanged)."""
+    import sys
+
+    if closed and len(P) > 1 and (P[-1] == P[0]).all():
+        print(f"attneave spline: note: {path}: line {len(P) + 1} repeats the first point (line 2); "
+              "dropped it (a closed curve joins its last point to its first)", file=sys.stderr)
+        return P[:-1]
+    return P
 
 
 def _frame(P, path):
@@ -176,8 +216,21 @@ def run(args):
     from stimuli.io import atomic_write
     from stimuli.tables import read_points, write_table
 
+    from stimuli.io import check_output_spares_inputs
+
     closed = not args.open
+    check_output_spares_inputs(args.output, [args.points], what="-o")
+    if args.summary is not None:
+        import os
+
+        check_output_spares_inputs(args.summary, [args.points], what="--summary")
+        if os.path.realpath(args.summary) == os.path.realpath(args.output):
+            raise InputError(f"--summary {args.summary}: is the same file as -o {args.output} (the JSON would "
+                             "replace the curve); choose another file")
+    if args.alpha is not None and args.method not in ("lac-g1", "lac"):
+        raise InputError(f"--alpha: applies to the methods lac-g1 and lac only, not to --method {args.method}")
     P = read_points(args.points)
+    P = _drop_closing_repeat(P, args.points, closed)
     _check_points(P, args.points, closed)
     n_seg = len(P) if closed else len(P) - 1
     if args.samples * n_seg > MAX_ROWS:
@@ -202,6 +255,14 @@ def run(args):
         first = np.r_[True, sl[1:] != sl[:-1]]
         curve.x[first], curve.y[first] = P[sl[first], 0], P[sl[first], 1]
     table = curve.table()
+    if np.any(np.isnan(table["curvature"])):
+        # zero speed (a cusp) somewhere: never write blank cells silently
+        k = int(np.flatnonzero(np.isnan(table["curvature"]))[0])
+        raise InputError(
+            f"{args.points}: the {args.method} curve stops and turns back (zero speed, a cusp) at "
+            f"s={table['s'][k]:.6g} in segment {int(table['segment'][k])}, where curvature is undefined; "
+            "nothing written (try --method qic)"
+        )
     if not all(np.all(np.isfinite(v)) for k, v in table.items() if k != "curvature") or np.any(
         np.isinf(table["curvature"])
     ):

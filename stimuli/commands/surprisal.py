@@ -46,7 +46,16 @@ def run(args):
     from stimuli.io import disk_error_exit
     from stimuli.tables import write_table
 
-    c = Contour.from_csv(args.contour, closed=not args.open)
+    from stimuli.io import check_output_spares_inputs
+    from stimuli.tables import read_points
+
+    check_output_spares_inputs(args.output, [args.contour], what="-o")
+    closed = not args.open
+    pts = read_points(args.contour)
+    c = Contour(pts, closed, name=str(args.contour))
+    if closed:
+        _check_closed_shape(c, args.contour)
+    _note_dropped(pts, args.contour, closed)  # after the refusals: one line when refused
     _check_size(args, c)
     r = surprisal(
         c, n=args.n, spacing=args.spacing, model=args.model, A=args.A, b=args.b, bits=args.bits,
@@ -91,3 +100,49 @@ def _check_finite(result):
         p = result.params
         raise InputError(f"--b {p['b']:g} with ds = {p['ds']:.6g} px: the surprisal overflows (b*ds^2 = "
                          f"{p['b'] * p['ds'] ** 2:.3g}); use a smaller --b or rescale the contour")
+
+
+def _note_dropped(pts, path, closed):
+    """Say on stderr which points the contour drops: consecutive repeats, and a closed
+    contour's last point when it repeats the first (common in real data; accepted)."""
+    import sys
+
+    import numpy as np
+
+    if len(pts) < 2:
+        return
+    same = np.flatnonzero((pts[1:] == pts[:-1]).all(axis=1))
+    parts = []
+    if len(same):
+        lines = ", ".join(str(int(i) + 3) for i in same[:5]) + (", ..." if len(same) > 5 else "")
+        parts.append(f"{len(same)} point(s) repeating the one before (line(s) {lines})")
+    keep = np.ones(len(pts), bool)
+    keep[same + 1] = False
+    q = pts[keep]
+    if closed and len(q) > 1 and (q[-1] == q[0]).all():
+        last = int(np.flatnonzero(keep)[-1]) + 2
+        parts.append(f"the last point (line {last}), which repeats the first (a closed contour joins "
+                     "its last point to its first)")
+    if parts:
+        print(f"attneave surprisal: note: {path}: dropped " + " and ".join(parts), file=sys.stderr)
+
+
+def _check_closed_shape(contour, path):
+    """A closed contour's curvature sign (convex +, concave -) needs a simple curve of positive area."""
+    import numpy as np
+
+    from stimuli.errors import InputError
+
+    centred = contour.points - contour.points.mean(axis=0)
+    sv = np.linalg.svd(centred, compute_uv=False)
+    if sv[-1] <= 1e-12 * sv[0]:
+        raise InputError(f"{path}: the closed contour encloses no area (its points lie on one line), so it "
+                         "has no inside: convex and concave are undefined")
+    if not contour.is_simple():
+        x, y = contour.self_intersections()[0]
+        raise InputError(f"{path}: the closed contour crosses itself near (x={x:.6g}, y={y:.6g}); the sign of "
+                         "its curvature (convex +, concave -) needs a simple curve (use --open to treat it as "
+                         "an open curve)")
+    if contour.area <= 1e-12 * contour.perimeter**2:
+        raise InputError(f"{path}: the closed contour encloses (almost) no area ({contour.area:.3g} px^2 for a "
+                         f"perimeter of {contour.perimeter:.6g} px): convex and concave are undefined")

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.natural import EPS, RTOL, arc_grid, integrate_natural, relabel
+from stimuli.curves.natural import EPS, MAX_ARC, RTOL, arc_grid, integrate_natural, relabel
 from stimuli.errors import InputError
 from stimuli.validate import as_number
 
@@ -21,6 +21,15 @@ def _check_C_n(C, n):
     if not n > 0:
         raise InputError(f"constant-info: n must be > 0, got {n:g}")
     return C, n
+
+
+def _domain_text(C, n):
+    """What eq. 7 needs, in one clause, without contradictions at C = 0."""
+    if C == 0:
+        return (f"for C=0 it needs s > 0 (the curvature (n*pi/2 + 2*pi)/s is infinite at s = 0), "
+                f"n={n:g}")
+    s_min = float(np.sqrt(abs(C)) * n)
+    return (f"it needs |C|*n^2 <= s^2, i.e. s >= {s_min:g} (= sqrt(|C|)*n) for C={C:g}, n={n:g}")
 
 
 def constant_info_domain(C, n):
@@ -79,11 +88,8 @@ def constant_info_curvature(s, C, n):
     # a relative slack of a few ulps so that s = sqrt(|C|) n itself is accepted
     bad = ~np.isfinite(s) | (s <= 0) | (s < s_min * (1 - 4 * EPS))
     if np.any(bad):
-        first = s[bad].flat[0]
-        raise InputError(
-            f"constant-info: s={first:g} is outside the domain of eq. 7; need s > 0 and "
-            f"|C|*n^2 <= s^2, i.e. s >= {s_min:g} for C={C:g}, n={n:g}"
-        )
+        first = float(s[bad].flat[0])
+        raise InputError(f"constant-info: s={first:g} is outside the domain of eq. 7; {_domain_text(C, n)}")
     w = np.clip(C * n * n / (s * s), -1.0, 1.0)
     return (n * np.arccos(w) + 2 * np.pi) / s
 
@@ -127,8 +133,21 @@ def constant_info(C=0.0, n=10, s_start=None, s_end=5.0, num=201, *, s=None, rtol
     """
     C, n = _check_C_n(C, n)
     if s is None and s_start is None:
+        # the default start is derived from C and n: say so when it does not fit
         s_end_f = as_number(s_end, "s_end")
-        s_start = max(np.sqrt(abs(C)) * n, 1e-3 * s_end_f)
+        s_min = float(np.sqrt(abs(C)) * n)
+        if s_min > MAX_ARC:
+            raise InputError(
+                f"constant-info: eq. 7 starts at s = sqrt(|C|)*n = {s_min:g} for C={C:g}, n={n:g}, "
+                f"beyond the largest arc length {MAX_ARC:g}; use a smaller |C| or n"
+            )
+        if not s_end_f > s_min:
+            raise InputError(
+                f"constant-info: s_end={s_end_f:g} is not beyond the start of eq. 7's domain: s_start "
+                f"defaults to sqrt(|C|)*n = {s_min:g} (C={C:g}, n={n:g}), so s_end must be > {s_min:g}"
+                + ("" if C == 0 else "; or choose a smaller |C| or n")
+            )
+        s_start = max(s_min, 1e-3 * s_end_f)
     grid = arc_grid(s_start, s_end, num, s)
     constant_info_curvature(grid, C, n)  # domain check with a clear message
     curve = integrate_natural(lambda u: constant_info_curvature(u, C, n), s=grid, rtol=rtol)

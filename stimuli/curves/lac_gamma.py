@@ -44,11 +44,15 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["lac_theta", "lac_position", "lac_domain_end"]
+__all__ = ["lac_theta", "lac_position", "lac_domain_end", "log_rho"]
 
 _DPS = 30  # mpmath digits: the difference of two incomplete gammas may cancel
 _MAX_ANCHORS = 64  # closed-form evaluations per call (about 1-5 ms each)
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(16)
+# alpha = 0 with |lam| below this: the E1 form in mpmath (double precision
+# loses about 1e-16/|lam| to the phase 1/lam, measured: 1e-14 at lam = 1e-2,
+# 8e-11 at 1e-6, and every digit below lam = 1e-16)
+_NIELSEN_MP_BELOW = 1e-2
 
 
 def lac_theta(s, alpha, lam):
@@ -64,12 +68,45 @@ def lac_theta(s, alpha, lam):
         return s.copy()
     if alpha == 0:
         return -np.expm1(-lam * s) / lam
-    with np.errstate(divide="ignore"):  # base 0 at a domain end (alpha < 0): L = -inf, theta finite
-        L = np.log1p(lam * alpha * s)
     if alpha == 1:
-        return L / lam
-    p = (alpha - 1.0) / alpha
-    return np.expm1(p * L) / (lam * alpha * p)
+        with np.errstate(divide="ignore"):  # base 0 at a domain end: L = -inf
+            return np.log1p(lam * s) / lam
+    # theta = expm1((alpha - 1) * Q) / (lam (alpha - 1)) with Q = log1p(lam alpha s) / alpha
+    # = lam s * log1p(x)/x: stable for every alpha, however small (no 1/alpha times a
+    # rounded log1p of an underflowing product)
+    return np.expm1((alpha - 1.0) * log_rho(s, alpha, lam)) / (lam * (alpha - 1.0))
+
+
+def _log1p_ratio(x):
+    """``log1p(x) / x`` (1 at x = 0), accurate for tiny and subnormal x."""
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.log1p(x) / x
+    # below 1e-10 the series 1 - x/2 is exact to rounding; x = -1 gives -inf (log1p(-1))
+    return np.where(np.abs(x) < 1e-10, 1.0 - 0.5 * x, r)
+
+
+def log_rho(s, alpha, lam):
+    """``ln rho(s)`` of the eq. 9 LAC: ``lam s`` (alpha = 0) or
+    ``ln(lam alpha s + 1) / alpha``, computed as ``lam s * log1p(x)/x`` with
+    ``x = lam alpha s`` so that it tends to the alpha = 0 value continuously
+    (no cancellation or underflow for alpha as small as 1e-308).
+
+    Examples
+    --------
+    >>> float(log_rho(3.0, 1e-300, 1.0))   # the alpha -> 0 limit, lam s
+    3.0
+    """
+    s = np.asarray(s, dtype=float)
+    if lam == 0:
+        return np.zeros_like(s)
+    if alpha == 0:
+        return lam * s
+    x = lam * alpha * s
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # x = -1 (an end of the domain): ln(0)/alpha, -inf (rho = 0) for alpha > 0,
+        # +inf (rho = inf, curvature 0) for alpha < 0
+        return np.where(x == -1.0, -np.inf if alpha > 0 else np.inf, lam * s * _log1p_ratio(x))
 
 
 def lac_domain_end(alpha, lam):
@@ -117,7 +154,7 @@ def lac_position(s, alpha, lam):
     s = np.asarray(s, dtype=float)
     if lam == 0:
         return 1j * -np.expm1(1j * s)
-    if alpha == 0:
+    if alpha == 0 and abs(lam) >= _NIELSEN_MP_BELOW:
         return _nielsen(s, lam)
     base = lam * alpha * s + 1.0
     if np.any(base < 0) or (alpha > 0 and np.any(base == 0)):
@@ -126,9 +163,10 @@ def lac_position(s, alpha, lam):
         # rho = 1 + lam s: z = int (1 + lam u)**(i/lam) du
         e = 1.0 + 1j / lam
         return np.expm1(e * np.log1p(lam * s)) / (lam * e)
+    closed = _nielsen_mp if alpha == 0 else _gamma_form
     flat = s.ravel()
     if flat.size <= _MAX_ANCHORS:
-        return _gamma_form(flat, alpha, lam).reshape(s.shape)
+        return closed(flat, alpha, lam).reshape(s.shape)
     # a dense grid: the closed form at every k-th arc length (anchors) and,
     # from the nearest anchor below, 16-point Gauss-Legendre of exp(i theta)
     # over the short rest (exact to rounding for this smooth integrand)
@@ -136,7 +174,7 @@ def lac_position(s, alpha, lam):
     u = flat[order]
     k = -(-u.size // _MAX_ANCHORS)
     anchors = np.r_[u[::k], u[-1]]
-    za = _gamma_form(anchors, alpha, lam)
+    za = closed(anchors, alpha, lam)
     j = np.minimum(np.searchsorted(anchors, u, side="right") - 1, anchors.size - 1)
     lo = anchors[j]
     half = 0.5 * (u - lo)
@@ -148,28 +186,40 @@ def lac_position(s, alpha, lam):
 
 
 def _gamma_form(s, alpha, lam):
-    """The incomplete-gamma closed form at each of the 1-D arc lengths `s`."""
+    """The incomplete-gamma closed form at each of the 1-D arc lengths `s`.
+
+    Every alpha-dependent quantity is formed in mpmath from the exact float
+    alpha: ``b = alpha/(alpha - 1)`` and ``tau = exp(p log1p(lam alpha u))``.
+    The naive ``(lam alpha u + 1)**p`` rounds the base to 1 once
+    ``|lam alpha u|`` is below the working precision (alpha < ~1e-30 at
+    30 digits), and the curve collapsed to the origin; ``p log1p(...)`` is
+    ``(alpha - 1) lam u (1 + O(lam alpha u))``, exact to the working precision
+    for any alpha down to the smallest float, so tiny alpha reaches the
+    alpha = 0 limit (Nielsen's spiral) continuously.
+    """
     import mpmath
 
-    a = 1.0 / (alpha - 1.0)
-    p = (alpha - 1.0) / alpha
-    c = lam * (alpha - 1.0)
+    c_f = lam * (alpha - 1.0)
     out = np.empty(s.shape, dtype=complex)
     # the two gammas are of size about |c|**-b and cancel: carry extra digits
-    dps = _DPS + int(max(0.0, -np.log10(abs(c)))) * 2
+    dps = _DPS + int(max(0.0, -np.log10(abs(c_f)))) * 2
     with mpmath.workdps(dps):
-        ic = mpmath.mpc(0, c)
-        front = mpmath.exp(mpmath.mpc(0, -1) / mpmath.mpf(c)) / c * mpmath.power(ic, a + 1)
-        b = mpmath.mpf(a) + 1
+        al = mpmath.mpf(alpha)
+        lm = mpmath.mpf(lam)
+        b = al / (al - 1)  # a + 1, without the cancellation of 1/(alpha - 1) + 1
+        p = (al - 1) / al
+        c = lm * (al - 1)
+        mi = mpmath.mpc(0, -1)
+        front = mpmath.exp(mi / c) / c * mpmath.power(mpmath.mpc(0, c), b)
         # upper incomplete gammas, differenced: mpmath's two-sided form does
         # not take b = 0, -1, -2, ... (alpha = 1/2, 2/3, ...)
-        g0 = mpmath.gammainc(b, mpmath.mpc(0, -1) / mpmath.mpf(c))
+        g0 = mpmath.gammainc(b, mi / c)
         for i, u in enumerate(s):
             if u == 0:
                 out[i] = 0.0
                 continue
-            tau = mpmath.power(mpmath.mpf(lam * alpha) * mpmath.mpf(float(u)) + 1, p)
-            out[i] = complex(front * (g0 - mpmath.gammainc(b, mpmath.mpc(0, -1) * tau / mpmath.mpf(c))))
+            tau = mpmath.exp(p * mpmath.log1p(lm * al * mpmath.mpf(float(u))))
+            out[i] = complex(front * (g0 - mpmath.gammainc(b, mi * tau / c)))
     return out
 
 
@@ -181,3 +231,26 @@ def _nielsen(s, lam):
     m0 = 1.0 / lam
     m = np.exp(-lam * s) / lam
     return -np.exp(1j * m0) / lam * (exp1(1j * m0) - exp1(1j * m))
+
+
+def _nielsen_mp(s, alpha, lam):
+    """:func:`_nielsen` in mpmath with ``2 log10(1/|lam|)`` extra digits, for
+    small |lam| where the phase ``1/lam`` and the cancelling E1 terms defeat
+    double precision (`alpha` is 0, taken for the signature of
+    :func:`_gamma_form`)."""
+    import mpmath
+
+    out = np.empty(s.shape, dtype=complex)
+    dps = _DPS + int(max(0.0, -np.log10(abs(lam)))) * 2
+    with mpmath.workdps(dps):
+        lm = mpmath.mpf(lam)
+        i0 = mpmath.mpc(0, 1 / lm)
+        front = -mpmath.exp(i0) / lm
+        e0 = mpmath.e1(i0)
+        for i, u in enumerate(s):
+            if u == 0:
+                out[i] = 0.0
+                continue
+            m = mpmath.exp(-lm * mpmath.mpf(float(u))) / lm
+            out[i] = complex(front * (e0 - mpmath.e1(mpmath.mpc(0, m))))
+    return out

@@ -137,6 +137,17 @@ MAX_ARC = 1e6
 MAX_RATE = 1e12
 
 
+def _arc_number(value, name):
+    """A finite arc length within +-MAX_ARC; messages print plain numbers
+    (never ``np.float64(...)``)."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    v = as_number(value, name)
+    if abs(v) > MAX_ARC:
+        raise InputError(f"{name}: arc lengths must lie within +-{MAX_ARC:g}, got {v:g}")
+    return v
+
+
 def arc_grid(s_start, s_end, num, s=None):
     """The output arc lengths: `num` equally spaced in [s_start, s_end], or `s`.
 
@@ -151,8 +162,8 @@ def arc_grid(s_start, s_end, num, s=None):
         if np.any(np.diff(s) <= 0):
             raise InputError("s must be strictly increasing")
         return s
-    s_start = as_number(s_start, "s_start", ge=-MAX_ARC, le=MAX_ARC)
-    s_end = as_number(s_end, "s_end", ge=-MAX_ARC, le=MAX_ARC)
+    s_start = _arc_number(s_start, "s_start")
+    s_end = _arc_number(s_end, "s_end")
     if not s_end > s_start:
         raise InputError(f"s_end must be greater than s_start, got s_start={s_start:g}, s_end={s_end:g}")
     if isinstance(num, bool) or not float(num).is_integer() or num < 2:
@@ -454,11 +465,22 @@ def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=
         def theta(u):
             return np.log(np.asarray(u) / s0) / a
 
-    else:
+    elif s0 > 0:
+        p = 1.0 - m
+        # (u**p - s0**p) / (a p) cancels when p = 1 - m is small (m near 1: every
+        # digit is lost below p ~ 1e-16 and the integrator stalls on the noise);
+        # s0**p expm1(p ln(u/s0)) / (a p) is the same, exact to rounding, and
+        # tends to the m = 1 form ln(u/s0)/a as p -> 0
+        front = s0**p / (a * p)
+
+        def theta(u):
+            return front * np.expm1(p * np.log(np.asarray(u) / s0))
+
+    else:  # s0 = 0 (m < 0 here, p > 1): no cancellation
         p = 1.0 - m
 
         def theta(u):
-            return (np.power(u, p) - s0**p) / (a * p)
+            return np.power(u, p) / (a * p)
 
     curve = integrate_natural(kappa, s=grid, theta_fn=theta, rtol=rtol)
     return relabel(curve, "pseudospiral", a=a, m=m)
