@@ -447,7 +447,7 @@ def test_review_a_spacing_giving_fewer_than_3_points_names_the_option(tmp_path, 
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["--c", "1", "--s-end", "1e308"], "s_end: must be <= 1000000"),  # overflow RuntimeWarning
+    (["--c", "1", "--s-end", "1e308"], "s_end: arc lengths must lie within +-1e+06"),  # overflow RuntimeWarning
     (["--c", "1e308", "--s-end", "1"], "c: must be <= 1000000000000"),
 ])
 def test_item11_curve_arguments_that_overflow_are_one_line(tmp_path, capsys, argv, needle):
