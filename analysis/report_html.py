@@ -51,6 +51,22 @@ def pval(p, prefix=True):
     return "p " + text if prefix else text.removeprefix("= ")
 
 
+def t_text(test, digits=2):
+    """A group or items test's t, or why it has none: with no spread across units (every unit's
+    mean z the same, as when every click is on its contour's top point) t is infinite (null in JSON).
+
+    Examples
+    --------
+    >>> t_text(dict(statistic=2.5, n=4, sd=1.0, mean=1.25)), t_text(dict(statistic=None, n=4, sd=0.0, mean=6.9))
+    ('2.50', 'n/a (no spread: every mean z is 6.90)')
+    """
+    t, sd, mean = test.get("statistic"), test.get("sd"), test.get("mean")
+    if t is None and (test.get("n") or 0) >= 2 and sd is not None and mean is not None \
+            and sd <= 1e-12 * max(1.0, abs(mean)):
+        return f"n/a (no spread: every mean z is {num(mean, digits)})"
+    return num(t, digits)
+
+
 def _pct(v):
     return "n/a" if v is None else f"{100 * v:.1f}%"
 
@@ -101,9 +117,9 @@ def _results(s):
             f"{m['df']}), with SD = {num(m['sd_participant'])} across participants and SD = {num(m['sd_stimulus'])} "
             f"across stimuli.")
     out.append(
-        f"The group test across participants gave t({g['df']}) = {num(g['statistic'])}, {pval(g['p_value'])} "
+        f"The group test across participants gave t({g['df']}) = {t_text(g)}, {pval(g['p_value'])} "
         f"(one-sided, Monte Carlo null of uniform clicking, R = {g['simulations']}), d<sub>z</sub> = "
-        f"{num(g['effect_size'])}; the items test across stimuli t({it['df']}) = {num(it['statistic'])}, "
+        f"{num(g['effect_size'])}; the items test across stimuli t({it['df']}) = {t_text(it)}, "
         f"{pval(it['p_value'])}.")
     out.append(
         f"The pooled fit (clicks treated as independent) gave &beta; = {num(s['beta_hat'])}, 95% CI "

@@ -143,6 +143,11 @@ def test_a_strong_effect_warns_that_the_mixed_model_is_not_estimable_and_writes_
     assert {"clicks.csv", "per_stimulus.csv", "per_participant.csv", "models.csv", "report.html"} <= \
         {p.name for p in out.iterdir()}
     assert s["group"]["n"] == 4 and s["effect"]["top_share"] > 0.5
+    # every click on its contour's top point: each participant's mean z the same, t infinite (null in
+    # JSON), and the report says why rather than a bare n/a
+    g = s["group"]
+    assert g["statistic"] is None and g["sd"] <= 1e-12 * max(1.0, abs(g["mean"]))
+    assert "n/a (no spread: every mean z is" in (out / "report.html").read_text()
 
 
 def test_fit_mixed_never_raises_on_separated_clicks():

@@ -110,6 +110,8 @@ def run(args):
         res.summary["warnings"].append(warning)
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
                    inputs=dict(clicks=args.clicks, stimuli=args.stimuli))
+    from analysis.report_html import t_text
+
     s = res.summary
     g = s["group"]
 
@@ -122,7 +124,8 @@ def run(args):
         + (f" ({reasons})" if reasons else "")
         + (f"; beta_hat = {f(s['beta_hat'])} (the search bound, not an estimate)" if s.get("beta_at_bound") else
            f"; beta_hat = {f(s['beta_hat'])} [{f(s['beta_ci'][0])}, {f(s['beta_ci'][1])}]")
-        + f"; group t = {f(g['statistic'])} ({g['n']} participants), Monte Carlo p = {f(g['p_value'])} "
+        + f"; group t = {t_text(g, 4) if g['statistic'] is None else f(g['statistic'])} ({g['n']} participants), "
+        + f"Monte Carlo p = {f(g['p_value'])} "
         + f"(one-sided, R = {g['simulations']}); wrote {args.output}",
         file=sys.stdout,
     )
