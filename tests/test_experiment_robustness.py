@@ -60,7 +60,6 @@ def test_bad_flags_are_refused(stimset, tmp_path, capsys, args, words):
     ("title: a\ntitle: b\n", ["exp.yaml:2: duplicate key 'title' (first given on line 1)"]),
     ("size_deg: .nan\n", ["exp.yaml: line 1: size_deg: must be a finite number"]),
     ("practice: [a_peaks, a_peaks]\n", ["practice: stimulus id 'a_peaks' is given twice"]),
-    ("psychopy_units: pix\n", ["exp.yaml: psychopy_units: applies only to the PsychoPy export"]),
 ])
 def test_bad_config_files_are_refused(stimset, tmp_path, capsys, text, words):
     cfg = tmp_path / "exp.yaml"
@@ -90,3 +89,15 @@ def test_the_output_may_not_be_the_set_nor_empty(stimset, tmp_path, capsys):
     assert (stimset / "manifest.csv").is_file()
     assert main(["experiment", str(stimset), "-o", ""]) == 2
     assert "empty output path" in capsys.readouterr().err
+
+
+def test_the_shipped_config_serves_runs_without_the_psychopy_export(stimset, tmp_path):
+    # the README's step 2 (configs/experiment.yaml keeps psychopy_units for when the export is made)
+    from pathlib import Path
+
+    cfg = Path(__file__).resolve().parents[1] / "configs" / "experiment.yaml"
+    assert "psychopy_units" in cfg.read_text()
+    for extra in ([], ["--psychopy"]):
+        out = tmp_path / f"exp{len(extra)}"
+        assert main(["experiment", str(stimset), "-o", str(out), "--config", str(cfg), *extra]) == 0
+        assert (out / "index.html").is_file() and (out / "psychopy").is_dir() == bool(extra)
