@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+from pathlib import Path
 
 
 def add_parser(sub):
@@ -41,7 +42,7 @@ def add_parser(sub):
         "with --boxes",
     )
     p.add_argument("--boxes", metavar="BOXES.csv", default=None,
-                   help="boxes around the objects: columns image,x,y,width,height (image: file name or stem; "
+                   help="boxes around the objects: columns image,x,y,width,height (image: file name, stem or path; "
                    "several rows per image with --objects all; methods auto, photo, model)")
     p.add_argument("--scribbles", metavar="DIR", default=None,
                    help="per image STEM.png of the same size: object strokes pure red, background pure blue "
@@ -142,5 +143,5 @@ def run(args):
     counts = summary["status"].value_counts()
     n_ok, n_suspect, n_failed = (int(counts.get(k, 0)) for k in ("ok", "suspect", "failed"))
     print(f"attneave extract: {len(summary)} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "
-          f"(status and reason of each in {args.output}/summary.csv)", file=sys.stderr)
+          f"(status and reason of each in {Path(args.output) / 'summary.csv'})", file=sys.stderr)
     return 1 if n_failed else 0
