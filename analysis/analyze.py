@@ -20,6 +20,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.validate import as_number
 
+from .argnames import arg
 from .blurred import fit_beta_blurred
 from .choice import fit_beta, fit_choice, profile_ci
 from .design import design, mean_by
@@ -89,6 +90,7 @@ MIN_CLICK_SD = 1e-3  # px; less is no localisation error at all
 
 
 def _positive(name, value, allow_none=True, lo=None, hi=MAX_PX):
+    name = arg(name)
     if value is None and allow_none:
         return None
     v = as_number(value, name, gt=0)
@@ -98,7 +100,8 @@ def _positive(name, value, allow_none=True, lo=None, hi=MAX_PX):
 
 
 def _whole(name, value, minimum, maximum=None):
-    if not (isinstance(value, (int, np.integer)) and value >= minimum):
+    name = arg(name)
+    if isinstance(value, (bool, np.bool_)) or not (isinstance(value, (int, np.integer)) and value >= minimum):
         raise InputError(f"{name} must be a whole number >= {minimum}, got {value!r}")
     if maximum is not None and value > maximum:
         raise InputError(f"{name} must be at most {maximum:,}, got {value:,}")
@@ -223,8 +226,8 @@ def group_tests(d, per_p, seed, group_simulations, level=0.95, progress=None):
     return dict(group=g, by_stimulus=s, participant_beta=b, auc=auc, peaks=peak, concave=conc)
 
 
-def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, tolerance=None, bandwidth=None,
-            peak_tolerance=None, permutations=1000, grid=1024, seed=0, level=0.95, A=0.25, b=None,
+def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tolerance=None, bandwidth=None,
+            peak_tolerance=None, permutations=1000, grid=1024, seed=0, level=0.95, A=None, b=None,
             click_sd=None, predictions=None, group_simulations=1999, predictors=("surprisal",), length_unit=None,
             mixed=True, progress=None):
     """Analyse clicks against the information predicted along the contours.
@@ -234,12 +237,15 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     clicks : pandas.DataFrame
         Columns ``participant, stimulus_id, x, y`` (text or numbers) and any
         others (kept), e.g. from :func:`analysis.clicks.read_clicks`.
-    stimset : StimulusSet
-        From :func:`stimuli.stimulus_set.read_stimulus_set`.
-    n : int
-        Equally spaced points per contour for the prediction.
-    model : {'paper', 'vonmises'}
-        Form of the surprisal model (both give the same standardised z).
+    stimset : StimulusSet, str or Path
+        From :func:`stimuli.stimulus_set.read_stimulus_set`, or the
+        directory to read it from.
+    n : int, optional
+        Equally spaced points per contour for the prediction (default 100;
+        with `predictions`, theirs).
+    model : {'paper', 'vonmises'}, optional
+        Form of the surprisal model (both give the same standardised z;
+        default 'paper'; with `predictions`, theirs).
     coords : {'image', 'centered'}, scale : float
         Coordinate system of the clicks (see :mod:`analysis.clicks`).
     tolerance : float, optional
@@ -263,8 +269,9 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         from its own stream derived from the seed).
     level : float
         Confidence level.
-    A, b : float
-        Parameters of the surprisal model.
+    A, b : float, optional
+        Parameters of the surprisal model (default: A = 0.25, b the
+        model's default; with `predictions`, theirs).
     click_sd : float, optional
         Localisation error of clicks along the contour (sd in px). When
         given, the pooled fits use the choice model observed through that
@@ -272,7 +279,10 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
         always for the per-participant and per-stimulus betas, the plain
         model, whose beta_hat is attenuated by click noise.
     predictions : dict, optional
-        Precomputed :func:`analysis.mapping.predict` output (same n, model).
+        Precomputed :func:`analysis.mapping.predict` output for `stimset`.
+        Its n, model, A, b and length unit are the analysis's: leave those
+        arguments out (None), or give the same values; a different value
+        is refused rather than ignored.
     group_simulations : int
         Monte Carlo replicates R of the null of the group test and the items
         test (:func:`analysis.group.mean_z_test`). The smallest possible p is
@@ -297,22 +307,45 @@ def analyze(clicks, stimset, n=100, model="paper", coords="image", scale=1.0, to
     Returns
     -------
     Analysis
+
+    Raises
+    ------
+    InputError
+        `clicks` that is no DataFrame with the four columns, a `stimset`
+        that is no StimulusSet or stimulus-set directory, `predictions` that
+        are no :func:`~analysis.mapping.predict` output for `stimset` or
+        whose n, model, A, b or length unit differ from those given, any
+        argument out of range; one line naming the parameter (the flag when
+        ``attneave analyze`` called it).
     """
     import pandas as pd
 
-    tolerance = _positive("--tolerance", tolerance)
-    bandwidth = _positive("--bandwidth", bandwidth)
-    peak_tolerance = _positive("--peak-tolerance", peak_tolerance)
-    click_sd = _positive("--click-sd", click_sd, lo=MIN_CLICK_SD)
-    scale = _positive("--scale", scale, allow_none=False, hi=np.inf)
-    n = _whole("-n", n, 3, MAX_POINTS)
-    permutations = _whole("--permutations", permutations, 0, MAX_REPLICATES)
-    group_simulations = _whole("--group-simulations", group_simulations, 0, MAX_REPLICATES)
-    grid = _whole("--grid", grid, 8, MAX_GRID)
-    seed = _whole("--seed", seed, 0, 2**63 - 1)
+    from .mapping import check_clicks, check_predictions
+
+    tolerance = _positive("tolerance", tolerance)
+    bandwidth = _positive("bandwidth", bandwidth)
+    peak_tolerance = _positive("peak_tolerance", peak_tolerance)
+    click_sd = _positive("click_sd", click_sd, lo=MIN_CLICK_SD)
+    scale = _positive("scale", scale, allow_none=False, hi=np.inf)
+    if n is not None:
+        n = _whole("n", n, 3, MAX_POINTS)
+    permutations = _whole("permutations", permutations, 0, MAX_REPLICATES)
+    group_simulations = _whole("group_simulations", group_simulations, 0, MAX_REPLICATES)
+    grid = _whole("grid", grid, 8, MAX_GRID)
+    seed = _whole("seed", seed, 0, 2**63 - 1)
+    level = as_number(level, arg("level"))
     if not 0 < level < 1:
-        raise InputError(f"level must be in (0, 1), got {level!r}")
+        raise InputError(f"{arg('level')} must be in (0, 1), got {level!r}")
     predictors = _predictor_names(predictors)
+    check_clicks(clicks)
+    stimset = _stimulus_set(stimset)
+    if predictions is None:
+        n = DEFAULTS["n"] if n is None else n
+        model = DEFAULTS["model"] if model is None else model
+        A = 0.25 if A is None else A
+    else:
+        _same_as_predictions(check_predictions(predictions), predictions, stimset,
+                             dict(n=n, model=model, A=A, b=b, length_unit=length_unit))
     # a run of 100,000 clicks or more takes long enough to report its stages in a log too
     bar = Progress(progress, announce=len(clicks) >= 100_000)
     if predictions is None:
@@ -410,11 +443,43 @@ def degenerate_warnings(d, main, tests):
     return out
 
 
+def _stimulus_set(stimset):
+    """A StimulusSet, read from its directory when `stimset` is a path."""
+    import os
+
+    from stimuli.stimulus_set import StimulusSet, read_stimulus_set
+
+    if isinstance(stimset, (str, os.PathLike)) and not isinstance(stimset, bytes):
+        return read_stimulus_set(stimset)
+    if not isinstance(stimset, StimulusSet):
+        raise InputError(f"stimset: expected a StimulusSet or a stimulus-set directory, got {type(stimset).__name__}")
+    return stimset
+
+
+def _same_as_predictions(ids, predictions, stimset, given):
+    """Refuse predictions of other stimuli, or made with other parameters than those given."""
+    if set(ids) != set(stimset.ids):
+        other = sorted(set(ids) ^ set(stimset.ids))
+        raise InputError(f"predictions: they are not those of this stimulus set (ids differ: "
+                         f"{', '.join(map(str, other[:5]))}{', ...' if len(other) > 5 else ''})")
+    if not ids:
+        return
+    used = predictions[ids[0]].result.params
+    for key, value in given.items():
+        have = used.get(key)
+        if value is None or have is None:
+            continue
+        same = value == have if isinstance(value, str) or isinstance(have, str) else np.isclose(value, have)
+        if not same:
+            raise InputError(f"{arg(key)} is {value!r} but the predictions were made with {key} = {have!r}: "
+                             f"leave {arg(key)} out to use theirs, or predict again with {key}={value!r}")
+
+
 def _predictor_names(names):
     if isinstance(names, str):
         names = [v.strip() for v in names.split(",") if v.strip()]
     names = list(names)
     bad = [k for k in names if k not in PREDICTORS]
     if bad or not names or len(set(names)) != len(names):
-        raise InputError(f"--predictors must be distinct names among {','.join(PREDICTORS)}, got {','.join(names)!r}")
+        raise InputError(f"{arg('predictors')} must be distinct names among {','.join(PREDICTORS)}, got {','.join(names)!r}")
     return names

@@ -74,8 +74,11 @@ def build_parser():
 def main(argv=None):
     parser = build_parser()
     args = parser.parse_args(argv)
+    from analysis.argnames import cli_names
+
     try:
-        status = args.func(args)
+        with cli_names():  # library messages name the flags, not the Python parameters
+            status = args.func(args)
     except InputError as exc:
         print(f"attneave {args.command}: error: {exc}", file=sys.stderr)
         return 2

@@ -53,6 +53,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
+from .argnames import arg
 from .clicks import malformed_rows, parse_coordinates, to_image_coords
 from .choice import point_index, standardize
 from .circular import midrank_percentile
@@ -63,6 +64,8 @@ __all__ = [
     "DEFAULT_TOLERANCE_FRACTION",
     "PREDICTORS",
     "StimulusPrediction",
+    "check_clicks",
+    "check_predictions",
     "predict",
     "map_clicks",
 ]
@@ -152,6 +155,13 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
     -------
     dict of str -> StimulusPrediction
 
+    Raises
+    ------
+    InputError
+        `stimset` not a StimulusSet, `n` not a whole number >= 3, an
+        unknown `model`, `A` or `b` not a finite number (naming the
+        parameter; the flag when ``attneave`` called it).
+
     Notes
     -----
     After standardisation the paper's form and the von Mises form give the
@@ -159,14 +169,20 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
     ``cos(a - 2*pi/n)``. So the other form is no rival and is not computed;
     the rivals that differ are those of :mod:`analysis.predictors`.
     """
-    if model not in MODELS:
-        raise InputError(f"--model must be one of {', '.join(MODELS)}, got {model!r}")
-    if not (isinstance(n, (int, np.integer)) and n >= 3):
-        raise InputError(f"-n must be a whole number >= 3, got {n!r}")
+    if not isinstance(model, str) or model not in MODELS:
+        raise InputError(f"{arg('model')} must be one of {', '.join(MODELS)}, got {model!r}")
+    if isinstance(n, (bool, np.bool_)) or not (isinstance(n, (int, np.integer)) and n >= 3):
+        raise InputError(f"{arg('n')} must be a whole number >= 3, got {n!r}")
+    if not (hasattr(stimset, "ids") and hasattr(stimset, "contours") and hasattr(stimset, "sizes")):
+        raise InputError(f"stimset: expected a StimulusSet (stimuli.stimulus_set.read_stimulus_set), got "
+                         f"{type(stimset).__name__}")
+    A = _number("A", A)
+    b = None if b is None else _number("b", b)
     # passed only when given, so that the library's default stays the default
     unit = {} if length_unit is None else {"length_unit": length_unit}
     if unit and "length_unit" not in inspect.signature(surprisal).parameters:
-        raise InputError("--length-unit is not supported by this version of stimuli.geometry.information.surprisal")
+        raise InputError(f"{arg('length_unit')} is not supported by this version of "
+                         "stimuli.geometry.information.surprisal")
     out = {}
     for sid in stimset.ids:
         c = stimset.contours[sid]
@@ -179,6 +195,45 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
             sid, c, w, h, r, raw, {k: standardize(v) for k, v in raw.items()}, sign
         )
     return out
+
+
+def check_predictions(predictions):
+    """The stimulus ids of a :func:`predict` output; anything else is refused (one line).
+
+    Raises
+    ------
+    InputError
+        `predictions` is not a dict of :class:`StimulusPrediction`.
+    """
+    if not isinstance(predictions, dict) or not all(isinstance(v, StimulusPrediction) for v in predictions.values()):
+        raise InputError(f"predictions: expected the dict of analysis.mapping.predict(stimset, ...), got "
+                         f"{type(predictions).__name__}")
+    return list(predictions)
+
+
+def check_clicks(clicks):
+    """Refuse clicks that are no DataFrame with columns ``participant, stimulus_id, x, y`` (one line)."""
+    import pandas as pd
+
+    if not isinstance(clicks, pd.DataFrame):
+        raise InputError(f"clicks: expected a pandas.DataFrame with columns participant, stimulus_id, x, y "
+                         f"(e.g. from analysis.clicks.read_clicks), got {type(clicks).__name__}")
+    missing = [c for c in ("participant", "stimulus_id", "x", "y") if c not in clicks.columns]
+    if missing:
+        raise InputError(f"clicks: missing column(s) {', '.join(missing)}; expected participant, stimulus_id, x, y "
+                         "(rename others, e.g. with read_clicks(columns=...))")
+
+
+def _number(name, value):
+    """A finite number (not a bool or text), for the model's parameters; their ranges are the model's."""
+    if not isinstance(value, (bool, np.bool_, str, bytes)):
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            v = None
+        if v is not None and np.isfinite(v):
+            return v
+    raise InputError(f"{arg(name)} must be a finite number, got {value!r}")
 
 
 def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
@@ -199,6 +254,12 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
         Largest distance (px) from the contour for a click to be used.
         Default: 5% of the image diagonal of its stimulus.
 
+    Raises
+    ------
+    InputError
+        `clicks` not a DataFrame or missing one of the four columns, a bad
+        `tolerance`, `coords` or `scale`.
+
     Returns
     -------
     pandas.DataFrame
@@ -214,8 +275,10 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     """
     import pandas as pd
 
-    if tolerance is not None and not (np.isfinite(tolerance) and tolerance > 0):
-        raise InputError(f"--tolerance must be a positive number of pixels, got {tolerance!r}")
+    if tolerance is not None and not _number("tolerance", tolerance) > 0:
+        raise InputError(f"{arg('tolerance')} must be a positive number of pixels, got {tolerance!r}")
+    check_clicks(clicks)
+    check_predictions(predictions)
     new_cols = (
         "x_image", "y_image", "nearest_x", "nearest_y", "distance", "t", "point", "curvature",
         "surprisal", "z", "surprisal_percentile", "concave", "excluded", "reason",

@@ -21,23 +21,98 @@ import numpy as np
 
 from stimuli.errors import InputError
 
+from .argnames import arg
 from .clicks import from_image_coords
 from .group import mean_z_null, mean_z_test, monte_carlo_p, t_statistic
 
-__all__ = ["simulate", "simulate_indices", "power"]
+__all__ = ["simulate", "simulate_indices", "power", "seed_sequence"]
+
+
+def _count(name, value, minimum=1):
+    """A whole number >= `minimum` (a bool is not one), as int."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise InputError(f"{arg(name)} must be a whole number >= {minimum}, got {value!r}")
+    return int(value)
+
+
+def _real(name, value, expected):
+    """A finite float (a bool or text is not one); `expected` completes the message."""
+    try:
+        v = float(value) if not isinstance(value, (bool, np.bool_, str, bytes)) else None
+    except (TypeError, ValueError):
+        v = None
+    if v is None or not np.isfinite(v):
+        raise InputError(f"{arg(name)} must be {expected}, got {value!r}")
+    return v
+
+
+#: Largest |beta| and beta sd (as ``attneave simulate``'s): exp(beta * z) at |z| ~ 10 stays finite,
+#: and 50 already puts every click on the most surprising point.
+MAX_BETA = 50.0
 
 
 def _check(participants, clicks, noise, beta, beta_sd):
-    if not (isinstance(participants, (int, np.integer)) and participants >= 1):
-        raise InputError(f"--participants must be a whole number >= 1, got {participants!r}")
-    if not (isinstance(clicks, (int, np.integer)) and clicks >= 1):
-        raise InputError(f"--clicks must be a whole number >= 1, got {clicks!r}")
-    if not (np.isfinite(noise) and noise >= 0):
-        raise InputError(f"--noise must be a number of pixels >= 0, got {noise!r}")
-    if not np.isfinite(beta):
-        raise InputError(f"--beta must be a finite number, got {beta!r}")
-    if not (np.isfinite(beta_sd) and beta_sd >= 0):
-        raise InputError(f"--beta-sd must be >= 0, got {beta_sd!r}")
+    _count("participants", participants)
+    _count("clicks", clicks)
+    if not _real("noise", noise, "a number of pixels >= 0") >= 0:
+        raise InputError(f"{arg('noise')} must be a number of pixels >= 0, got {noise!r}")
+    if not abs(_real("beta", beta, "a finite number")) <= MAX_BETA:
+        raise InputError(f"{arg('beta')} must be from {-MAX_BETA:g} to {MAX_BETA:g}, got {beta!r}")
+    if not 0 <= _real("beta_sd", beta_sd, "a finite number >= 0") <= MAX_BETA:
+        raise InputError(f"{arg('beta_sd')} must be from 0 to {MAX_BETA:g}, got {beta_sd!r}")
+
+
+def _prediction_ids(predictions):
+    from .mapping import check_predictions
+
+    return check_predictions(predictions)
+
+
+def seed_sequence(seed):
+    """The :class:`numpy.random.SeedSequence` of a `seed` argument, and the seed to record.
+
+    Parameters
+    ----------
+    seed : int, numpy.random.Generator, numpy.random.SeedSequence or None
+        A whole number >= 0; a Generator, from which one integer is drawn
+        (so the generator advances, and a second call gives other draws);
+        None for fresh entropy from the operating system. The recorded seed
+        of a Generator or None is the integer actually used, so that passing
+        it back reproduces the result.
+
+    Returns
+    -------
+    (SeedSequence, int or str)
+        The sequence, and the seed to record (the entropy as text for a
+        SeedSequence given).
+
+    Raises
+    ------
+    InputError
+        Anything else (a negative number, a float, text, a bool, a
+        RandomState), naming `seed`.
+
+    Examples
+    --------
+    >>> ss, used = seed_sequence(7)
+    >>> used, ss.entropy
+    (7, 7)
+    >>> _, a = seed_sequence(np.random.default_rng(0)); _, b = seed_sequence(np.random.default_rng(0))
+    >>> a == b
+    True
+    """
+    if isinstance(seed, np.random.SeedSequence):
+        return seed, str(seed.entropy)
+    if seed is None:
+        ss = np.random.SeedSequence()
+        return ss, int(ss.entropy)
+    if isinstance(seed, np.random.Generator):
+        used = int(seed.integers(0, 2**63 - 1))
+        return np.random.SeedSequence(used), used
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(f"{arg('seed')} must be a whole number >= 0, a numpy.random.Generator or None, "
+                         f"got {seed!r}")
+    return np.random.SeedSequence(int(seed)), int(seed)
 
 
 def _cdf_rows(Z, beta):
@@ -70,7 +145,8 @@ def simulate_indices(Z, participants, clicks, beta, seed, beta_sd=0.0):
         Observers, and clicks per observer per stimulus.
     beta : float
         Weight of z in the choice model.
-    seed : int or numpy.random.SeedSequence
+    seed : int, numpy.random.Generator, numpy.random.SeedSequence or None
+        See :func:`seed_sequence`.
     beta_sd : float
         Between-observer sd of beta.
 
@@ -84,7 +160,7 @@ def simulate_indices(Z, participants, clicks, beta, seed, beta_sd=0.0):
     """
     _check(participants, clicks, 0.0, beta, beta_sd)
     Z = np.asarray(Z, dtype=float)
-    ss = seed if isinstance(seed, np.random.SeedSequence) else np.random.SeedSequence(seed)
+    ss, _ = seed_sequence(seed)
     rngs = [np.random.Generator(np.random.PCG64(c)) for c in ss.spawn(participants)]
     betas = np.empty(participants)
     out = np.empty((participants, Z.shape[0], clicks), dtype=np.int64)
@@ -107,8 +183,10 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
         Clicks per observer per stimulus.
     beta : float
         Weight of standardised surprisal (0: clicks uniform along the contour).
-    seed : int
-        Seed of the :class:`numpy.random.SeedSequence`.
+    seed : int, numpy.random.Generator or None
+        Seed of the :class:`numpy.random.SeedSequence` (a whole number >=
+        0), a Generator to draw it from, or None for fresh entropy; the seed
+        used is recorded in ``params['seed']`` (see :func:`seed_sequence`).
     noise : float
         sd in pixels of isotropic Gaussian displacement of each click.
     beta_sd : float
@@ -126,6 +204,13 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
         Every resolved parameter, and ``outside_share``: the share of the
         clicks that the noise put outside their image.
 
+    Raises
+    ------
+    InputError
+        A count that is no whole number >= 1 (a bool is not one), a `beta`,
+        `noise` or `beta_sd` that is no finite number (or negative), a bad
+        `seed`, an empty set; naming the parameter.
+
     Examples
     --------
     >>> import numpy as np
@@ -142,13 +227,14 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
     import pandas as pd
 
     _check(participants, clicks, noise, beta, beta_sd)
-    ids = list(predictions)
+    ss, used_seed = seed_sequence(seed)
+    ids = _prediction_ids(predictions)
     if not ids:
         raise InputError("the stimulus set is empty")
     first = predictions[ids[0]]
     n = first.n
     Z = np.stack([predictions[s].z["surprisal"] for s in ids])
-    j, betas, rngs = simulate_indices(Z, participants, clicks, beta, seed, beta_sd)
+    j, betas, rngs = simulate_indices(Z, participants, clicks, beta, ss, beta_sd)
     P, S, K = j.shape
     offset = np.empty((P, S, K))
     disp = np.zeros((P, S, K, 2))
@@ -182,7 +268,7 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
     )
     params = dict(
         participants=int(P), clicks=int(K), stimuli=int(S), beta=float(beta), beta_sd=float(beta_sd),
-        noise=float(noise), seed=int(seed) if not isinstance(seed, np.random.SeedSequence) else str(seed.entropy),
+        noise=float(noise), seed=used_seed,
         n=int(n), model=first.result.params["model"], coords=coords, scale=float(scale),
         outside_share=outside / max(P * S * K, 1),
     )
@@ -221,8 +307,9 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     predictions : dict of str -> StimulusPrediction
     beta : float
         Effect to detect.
-    participants : sequence of int
-        Numbers of participants to evaluate.
+    participants : int or sequence of int
+        Numbers of participants to evaluate (each at least 2; one number is
+        a one-design table).
     clicks : int
         Clicks per participant per stimulus.
     simulations : int
@@ -230,11 +317,12 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     alpha : float
         Significance level; it must be at least ``1 / (group_simulations + 1)``,
         the smallest p the Monte Carlo null can give.
-    seed : int
+    seed : int, numpy.random.Generator or None
+        As in :func:`simulate` (the seed used is recorded in ``info['seed']``).
     noise, beta_sd : float
         As in :func:`simulate`.
     target : float
-        Power wanted; the smallest design reaching it is reported.
+        Power wanted, in (0, 1]; the smallest design reaching it is reported.
     group_simulations : int
         Monte Carlo replicates R of the null of the group test.
 
@@ -246,36 +334,55 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     info : dict
         Every parameter and ``required_participants`` (None if no design in
         `participants` reaches `target`).
+
+    Raises
+    ------
+    InputError
+        A bad count, number, `seed` or `predictions`, naming the parameter
+        (the flag when ``attneave power`` called it).
     """
     import pandas as pd
 
     from .mapping import map_clicks
 
-    participants = sorted({int(p) for p in participants})
-    if not participants or participants[0] < 2:
-        raise InputError(f"--participants needs numbers >= 2 (a t-test needs two), got {participants}")
-    if not (isinstance(simulations, (int, np.integer)) and simulations >= MIN_SIMULATIONS):
-        raise InputError(f"--simulations must be a whole number >= {MIN_SIMULATIONS} (fewer experiments give no "
-                         f"estimate of power: its Monte Carlo error would exceed 0.1), got {simulations!r}")
-    if not 0 < alpha < 1:
-        raise InputError(f"--alpha must be in (0, 1), got {alpha!r}")
+    given = participants
+    if isinstance(participants, (int, np.integer)) and not isinstance(participants, (bool, np.bool_)):
+        participants = [participants]  # one design
+    try:
+        items = list(participants)
+    except TypeError:
+        items = None
+    if (items is None or not items or any(isinstance(p, (bool, np.bool_)) or not isinstance(p, (int, np.integer))
+                                          or p < 2 for p in items)):
+        raise InputError(f"{arg('participants')} needs whole numbers >= 2 (a t-test needs two), got {given!r}")
+    participants = sorted({int(p) for p in items})
+    if (isinstance(simulations, (bool, np.bool_)) or not isinstance(simulations, (int, np.integer))
+            or simulations < MIN_SIMULATIONS):
+        raise InputError(f"{arg('simulations')} must be a whole number >= {MIN_SIMULATIONS} (fewer experiments give "
+                         f"no estimate of power: its Monte Carlo error would exceed 0.1), got {simulations!r}")
+    simulations = int(simulations)
+    if not 0 < _real("alpha", alpha, "in (0, 1)") < 1:
+        raise InputError(f"{arg('alpha')} must be in (0, 1), got {alpha!r}")
+    if not 0 < _real("target", target, "a power in (0, 1]") <= 1:
+        raise InputError(f"{arg('target')} must be a power in (0, 1], got {target!r}")
     _check(participants[-1], clicks, noise, beta, beta_sd)
-    if not (isinstance(group_simulations, (int, np.integer)) and group_simulations >= 1):
-        raise InputError(f"--group-simulations must be a whole number >= 1, got {group_simulations!r}")
+    group_simulations = _count("group_simulations", group_simulations)
+    ss, used_seed = seed_sequence(seed)
     R = int(group_simulations)
     if 1.0 / (R + 1) > alpha:
         # p = (1 + #{null >= t}) / (1 + R) is never below 1 / (1 + R): every design would show power 0
         need = int(np.ceil(1.0 / alpha - 1.0 - 1e-9))
-        raise InputError(f"--alpha {alpha:g} is below the smallest p the Monte Carlo null can give, "
-                         f"1/(R+1) = {1.0 / (R + 1):.3g} with --group-simulations {R}: raise --group-simulations "
-                         f"to at least {need} (or --alpha to at least {1.0 / (R + 1):.3g})")
-    ids = list(predictions)
+        a, g = arg("alpha"), arg("group_simulations")
+        raise InputError(f"{a} {alpha:g} is below the smallest p the Monte Carlo null can give, "
+                         f"1/(R+1) = {1.0 / (R + 1):.3g} with {g} {R}: raise {g} "
+                         f"to at least {need} (or {a} to at least {1.0 / (R + 1):.3g})")
+    ids = _prediction_ids(predictions)
     Z = np.stack([predictions[s].z["surprisal"] for s in ids])
     Pmax = participants[-1]
     S = len(ids)
     sig = np.zeros((len(participants), simulations), bool)
     eff = np.zeros((len(participants), simulations))
-    children = np.random.SeedSequence(seed).spawn(simulations + 1)
+    children = ss.spawn(simulations + 1)
     null_rng = np.random.default_rng(children[-1])  # the experiments' streams do not depend on it
     nulls = {}
     for P in participants:
@@ -321,7 +428,7 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     reach = [p for p, w in zip(participants, pw) if w >= target]
     info = dict(
         beta=float(beta), beta_sd=float(beta_sd), clicks=int(clicks), stimuli=len(ids), simulations=int(simulations),
-        alpha=float(alpha), seed=int(seed), noise=float(noise), target=float(target),
+        alpha=float(alpha), seed=used_seed, noise=float(noise), target=float(target),
         n=int(predictions[ids[0]].n), model=predictions[ids[0]].result.params["model"],
         group_simulations=R,
         test=f"one-sample t statistic of per-participant mean z, Monte Carlo null under uniform clicking "

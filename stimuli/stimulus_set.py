@@ -257,6 +257,20 @@ def check_image_size(path, width, height, where):
     Clicks are converted with the manifest's width and height, and a page or
     a PsychoPy script shows the image at its own size: the two must agree.
     An image whose header cannot be read is not checked (see :func:`image_size`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The image file.
+    width, height : int
+        The size in pixels the manifest gives.
+    where : str
+        Names the manifest row in the message (e.g. ``manifest.csv line 3``).
+
+    Raises
+    ------
+    InputError
+        The image's header gives another size.
     """
     size = image_size(path)
     if size is not None and size != (width, height):
@@ -269,6 +283,15 @@ def check_contour_in_image(contour, width, height, where):
 
     The image covers ``[-0.5, width - 0.5] x [-0.5, height - 0.5]`` (pixel
     centres at integer coordinates).
+
+    Parameters
+    ----------
+    contour : Contour
+        Closed, ``(x, y)`` image pixels (x = column, y = row, y down).
+    width, height : int
+        The image's size in pixels.
+    where : str
+        Names the contour in messages (e.g. its file and manifest line).
 
     Returns
     -------

@@ -13,7 +13,8 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["IMAGE_SUFFIXES", "MAX_PIXELS", "DecoderWarning", "ImageFile", "open_image", "read_image", "header_size", "load_image", "split_channels", "full_scale"]
+__all__ = ["IMAGE_SUFFIXES", "MAX_PIXELS", "DecoderWarning", "ImageFile", "open_image", "read_image", "header_size", "load_image", "split_channels", "full_scale",
+           "MAX_INTEGER_LEVELS"]
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp")
 
@@ -57,6 +58,8 @@ def open_image(path, max_pixels=MAX_PIXELS):
         Largest ``width * height`` accepted, read from the file's header
         before decoding (default :data:`MAX_PIXELS`, 100 Mpx), so that a
         small file that would decode to gigabytes is refused at no cost.
+        A whole number >= 1 (NaN, infinity or text are refused, not taken
+        as "no limit").
 
     Returns
     -------
@@ -70,11 +73,15 @@ def open_image(path, max_pixels=MAX_PIXELS):
     InputError
         Not a regular file (a directory, FIFO, device: refused without
         opening it, so nothing blocks), missing, empty, larger than
-        `max_pixels`, or not decodable; one line naming the file.
+        `max_pixels`, or not decodable; one line naming the file. `path`
+        not a str or Path (an array is given to
+        :func:`stimuli.extraction.extract` directly), `max_pixels` not a
+        whole number >= 1.
     """
     import cv2
 
-    path = Path(path)
+    path = _as_path(path)
+    max_pixels = _max_pixels(max_pixels)
     _require_regular_file(path)
     size = _header_size(path, max_pixels)
     try:
@@ -114,7 +121,7 @@ def read_image(path, max_pixels=MAX_PIXELS):
         (32-bit float TIFF also works).
     max_pixels : int
         Largest ``width * height`` accepted, checked on the header before
-        decoding (default 100 Mpx).
+        decoding (default 100 Mpx); a whole number >= 1.
 
     Returns
     -------
@@ -129,7 +136,8 @@ def read_image(path, max_pixels=MAX_PIXELS):
     InputError
         The file does not exist, is not a regular file, is empty, is larger
         than `max_pixels`, or cannot be decoded (corrupt or not an image),
-        naming the file.
+        naming the file; `path` that is no str or Path, `max_pixels` that
+        is no whole number >= 1.
 
     Warns
     -----
@@ -143,6 +151,31 @@ def read_image(path, max_pixels=MAX_PIXELS):
 
         warnings.warn(f"{path}: decoder: {'; '.join(f.warnings)}", DecoderWarning, stacklevel=2)
     return f.image
+
+
+def _as_path(path):
+    """`path` as a Path; anything but a str or os.PathLike is refused (one line)."""
+    import os
+
+    if isinstance(path, (str, os.PathLike)) and not isinstance(path, bytes):
+        return Path(path)
+    if isinstance(path, np.ndarray):
+        raise InputError("path: expected an image file name (str or Path), got an array; pass arrays to "
+                         "stimuli.extraction.extract or extract_contours directly")
+    raise InputError(f"path: expected an image file name (str or Path), got {type(path).__name__} {path!r:.60}")
+
+
+def _max_pixels(value):
+    """`max_pixels` checked: a whole number >= 1 (a float such as 1e8 is taken if it is whole)."""
+    if isinstance(value, (bool, np.bool_)):
+        raise InputError(f"max_pixels: must be a whole number of pixels >= 1, got {value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise InputError(f"max_pixels: must be a whole number of pixels >= 1, got {value!r}") from None
+    if not (np.isfinite(v) and v >= 1 and v == int(v)):
+        raise InputError(f"max_pixels: must be a whole number of pixels >= 1, got {value!r}")
+    return int(v)
 
 
 def _require_regular_file(path):
@@ -274,15 +307,45 @@ def _quiet_imdecode(cv2, data):
         log.setLogLevel(old)
 
 
+#: Integer images whose values span more grey levels than this are traced as float64 (their own
+#: values): a histogram over every integer level would need memory in proportion to the span.
+MAX_INTEGER_LEVELS = 65536
+
+
 def load_image(image_or_path):
-    """``(array, name)`` from a path (read with :func:`read_image`) or an array."""
-    if isinstance(image_or_path, (str, Path)):
+    """``(array, name)`` from a path (read with :func:`read_image`) or an array.
+
+    An integer array (other than uint8 and uint16) whose values span more
+    than :data:`MAX_INTEGER_LEVELS` levels is returned as float64 with the
+    same values (so a threshold stays in its units) when it is grey or RGB;
+    with an alpha channel it is refused (its full scale, and so the default
+    alpha level, would be lost).
+    """
+    import os
+
+    if isinstance(image_or_path, (str, os.PathLike)) and not isinstance(image_or_path, bytes):
         return read_image(image_or_path), str(image_or_path)
     try:
         img = np.asarray(image_or_path)
     except Exception:  # noqa: BLE001 - anything that is not an array
         raise InputError("image: expected a path or an array") from None
-    return img, "image"
+    if img.dtype == object and img.ndim == 0:
+        raise InputError(f"image: expected a path (str or Path) or an image array, got {type(image_or_path).__name__}")
+    return _wide_integers(img, "image"), "image"
+
+
+def _wide_integers(img, name):
+    """An integer image of more than MAX_INTEGER_LEVELS levels as float64 (see :func:`load_image`)."""
+    if not np.issubdtype(img.dtype, np.integer) or img.dtype in (np.uint8, np.uint16) or img.size == 0:
+        return img
+    lo, hi = int(img.min()), int(img.max())
+    if hi - lo < MAX_INTEGER_LEVELS:
+        return img
+    if img.ndim == 3 and img.shape[2] in (2, 4):
+        raise InputError(f"{name}: {img.dtype} image with an alpha channel and values from {lo} to {hi} "
+                         f"(more than {MAX_INTEGER_LEVELS} levels): give it as uint8, uint16 or float "
+                         "(alpha 0 to 1)")
+    return img.astype(np.float64)
 
 
 def split_channels(img, name):

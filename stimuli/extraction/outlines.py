@@ -100,14 +100,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.validate import as_int, as_number
 from stimuli.extraction.imageio import load_image
-from stimuli.extraction.segment import METHODS, POLARITIES, NoObject, segment
+from stimuli.extraction.segment import METHODS, POLARITIES, NoObject, check_method_options, segment
 from stimuli.extraction.trace import LOCAL_RADIUS, finish_ring, ring_area, trace_grey, trace_mask
 
-__all__ = ["MASK_SIGMA", "Extraction", "extract", "extract_contours"]
+__all__ = ["MASK_SIGMA", "GRABCUT_ITERATIONS", "MAX_GRABCUT_ITERATIONS", "Extraction", "extract", "extract_contours"]
 
 #: Default smoothing (px of arc length) of a binary mask's staircase outline.
 MASK_SIGMA = 1.0
+#: Default GrabCut iterations, and the most accepted (it converges within about ten; each
+#: iteration costs about a second per megapixel).
+GRABCUT_ITERATIONS = 5
+MAX_GRABCUT_ITERATIONS = 1000
 
 
 @dataclass
@@ -167,7 +172,7 @@ def extract(
     presmooth=True,
     local_level=True,
     rect=None,
-    grabcut_iterations=5,
+    grabcut_iterations=None,
     name=None,
     boxes=None,
     scribbles=None,
@@ -247,8 +252,10 @@ def extract(
     model : dict, optional
         ``model_file`` and optionally ``size``, ``mean``, ``std`` for
         ``method='model'`` (:func:`stimuli.extraction.model.object_probability`).
-    grabcut_iterations : int
-        Iterations of GrabCut (default 5).
+    grabcut_iterations : int, optional
+        Iterations of GrabCut, a whole number from 1 to
+        :data:`MAX_GRABCUT_ITERATIONS` ('grabcut', 'photo' and 'auto'
+        methods; default 5).
     name : str, optional
         Names the image in messages and the contours (default: the path,
         or 'image' for an array).
@@ -265,7 +272,13 @@ def extract(
     InputError
         Unreadable file, bad parameter, or an image without a usable object
         (uniform, no object, everything object), with one line naming the
-        image and the reason.
+        image and the reason. An option that does not apply to `method`
+        (`threshold` but for 'threshold' and 'alpha', `rect` but for
+        'grabcut', `grabcut_iterations` but for 'grabcut', 'photo' and
+        'auto', `boxes` but for 'auto', 'photo' and 'model', `scribbles`
+        but for 'auto' and 'photo', `model` but for 'model') is refused,
+        not ignored (the rule of ``attneave extract``,
+        :func:`stimuli.extraction.segment.check_method_options`).
 
     Examples
     --------
@@ -278,20 +291,30 @@ def extract(
     >>> bool(abs(ex.contour.area - img.astype(bool).sum()) < 0.01 * img.astype(bool).sum())
     True
     """
-    if method not in METHODS:
+    if not isinstance(method, str) or method not in METHODS:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
-    if polarity not in POLARITIES:
+    if not isinstance(polarity, str) or polarity not in POLARITIES:
         raise InputError(f"unknown polarity {polarity!r}; expected one of {', '.join(POLARITIES)}")
-    if objects not in ("largest", "all"):
+    if not isinstance(objects, str) or objects not in ("largest", "all"):
         raise InputError(f"objects must be 'largest' or 'all', got {objects!r}")
-    if not (np.isfinite(mask_sigma) and mask_sigma >= 0):
-        raise InputError(f"mask_sigma must be >= 0, got {mask_sigma}")
+    check_method_options(method, dict(threshold=threshold, rect=rect, grabcut_iterations=grabcut_iterations,
+                                      boxes=boxes, scribbles=scribbles, model_file=model),
+                         names={"model_file": "model"})
+    if threshold is not None:
+        threshold = as_number(threshold, "threshold")
+    mask_sigma = as_number(mask_sigma, "mask_sigma", ge=0)
+    if min_area is not None:
+        min_area = as_number(min_area, "min_area", ge=0)
+    if min_hole_area is not None:
+        min_hole_area = as_number(min_hole_area, "min_hole_area", ge=0)
+    if grabcut_iterations is None:
+        grabcut_iterations = GRABCUT_ITERATIONS
+    elif isinstance(grabcut_iterations, (bool, np.bool_)):
+        raise InputError(f"grabcut_iterations: must be a whole number >= 1, got {grabcut_iterations!r}")
+    else:
+        grabcut_iterations = as_int(grabcut_iterations, "grabcut_iterations", lo=1, hi=MAX_GRABCUT_ITERATIONS)
     img, default_name = load_image(image_or_path)
     name = default_name if name is None else str(name)
-    if scribbles is not None and method not in ("auto", "photo"):
-        raise InputError(f"{name}: scribbles need method 'auto' or 'photo', not {method!r}")
-    if boxes is not None and method not in ("auto", "photo", "model"):
-        raise InputError(f"{name}: boxes need method 'auto', 'photo' or 'model', not {method!r}")
     if boxes is not None and len(boxes) > 1 and objects != "all":
         raise InputError(f"{name}: {len(boxes)} boxes for one image need objects='all' (--objects all)")
     opts = (objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level)
@@ -429,9 +452,31 @@ def extract_contours(image_or_path, method="otsu", threshold=None, polarity="aut
                      min_area=None, holes=False, **kwargs):
     """Sub-pixel outer contours of the object(s) in an image (stable entry point).
 
-    The same as ``extract(...).contours``; see :func:`extract` for the
-    parameters. This signature is what recipes (``from_image``) call; it
-    will stay compatible.
+    The same as ``extract(...).contours``. This signature is what recipes
+    (``from_image``) call; it will stay compatible.
+
+    Parameters
+    ----------
+    image_or_path : str, Path or ndarray
+        An image file or an array (see :func:`extract`).
+    method : {'otsu', 'auto', 'threshold', 'mask', 'alpha', 'grabcut', 'photo', 'model'}
+        How the object is separated from the background (default 'otsu').
+    threshold : float, optional
+        The edge's grey level ('threshold', required) or alpha level
+        ('alpha'); refused with other methods.
+    polarity : {'auto', 'dark', 'light'}
+        Which class is the object.
+    objects : {'largest', 'all'}
+        The largest object, or every object of at least `min_area` pixels.
+    min_area : float, optional
+        Smallest object in pixels (default ``max(9, 1e-4 * H * W)``).
+    holes : bool
+        Trace holes too (they are not returned here; see :func:`extract`).
+    **kwargs
+        Any other parameter of :func:`extract` (``rect``,
+        ``grabcut_iterations``, ``boxes``, ``scribbles``, ``model``,
+        ``mask_sigma``, ...). One that does not apply to `method` is
+        refused, not ignored.
 
     Returns
     -------
@@ -439,6 +484,12 @@ def extract_contours(image_or_path, method="otsu", threshold=None, polarity="aut
         Outer contours, largest first; ``(x, y)`` in the image's pixels (x =
         column, y = row, y down, pixel centres at integers), closed, first
         point not repeated, counter-clockwise on the screen.
+
+    Raises
+    ------
+    InputError
+        As :func:`extract`: an unreadable image, a bad parameter, an option
+        for another method, or no usable object.
 
     Examples
     --------

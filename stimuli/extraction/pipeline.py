@@ -57,6 +57,7 @@ from pathlib import Path
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.extraction.segment import OPTION_METHODS
 from stimuli.extraction.verdict import PHOTO_MEASURES
 
 __all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "OPTION_METHODS", "output_stems", "check_options", "extract_images",
@@ -74,12 +75,8 @@ DEFAULTS = dict(
     n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False, boxes=None, scribbles=None,
     model_file=None, model_size=None, model_mean=None, model_std=None, max_pixels=None,
 )
-#: The methods each method-specific option applies to (any other method refuses it).
-OPTION_METHODS = {
-    "threshold": ("threshold", "alpha"), "rect": ("grabcut",), "boxes": ("auto", "photo", "model"),
-    "scribbles": ("auto", "photo"), "model_file": ("model",), "model_size": ("model",), "model_mean": ("model",),
-    "model_std": ("model",),
-}
+# OPTION_METHODS: the methods each method-specific option applies to (any other method refuses
+# it), the same rule as the Python API's (:func:`stimuli.extraction.segment.check_method_options`)
 
 
 def output_stems(images, objects="largest"):
@@ -234,17 +231,12 @@ def check_options(opts, images=()):
     """
     from stimuli.extraction.grabcut import check_box
     from stimuli.extraction.imageio import header_size
+    from stimuli.extraction.segment import check_method_options
 
     method = opts["method"]
     if method == "model" and not opts["model_file"]:
         raise InputError("--method model needs --model-file FILE.onnx")
-    given = [k for k in OPTION_METHODS if opts.get(k) is not None and method not in OPTION_METHODS[k]]
-    if given:
-        *first, last = OPTION_METHODS[given[0]]
-        need = f"{', '.join(first)} or {last}" if first else last
-        names = ", ".join(f"--{k.replace('_', '-')}" for k in given if OPTION_METHODS[k] == OPTION_METHODS[given[0]])
-        raise InputError(f"{names} {'apply' if ',' in names else 'applies'} to --method {need} only, "
-                         f"not --method {method}")
+    check_method_options(method, {k: opts.get(k) for k in OPTION_METHODS}, cli=True)
     if opts["rect"] is not None:
         rect = opts["rect"]
         try:

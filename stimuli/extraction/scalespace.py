@@ -19,6 +19,7 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.geometry.contour import Contour
 from stimuli.geometry.polyline import gaussian_curvature
+from stimuli.validate import as_number
 
 __all__ = ["SIGMA_FRACTION", "MIN_SIGMA", "MAX_SIGMA_FRACTION", "ContourInfo", "default_sigma", "smooth", "contour_curvature",
            "describe", "curvature_peaks", "fourier_smooth"]
@@ -31,6 +32,8 @@ MIN_SIGMA = 1.0
 #: the periodic Gaussian shrinks the outline to a point (its first harmonic
 #: by a factor under exp(-pi**2 / 2) = 0.007).
 MAX_SIGMA_FRACTION = 0.5
+#: Most points :func:`smooth` returns (a spacing that asks for more is refused).
+MAX_SMOOTH_POINTS = 10_000_000
 
 def fourier_smooth(q, sigma, length):
     """Equally spaced closed points `q` (perimeter `length`) smoothed by a periodic Gaussian of `sigma` px."""
@@ -48,7 +51,34 @@ def default_sigma(contour, fraction=SIGMA_FRACTION, minimum=MIN_SIGMA):
     scale follows the shape (the same object photographed twice as large is
     smoothed at twice the pixel scale, i.e. identically), and never below
     1 px, the scale of pixel noise.
+
+    Parameters
+    ----------
+    contour : Contour or (N, 2) array_like
+        ``(x, y)`` image pixels (y down).
+    fraction : float
+        Share of the perimeter, in ``(0, MAX_SIGMA_FRACTION]`` (default
+        :data:`SIGMA_FRACTION`, 0.01).
+    minimum : float
+        Smallest scale in px, >= 0 (default :data:`MIN_SIGMA`, 1 px).
+
+    Returns
+    -------
+    float
+        The scale in px of arc length.
+
+    Raises
+    ------
+    InputError
+        `fraction` or `minimum` out of range or not a number; a bad contour.
+
+    Examples
+    --------
+    >>> default_sigma([[0, 0], [100, 0], [100, 100], [0, 100]])
+    4.0
     """
+    fraction = as_number(fraction, "fraction", gt=0, le=MAX_SIGMA_FRACTION)
+    minimum = as_number(minimum, "minimum", ge=0)
     c = contour if isinstance(contour, Contour) else Contour(contour)
     return float(max(fraction * c.perimeter, minimum))
 
@@ -56,9 +86,7 @@ def default_sigma(contour, fraction=SIGMA_FRACTION, minimum=MIN_SIGMA):
 def _resolve_sigma(c, sigma):
     if sigma is None:
         return default_sigma(c)
-    sigma = float(sigma)
-    if not (np.isfinite(sigma) and sigma > 0):
-        raise InputError(f"sigma must be a finite number > 0 px, got {sigma}")
+    sigma = as_number(sigma, "sigma", gt=0)
     if sigma > MAX_SIGMA_FRACTION * c.perimeter:
         raise InputError(f"sigma (--sigma) {sigma:g} px is over {MAX_SIGMA_FRACTION:g} times this outline's perimeter "
                          f"({c.perimeter:.4g} px): smoothing at that scale shrinks it to a point; give a smaller sigma")
@@ -76,7 +104,8 @@ def smooth(contour, sigma=None, spacing=None):
         Scale in px of arc length; default :func:`default_sigma`.
     spacing : float, optional
         Spacing of the returned points in px (default: about 1 px, and at
-        most ``sigma / 4``).
+        most ``sigma / 4``); > 0, and giving at most
+        :data:`MAX_SMOOTH_POINTS` points.
 
     Returns
     -------
@@ -84,6 +113,13 @@ def smooth(contour, sigma=None, spacing=None):
         Equally spaced (in the input's arc length) points of the smoothed
         curve, starting at the smoothed first point, counter-clockwise on the
         screen. A circle of radius R shrinks by about ``sigma**2 / (2 R)``.
+
+    Raises
+    ------
+    InputError
+        An open or bad contour, `sigma` or `spacing` not a number > 0 (or
+        `sigma` over half the perimeter, `spacing` asking for more than
+        :data:`MAX_SMOOTH_POINTS` points).
     """
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if not c.closed:
@@ -91,6 +127,11 @@ def smooth(contour, sigma=None, spacing=None):
     sigma = _resolve_sigma(c, sigma)
     if spacing is None:
         spacing = min(1.0, sigma / 4)
+    else:
+        spacing = as_number(spacing, "spacing", gt=0)
+        if c.perimeter / spacing > MAX_SMOOTH_POINTS:
+            raise InputError(f"spacing {spacing:g} px gives {c.perimeter / spacing:.3g} points on this outline "
+                             f"(perimeter {c.perimeter:.4g} px); at most {MAX_SMOOTH_POINTS:,}")
     m = max(int(np.ceil(c.perimeter / spacing)), 16)
     q = c.resample(n=m).points
     return Contour(fourier_smooth(q, sigma, c.perimeter), orient=False, name=c.name)
@@ -103,6 +144,25 @@ def contour_curvature(contour, sigma=None):
     :func:`default_sigma`, 1 % of the perimeter), computed on the contour
     resampled at equal arc-length steps and read back at each point's arc
     position (``Contour.curvature(method='gaussian')``).
+
+    Parameters
+    ----------
+    contour : Contour or (N, 2) array_like
+        ``(x, y)`` image pixels (y down); closed unless a `Contour` says otherwise.
+    sigma : float, optional
+        Scale in px of arc length, > 0 and at most
+        ``MAX_SIGMA_FRACTION * perimeter`` (default :func:`default_sigma`).
+
+    Returns
+    -------
+    (N,) ndarray
+        Curvature in 1/px at each point of `contour`, positive where the
+        contour is convex.
+
+    Raises
+    ------
+    InputError
+        A bad contour, or `sigma` not a number in range.
     """
     c = contour if isinstance(contour, Contour) else Contour(contour)
     return c.curvature(method="gaussian", sigma=_resolve_sigma(c, sigma))

@@ -12,7 +12,8 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.extraction.imageio import full_scale, split_channels
 
-__all__ = ["METHODS", "POLARITIES", "PLAIN_ETA", "NoObject", "Segmentation", "segment", "grabcut_mask", "image_kind"]
+__all__ = ["METHODS", "POLARITIES", "PLAIN_ETA", "OPTION_METHODS", "NoObject", "Segmentation", "segment",
+           "grabcut_mask", "image_kind", "check_method_options"]
 
 METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model")
 #: Otsu's between-class share of the grey variance above which ``auto``
@@ -20,6 +21,52 @@ METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "mo
 #: product shots); below it, for a photograph.
 PLAIN_ETA = 0.97
 POLARITIES = ("auto", "dark", "light")
+#: The methods each method-specific option applies to (any other method refuses it), for
+#: :func:`stimuli.extraction.extract` and ``attneave extract`` alike (:func:`check_method_options`).
+#: ``model_file`` is the Python API's ``model`` dict (``--model-file`` and its companions).
+OPTION_METHODS = {
+    "threshold": ("threshold", "alpha"), "rect": ("grabcut",), "grabcut_iterations": ("auto", "photo", "grabcut"),
+    "boxes": ("auto", "photo", "model"), "scribbles": ("auto", "photo"), "model_file": ("model",),
+    "model_size": ("model",), "model_mean": ("model",), "model_std": ("model",),
+}
+
+
+def check_method_options(method, given, cli=False, names=None):
+    """Refuse options that do not apply to `method` (one rule for the Python API and the command line).
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS`.
+    given : dict
+        Option name (a key of :data:`OPTION_METHODS`) -> value; None is "not given".
+    cli : bool
+        Name the options as ``attneave extract`` flags (``--rect``, ``--method grabcut``) rather than
+        as the Python parameters (``rect``, ``method='grabcut'``).
+    names : dict, optional
+        Python names of options whose parameter is called otherwise (e.g. ``model_file`` -> ``model``).
+
+    Raises
+    ------
+    InputError
+        ``rect needs method 'grabcut', not 'otsu'`` (or, with `cli`, ``--rect applies to
+        --method grabcut only, not --method otsu``).
+    """
+    bad = [k for k, v in given.items() if v is not None and method not in OPTION_METHODS[k]]
+    if not bad:
+        return
+    need = OPTION_METHODS[bad[0]]
+    same = [k for k in bad if OPTION_METHODS[k] == need]
+    if cli:  # the wording the command's users (and tests) know
+        label = ", ".join(f"--{k.replace('_', '-')}" for k in same)
+        *first, last = need
+        verb = "apply" if "," in label else "applies"
+        raise InputError(f"{label} {verb} to --method {', '.join(first) + ' or ' if first else ''}{last} only, "
+                         f"not --method {method}")
+    label = ", ".join(dict.fromkeys((names or {}).get(k, k) for k in same))
+    *first, last = (repr(m) for m in need)
+    verb = "need" if "," in label or label.endswith("s") else "needs"
+    raise InputError(f"{label} {verb} method {', '.join(first) + ' or ' if first else ''}{last}, not {method!r}")
 
 
 class NoObject(InputError):
