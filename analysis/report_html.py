@@ -67,6 +67,16 @@ def t_text(test, digits=2):
     return num(t, digits)
 
 
+def _count(k, one, many=None):
+    """'1 participant', '3 participants'."""
+    return f"{k} {one if k == 1 else (many or one + 's')}"
+
+
+def _t_df(test):
+    """'t(df)', or 't' where a test of fewer than two units has no degrees of freedom."""
+    return f"t({test['df']})" if test.get("df") is not None else "t"
+
+
 def _pct(v):
     return "n/a" if v is None else f"{100 * v:.1f}%"
 
@@ -106,7 +116,8 @@ def _results(s):
     out = []
     out.append(
         f"Of {s['n_clicks']} clicks, {s['n_used']} were used ({s['n_excluded']} excluded; reasons below), from "
-        f"{s['n_participants_used']} participants on {s['n_stimuli_clicked']} of {s['n_stimuli']} stimuli.")
+        f"{_count(s['n_participants_used'], 'participant')} on {s['n_stimuli_clicked']} of "
+        f"{_count(s['n_stimuli'], 'stimulus', 'stimuli')}.")
     out.append(
         f"{_pct(e['top_share'])} of the used clicks fell on the top {100 * e['fraction']:.0f}% of their contour's "
         f"points by surprisal, against {_pct(e['chance_share'])} expected by chance (lift = {num(e['lift'])}).")
@@ -117,9 +128,9 @@ def _results(s):
             f"{m['df']}), with SD = {num(m['sd_participant'])} across participants and SD = {num(m['sd_stimulus'])} "
             f"across stimuli.")
     out.append(
-        f"The group test across participants gave t({g['df']}) = {t_text(g)}, {pval(g['p_value'])} "
+        f"The group test across participants gave {_t_df(g)} = {t_text(g)}, {pval(g['p_value'])} "
         f"(one-sided, Monte Carlo null of uniform clicking, R = {g['simulations']}), d<sub>z</sub> = "
-        f"{num(g['effect_size'])}; the items test across stimuli t({it['df']}) = {t_text(it)}, "
+        f"{num(g['effect_size'])}; the items test across stimuli {_t_df(it)} = {t_text(it)}, "
         f"{pval(it['p_value'])}.")
     out.append(
         f"The pooled fit (clicks treated as independent) gave &beta; = {num(s['beta_hat'])}, 95% CI "

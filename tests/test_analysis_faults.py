@@ -221,6 +221,8 @@ def test_one_participant_or_one_click_warns_instead_of_presenting_start_values(s
         assert m["estimable"] is False and m["sd_participant"] is None and m["beta"] is None
         assert "only 1 participant" in m["note"] and "only 1 participant" in err
         assert any("group test needs at least 2 participants" in w for w in s["warnings"])
+        report = (out / "report.html").read_text()
+        assert "t(None)" not in report and "from 1 participant on" in report and "participants gave t = n/a" in report
         if name == "one_row":
             assert any("only 1 used click" in w for w in s["warnings"]) and "only 1 used click" in err
 

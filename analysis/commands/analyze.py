@@ -23,7 +23,7 @@ def add_parser(sub):
     p.add_argument("clicks", metavar="CLICKS.csv")
     p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
     p.add_argument("-o", "--output", required=True, metavar="OUT",
-                   help="output directory (must not exist or be empty); it may not be an input, hold an input "
+                   help="output directory (new or empty; an earlier analysis is replaced with --force); it may not be an input, hold an input "
                         "(CLICKS.csv, DIR) or be the working directory")
     p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper", help="surprisal model (default paper)")

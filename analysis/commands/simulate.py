@@ -72,7 +72,7 @@ def add_parser(sub):
             "spaced contour points with probability exp(beta*z_j)/sum_i exp(beta*z_i) (z = standardised "
             "surprisal, the model that 'attneave analyze' fits), uniformly within that point's arc, "
             "displaced by Gaussian noise of sd PX. The effect is given as beta, or portably as the share of "
-            "clicks on the top 10%% of points (--top-share) or its lift over chance (--lift), from which beta "
+            "clicks on the top 10% of points (--top-share) or its lift over chance (--lift), from which beta "
             "is solved on this stimulus set. Writes CLICKS.csv with columns participant, "
             "stimulus_id, trial, x, y, true_t, true_point, participant_beta."
         ),
