@@ -132,10 +132,14 @@ def _results(s):
         f"(one-sided, Monte Carlo null of uniform clicking, R = {g['simulations']}), d<sub>z</sub> = "
         f"{num(g['effect_size'])}; the items test across stimuli {_t_df(it)} = {t_text(it)}, "
         f"{pval(it['p_value'])}.")
-    out.append(
-        f"The pooled fit (clicks treated as independent) gave &beta; = {num(s['beta_hat'])}, 95% CI "
-        f"[{num(s['beta_ci'][0])}, {num(s['beta_ci'][1])}]"
-        + (" (at the search bound: not estimable)" if s["beta_at_bound"] else "") + ".")
+    if s["beta_at_bound"]:  # the bound and an interval around it are no estimate: flagged, not printed
+        out.append(f"The pooled fit (clicks treated as independent) reached the "
+                   f"{'upper' if s['beta_hat'] > 0 else 'lower'} bound of its search: &beta; is not estimable "
+                   f"(near-separation).")
+    else:
+        out.append(
+            f"The pooled fit (clicks treated as independent) gave &beta; = {num(s['beta_hat'])}, 95% CI "
+            f"[{num(s['beta_ci'][0])}, {num(s['beta_ci'][1])}].")
     sp = s["spearman"]
     out.append(f"Click density correlated with surprisal along the contours with mean Spearman rho = "
                f"{num(sp['mean_rho'])}, {pval(sp['p_value'])} (circular shifts), over {sp['n_stimuli']} stimuli.")
@@ -147,7 +151,8 @@ def render(analysis, summary, figures):
     esc = html.escape
     s, p = summary, summary["params"]
     excl = [[k.replace("_", " "), v] for k, v in s["exclusions"].items()]
-    pred_rows = [[k, num(v["coef"]), f"[{num(v['ci_low'])}, {num(v['ci_high'])}]",
+    pred_rows = [[k, "at bound" if v.get("at_bound") else num(v["coef"]),
+                  "n/a" if v.get("at_bound") else f"[{num(v['ci_low'])}, {num(v['ci_high'])}]",
                   "at bound" if v.get("at_bound") else pval(v["lr_p"], False)] for k, v in s["predictors"].items()]
     models = [[r.model + (" (tested)" if r.tested else ""),
                "at bound" if r.at_bound else num(r.beta_hat), num(r.loglik, 1), num(r.delta_aic, 1)]

@@ -147,7 +147,11 @@ def test_a_strong_effect_warns_that_the_mixed_model_is_not_estimable_and_writes_
     # JSON), and the report says why rather than a bare n/a
     g = s["group"]
     assert g["statistic"] is None and g["sd"] <= 1e-12 * max(1.0, abs(g["mean"]))
-    assert "n/a (no spread: every mean z is" in (out / "report.html").read_text()
+    report = (out / "report.html").read_text()
+    assert "n/a (no spread: every mean z is" in report
+    # a fit at its bound is flagged, its number and interval not printed
+    assert "reached the upper bound of its search: &beta; is not estimable" in report
+    assert f"&beta; = {s['beta_hat']:.2f}" not in report
 
 
 def test_fit_mixed_never_raises_on_separated_clicks():
