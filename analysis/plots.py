@@ -169,9 +169,17 @@ def _calibration(analysis, bins=8):
     zc = Z[M > 0].ravel()
     if np.ptp(zc) == 0:
         return None
-    edges = np.unique(np.quantile(zc, np.linspace(0, 1, bins + 1)))
-    if len(edges) < 3:
-        return None
+    # quantile bins, none narrower than a sixteenth of the range; tied z (a polygon: most points share a
+    # low z, a few corners carry the rest) leaves few such bins, and equal widths then show the rise at
+    # high z instead of every bin at one z
+    lo, hi = zc.min(), zc.max()
+    edges = [lo]
+    for e in np.quantile(zc, np.linspace(0, 1, bins + 1))[1:-1]:
+        if e - edges[-1] >= (hi - lo) / (2 * bins) and hi - e >= (hi - lo) / (2 * bins):
+            edges.append(e)
+    edges = np.array(edges + [hi])
+    if len(edges) - 1 < bins // 2:
+        edges = np.linspace(lo, hi, bins + 1)
     nb = len(edges) - 1
     which = np.clip(np.searchsorted(edges, Z, side="right") - 1, 0, nb - 1)
     n = Z.shape[1]
@@ -184,8 +192,9 @@ def _calibration(analysis, bins=8):
     zcl = Z[sidx, used["point"].to_numpy().astype(int)]
     wc = np.clip(np.searchsorted(edges, zcl, side="right") - 1, 0, nb - 1)
     obs = np.bincount(wc, minlength=nb) / N
-    centre = np.array([Z[(which == b) & (M[:, None] > 0)].mean() for b in range(nb)])
-    return centre, obs / uni, pred / uni
+    filled = uni > 0  # equal-width bins may hold no point
+    centre = np.array([Z[(which == b) & (M[:, None] > 0)].mean() if filled[b] else np.nan for b in range(nb)])
+    return centre[filled], obs[filled] / uni[filled], pred[filled] / uni[filled]
 
 
 def group_figure(analysis):
@@ -202,6 +211,9 @@ def group_figure(analysis):
         ax1.axhline(g["mean"], color="tab:red", lw=1.5)
         if g["ci_low"] is not None:
             ax1.axhspan(g["ci_low"], g["ci_high"], color="tab:red", alpha=0.15)
+    from matplotlib.ticker import MaxNLocator
+
+    ax1.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax1.set_xlabel("participant (sorted)")
     ax1.set_ylabel("mean z at clicks")
     p = g["p_value"]

@@ -259,3 +259,20 @@ def test_power_needs_enough_simulations(stimset, capsys):
     err = _one_line(capsys, main(["power", "--stimuli", str(stimset), "--lift", "3", "--participants", "4,8",
                                   "--simulations", "1", "--group-simulations", "19", "--clicks", "3"]))
     assert "--simulations" in err and "20" in err
+
+
+# ------------------------------------------- the group figure's calibration panel on tied z (polygons)
+def test_calibration_bins_spread_over_z_when_polygon_z_is_tied(stimset, clicks):
+    # a polygon's z is one low value at most points and high at a few corners: quantile bins collapsed
+    # into one or two (the report's middle panel showed every bin at one z); equal widths spread them
+    from analysis.analyze import analyze
+    from analysis.plots import _calibration
+    from stimuli.stimulus_set import read_stimulus_set
+
+    res = analyze(pd.read_csv(clicks), read_stimulus_set(stimset), n=100, group_simulations=19, permutations=19)
+    Zs = [res.predictions[s].z["surprisal"] for s in res.profiles["ids"]]
+    assert all(np.mean(np.isclose(z, np.median(z))) > 0.5 for z in Zs)  # the premise: most points share one z
+    Z = np.concatenate(Zs)
+    centre, obs, pred = _calibration(res)
+    assert len(centre) >= 3 and np.all(np.isfinite(centre)) and np.all(np.diff(np.sort(centre)) > 0.1)
+    assert np.ptp(centre) > 0.5 * np.ptp(Z)
