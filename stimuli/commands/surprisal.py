@@ -128,21 +128,16 @@ def _note_dropped(pts, path, closed):
 
 
 def _check_closed_shape(contour, path):
-    """A closed contour's curvature sign (convex +, concave -) needs a simple curve of positive area."""
-    import numpy as np
+    """A closed contour's curvature sign (convex +, concave -) needs a simple curve of positive area.
 
+    The area is checked where every closed `Contour` is made (the same rule for the library and
+    this command: :func:`stimuli.geometry._checks.check_area`); simplicity here, since the
+    library accepts a figure eight.
+    """
     from stimuli.errors import InputError
 
-    centred = contour.points - contour.points.mean(axis=0)
-    sv = np.linalg.svd(centred, compute_uv=False)
-    if sv[-1] <= 1e-12 * sv[0]:
-        raise InputError(f"{path}: the closed contour encloses no area (its points lie on one line), so it "
-                         "has no inside: convex and concave are undefined")
     if not contour.is_simple():
         x, y = contour.self_intersections()[0]
         raise InputError(f"{path}: the closed contour crosses itself near (x={x:.6g}, y={y:.6g}); the sign of "
                          "its curvature (convex +, concave -) needs a simple curve (use --open to treat it as "
                          "an open curve)")
-    if contour.area <= 1e-12 * contour.perimeter**2:
-        raise InputError(f"{path}: the closed contour encloses (almost) no area ({contour.area:.3g} px^2 for a "
-                         f"perimeter of {contour.perimeter:.6g} px): convex and concave are undefined")

@@ -18,21 +18,30 @@ from __future__ import annotations
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.geometry.polyline import bounds, edges, gaussian_curvature, shoelace, turning_angles
-from stimuli.validate import as_points
+from stimuli.geometry._checks import (
+    MAX_COORDINATE,
+    MIN_AREA_RATIO,
+    MIN_EXTENT,
+    check_area,
+    check_flag,
+    check_int,
+    check_points,
+    check_real,
+    check_scale,
+    check_values,
+    count_distinct_upto3,
+)
+from stimuli.geometry.polyline import (
+    bounds,
+    edges,
+    unchecked_gaussian_curvature,
+    unchecked_shoelace,
+    unchecked_turning_angles,
+)
 
-__all__ = ["Contour", "MAX_COORDINATE", "MIN_EXTENT"]
+__all__ = ["Contour", "MAX_COORDINATE", "MIN_EXTENT", "MIN_AREA_RATIO"]
 
 _MAX_RESAMPLE = 10**8  # points; 1.6 GB of coordinates, far beyond any stimulus
-#: Largest |coordinate| (px) a contour may have: squares and products of coordinates
-#: (lengths, areas) stay far from overflow, and no image is a million times larger.
-MAX_COORDINATE = 1e12
-#: Smallest extent (px, the larger side of the bounding box) of a contour: squared
-#: segment lengths of smaller ones underflow towards 0 and their geometry is rounding.
-MIN_EXTENT = 1e-6
-# the extent must also be this fraction of the largest |coordinate|: a shape drawn far from
-# the origin is resolved by doubles to eps / 1e-10 ~ 2e-6 of its size, no worse
-_MIN_RELATIVE_EXTENT = 1e-10
 
 
 class Contour:
@@ -45,7 +54,8 @@ class Contour:
         at integer coordinates. For a closed contour do not repeat the first
         point at the end (a repeated end point is dropped).
     closed : bool, optional
-        Whether the last point joins the first (default True).
+        Whether the last point joins the first (default True). A bool: a
+        string such as ``'no'`` is refused, not taken as True.
     orient : bool, optional
         Store a closed contour counter-clockwise as seen on the screen,
         reversing it (first point kept first) if needed. Default True.
@@ -58,11 +68,15 @@ class Contour:
     Raises
     ------
     InputError
-        Non-finite coordinates, a wrong shape, fewer than 3 distinct points,
-        coordinates beyond +-:data:`MAX_COORDINATE` px, a shape smaller than
-        :data:`MIN_EXTENT` px or than 1e-10 of its distance from the origin
-        (its geometry would overflow or be rounding noise), or (with
-        ``simple=True``) a self-intersection.
+        Non-finite or complex coordinates, a wrong shape, fewer than 3
+        distinct points, coordinates beyond +-:data:`MAX_COORDINATE` px, a
+        shape smaller than :data:`MIN_EXTENT` px or than 1e-10 of its
+        distance from the origin (its geometry would overflow or be rounding
+        noise), a closed contour that encloses no area (all points on one
+        line, or a path retracing itself: area at most
+        :data:`MIN_AREA_RATIO` times the perimeter squared, plus the
+        rounding of its coordinates), a `closed`, `orient` or `simple` that
+        is not a bool, or (with ``simple=True``) a self-intersection.
 
     Examples
     --------
@@ -79,12 +93,15 @@ class Contour:
 
     def __init__(self, points, closed=True, *, orient=True, simple=False, name=None):
         self.name = name
-        self.closed = bool(closed)
         where = f"{name}: " if name else ""
-        p = as_points(points, f"{name}: points" if name else "points")
-        _check_scale(p, where)
-        # consecutive duplicates carry no direction; drop them (and a repeated end point)
-        p = np.ascontiguousarray(p)
+        self.closed = check_flag(closed, f"{where}closed")
+        orient = check_flag(orient, f"{where}orient")
+        simple = check_flag(simple, f"{where}simple")
+        p = check_points(points, f"{name}: points" if name else "points")
+        check_scale(p, where)
+        # consecutive duplicates carry no direction; drop them (and a repeated end point);
+        # a copy: the caller's array is neither kept nor frozen
+        p = np.array(p, dtype=float, order="C")
         z = p.view(np.complex128).ravel()  # one complex per point: cheap row comparisons
         if len(z) > 1:
             keep = np.ones(len(z), bool)
@@ -93,15 +110,18 @@ class Contour:
                 p, z = p[keep], z[keep]
             if self.closed and len(z) > 1 and z[-1] == z[0]:
                 p, z = p[:-1], z[:-1]
-        distinct = _count_distinct_upto3(z)
+        distinct = count_distinct_upto3(z)
         if distinct < 3:
             raise InputError(f"{where}a contour needs at least 3 distinct points, got {distinct}")
-        if self.closed and orient and shoelace(p) > 0:
+        area = unchecked_shoelace(p - p[0]) if self.closed else 0.0  # about the first point: no cancellation
+        if self.closed and orient and area > 0:
             # y down: a positive shoelace sum is clockwise on the screen
             p = np.concatenate([p[:1], p[:0:-1]])
         p.setflags(write=False)
         self._points = p
         self._cum = None
+        if self.closed:
+            check_area(abs(area), self.perimeter, p, where)
         if simple:
             self.require_simple()
 
@@ -155,7 +175,7 @@ class Contour:
     @property
     def signed_area(self):
         """Area in px^2, positive when the points run counter-clockwise on the screen."""
-        return -shoelace(self._points)
+        return -unchecked_shoelace(self._points)
 
     @property
     def area(self):
@@ -202,8 +222,15 @@ class Contour:
         -------
         (M, 2) ndarray
             ``(x, y)`` in image pixels.
+
+        Raises
+        ------
+        InputError
+            `t` not finite numbers.
         """
-        t = np.atleast_1d(np.asarray(t, dtype=float))
+        t = np.atleast_1d(check_values(t, "t"))
+        if t.ndim != 1:
+            raise InputError(f"t: expected a number or a 1-D array of positions, got shape {t.shape}")
         t = np.mod(t, 1.0) if self.closed else np.clip(t, 0.0, 1.0)
         return self._at_arclength(t * self.perimeter)
 
@@ -239,7 +266,9 @@ class Contour:
         Raises
         ------
         InputError
-            When both or neither of `n`, `spacing` are given, or n < 3.
+            When both or neither of `n`, `spacing` are given, `n` is not an
+            integer >= 3 (3.7 is refused, not truncated), or `spacing` is
+            not a finite number > 0.
         """
         n = self._resolve_n(n, spacing)
         L = self.perimeter
@@ -251,12 +280,13 @@ class Contour:
         if (n is None) == (spacing is None):
             raise InputError("give exactly one of n and spacing")
         if spacing is not None:
-            if not spacing > 0:
-                raise InputError(f"spacing must be > 0, got {spacing}")
+            spacing = check_real(spacing, "spacing", gt=0)
             n = int(round(self.perimeter / spacing)) + (0 if self.closed else 1)
-        n = int(n)
+            if n < 3:
+                raise InputError(f"spacing: {spacing:g} px gives n = {n}; resampling needs n >= 3 points")
+        n = check_int(n, "n")
         if n < 3:
-            raise InputError(f"resampling needs n >= 3 points, got {n}")
+            raise InputError(f"n: resampling needs n >= 3 points, got {n}")
         if n > _MAX_RESAMPLE:
             # an absurd n (or a tiny spacing) would otherwise die allocating terabytes
             what = f"spacing {spacing} px gives" if spacing is not None else "got"
@@ -266,7 +296,7 @@ class Contour:
     # --------------------------------------------------------------- geometry
     def turning_angles(self):
         """Signed turning angle (rad) at every point; see :func:`turning_angles`."""
-        return turning_angles(self._points, self.closed)
+        return unchecked_turning_angles(self._points, self.closed)
 
     def curvature(self, method="exact", sigma=None):
         """Signed curvature (1/px) at every point, positive where convex.
@@ -289,6 +319,12 @@ class Contour:
         -------
         (N,) ndarray
             NaN at the two ends of an open contour (method 'exact').
+
+        Raises
+        ------
+        InputError
+            An unknown `method`, 'gaussian' on an open contour, or a `sigma`
+            that is not a finite number > 0.
         """
         if method == "exact":
             a = self.turning_angles()
@@ -301,13 +337,11 @@ class Contour:
         if method == "gaussian":
             if not self.closed:
                 raise InputError("gaussian curvature is for closed contours")
-            sigma = 0.01 * self.perimeter if sigma is None else float(sigma)
-            if not sigma > 0:
-                raise InputError(f"sigma must be > 0, got {sigma}")
+            sigma = 0.01 * self.perimeter if sigma is None else check_real(sigma, "sigma", gt=0)
             # sample finely enough that sigma spans several samples
             m = int(max(self.n, np.ceil(8 * self.perimeter / sigma), 64))
             uni = self.resample(n=m)
-            k = gaussian_curvature(uni.points, sigma)
+            k = unchecked_gaussian_curvature(uni.points, sigma)
             s = np.arange(m + 1) * (self.perimeter / m)
             return np.interp(self.arclength(), s, np.append(k, k[0]))
         raise InputError(f"unknown curvature method {method!r}; expected 'exact' or 'gaussian'")
@@ -330,8 +364,17 @@ class Contour:
             Their arc-length positions in [0, 1).
         distance : (M,) ndarray
             Euclidean distance in pixels.
+
+        Raises
+        ------
+        InputError
+            `points` not (M, 2) (or one ``(x, y)``) finite numbers.
         """
-        q = np.atleast_2d(np.asarray(points, dtype=float))
+        try:
+            one = np.ndim(points) == 1  # a single (x, y)
+        except ValueError:  # ragged rows: check_points names them
+            one = False
+        q = check_points(np.atleast_2d(points) if one else points, "points", min_points=0)
         p = self._points
         d = self._segments()
         a = p[: len(d)]
@@ -422,15 +465,48 @@ class Contour:
         return Contour(q, self.closed, orient=False, name=self.name)
 
     def transformed(self, scale=1.0, offset=(0.0, 0.0)):
-        """``points * scale + offset``, orientation kept (scale > 0)."""
-        if not scale > 0:
-            raise InputError(f"scale must be > 0, got {scale}")
-        return Contour(self._points * scale + np.asarray(offset, float), self.closed, orient=False, name=self.name)
+        """``points * scale + offset``, orientation kept.
+
+        Parameters
+        ----------
+        scale : float
+            A finite number > 0.
+        offset : (2,) array_like
+            ``(dx, dy)`` in image pixels, finite.
+
+        Returns
+        -------
+        Contour
+
+        Raises
+        ------
+        InputError
+            A `scale` or `offset` out of range, or a result whose size the
+            :class:`Contour` rules refuse.
+        """
+        scale = check_real(scale, "scale", gt=0)
+        off = check_values(offset, "offset")
+        if off.shape != (2,):
+            raise InputError(f"offset: expected (dx, dy), got shape {off.shape}")
+        return Contour(self._points * scale + off, self.closed, orient=False, name=self.name)
 
     # --------------------------------------------------------------------- io
     @classmethod
     def from_csv(cls, path, closed=True, **kwargs):
         """Read a contour from a CSV file with columns ``x, y`` (image pixels).
+
+        Parameters
+        ----------
+        path : str or path-like
+            The CSV file.
+        closed : bool
+            Whether the last point joins the first.
+        **kwargs
+            Passed to :class:`Contour` (``name`` defaults to `path`).
+
+        Returns
+        -------
+        Contour
 
         Raises
         ------
@@ -444,36 +520,13 @@ class Contour:
         return cls(read_points(path), closed, **kwargs)
 
     def to_csv(self, path):
-        """Write columns ``x, y`` to `path` atomically, in stored order."""
+        """Write columns ``x, y`` (image pixels) to `path` atomically, in stored order.
+
+        Parameters
+        ----------
+        path : str or path-like
+            The CSV file to write.
+        """
         from stimuli.tables import write_table
 
         write_table({"x": self._points[:, 0], "y": self._points[:, 1]}, path)
-
-
-def _check_scale(p, where):
-    """Refuse coordinates whose geometry would overflow or be only rounding noise."""
-    if not len(p):
-        return
-    x0, y0, x1, y1 = bounds(p)
-    big = max(-x0, -y0, x1, y1)
-    if big > MAX_COORDINATE:
-        row = int(np.argmax(np.abs(p).max(axis=1)))
-        raise InputError(f"{where}point {row}: coordinates must lie within +-{MAX_COORDINATE:g} px, "
-                         f"got {p[row].tolist()}; rescale the contour")
-    # the larger side of the bounding box (that of all-equal points is 0, caught below as too few points)
-    extent = max(x1 - x0, y1 - y0)
-    if 0 < extent < max(MIN_EXTENT, _MIN_RELATIVE_EXTENT * big):
-        raise InputError(f"{where}the contour spans only {extent:.3g} px (at coordinates up to {big:.3g}); "
-                         f"a contour must span at least {MIN_EXTENT:g} px and 1e-10 of its distance from "
-                         "the origin: rescale it")
-
-
-def _count_distinct_upto3(z):
-    """min(3, number of distinct points), points as complex numbers; O(N), no sort."""
-    if len(z) == 0:
-        return 0
-    other = z != z[0]
-    if not other.any():
-        return 1
-    second = z[np.argmax(other)]
-    return 3 if np.any(other & (z != second)) else 2

@@ -55,10 +55,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.geometry.contour import Contour
-from stimuli.geometry.polyline import turning_angles
-from stimuli.geometry.peaks import circular_peaks_and_prominences, peaks_and_prominences
 from stimuli.errors import InputError
+from stimuli.geometry._checks import (
+    check_flag,
+    check_int,
+    check_points,
+    check_real,
+    check_values,
+)
+from stimuli.geometry.contour import Contour
+from stimuli.geometry.peaks import (  # re-exported: part of this module's API
+    ROUNDOFF,
+    find_peaks,
+)
+from stimuli.geometry.polyline import unchecked_turning_angles
 
 __all__ = [
     "surprisal_paper",
@@ -66,11 +76,14 @@ __all__ = [
     "surprisal",
     "surprisal_from_points",
     "find_peaks",
+    "noise_prominence",
     "length_scale",
     "SurprisalResult",
     "MODELS",
     "LENGTH_UNITS",
     "DEFAULT_LENGTH_UNIT",
+    "NOISE_TURN",
+    "ROUNDOFF",
 ]
 
 MODELS = ("paper", "vonmises")
@@ -79,16 +92,57 @@ LENGTH_UNITS = ("sample", "perimeter", "radius", "px")
 #: Scale-free: one shape at any size has the same surprisal.
 DEFAULT_LENGTH_UNIT = "sample"
 _LN2 = np.log(2.0)
+#: Turning-angle noise as a fraction of the mean turn ``2*pi/n``: a surprisal peak must
+#: stand out by more than a turn this far from the mean turn makes (see
+#: :func:`noise_prominence`). Resampling a circle drawn as a polygon of V vertices moves
+#: its turning angles off the mean turn by up to about 0.17 * n / V of it (the samples
+#: fall at varying places between the vertices): below 1 % for V >= 17 n, so a circle
+#: drawn finely enough for its sampling has no peaks; an ellipse of axis ratio 1.02
+#: already turns 3 % away from the mean and keeps its peaks at any n.
+NOISE_TURN = 0.01
 
 
 def _check_params(n, A=None, b=None):
-    if not (np.ndim(n) == 0 and n >= 1):
-        raise InputError(f"n must be a positive number of points, got {n}")
+    """Checked ``n, A, b`` (an integer n >= 1, finite A > 0, finite b >= 0); None stays None."""
+    n = check_int(n, "n", lo=1)
     # infinite A or b would give -inf or NaN surprisal in every row
-    if A is not None and not 0 < A < np.inf:
-        raise InputError(f"A (A') must be a finite number > 0, got {A}")
-    if b is not None and not 0 <= b < np.inf:
-        raise InputError(f"b must be a finite number >= 0, got {b}")
+    A = None if A is None else check_real(A, "A", gt=0)
+    b = None if b is None else check_real(b, "b", ge=0)
+    return n, A, b
+
+
+def noise_prominence(params):
+    """Smallest surprisal prominence that is not resampling noise, for a result's parameters.
+
+    The surprisal difference that a turn :data:`NOISE_TURN` (1 %) of the mean
+    turn ``2*pi/n`` away from it makes: ``amp * (1 - cos(NOISE_TURN * 2*pi/n))``,
+    where ``amp`` is the amplitude of the cosine term (``b * ds**2`` in the
+    length unit for the paper's form, ``b`` for the von Mises form; divided
+    by ln 2 in bits).
+    :func:`surprisal` never reports a peak of smaller prominence, so that a
+    circle (whatever its size, n or length unit) has none; callers that find
+    peaks of the same surprisal themselves can pass it as `floor` to
+    :func:`find_peaks`.
+
+    Parameters
+    ----------
+    params : dict
+        ``SurprisalResult.params`` (keys ``model``, ``n``, ``b``,
+        ``ds_in_unit``, ``bits``).
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> float(noise_prominence(dict(model="paper", n=100, b=1.0, ds_in_unit=1.0, bits=False)))  # doctest: +ELLIPSIS
+    1.97...e-07
+    """
+    amp = float(params["b"]) * (float(params["ds_in_unit"]) ** 2 if params["model"] == "paper" else 1.0)
+    amp = amp / _LN2 if params["bits"] else amp
+    d = NOISE_TURN * 2 * np.pi / float(params["n"])
+    return amp * 2 * np.sin(d / 2) ** 2  # 1 - cos(d), without cancellation
 
 
 def length_scale(length_unit, spacing, length, area=None):
@@ -167,6 +221,14 @@ def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False
         ``-ln A' - b * ds**2 * cos(a - 2*pi/n)`` (closed) or
         ``-ln A' - b * ds**2 * cos(a)`` (open).
 
+    Raises
+    ------
+    InputError
+        Non-finite turning angles (NaN is allowed at the two ends of an open
+        curve's 1-D array, which have none, and gives NaN there), `ds` not
+        finite numbers >= 0, `n` not an integer >= 1, `A` or `b` out of
+        range, `closed` or `bits` not a bool.
+
     References
     ----------
     .. [1] Ziatdinov, R. Visual perception, quantity of information function
@@ -178,8 +240,17 @@ def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False
     >>> round(float(surprisal_paper(0.0, ds=10, n=10, A=0.25, b=1, closed=False)), 6)  # -ln(1/4) - 100
     -98.613706
     """
-    _check_params(n, A, b)
-    a = np.asarray(turning_angle, dtype=float)
+    n, A, b = _check_params(n, A, b)
+    closed, bits = check_flag(closed, "closed"), check_flag(bits, "bits")
+    a = check_values(turning_angle, "turning_angle", nan_ends=not closed)
+    ds = check_values(ds, "ds")
+    if (ds < 0).any():
+        raise InputError(f"ds: must be >= 0, got {ds.min()}")
+    return _paper(a, ds, n, A, b, closed, bits)
+
+
+def _paper(a, ds, n, A, b, closed, bits):
+    """:func:`surprisal_paper` of checked arguments."""
     mu = 2 * np.pi / n if closed else 0.0
     u = -np.log(A) - b * ds * ds * np.cos(a - mu)
     return u / _LN2 if bits else u
@@ -207,13 +278,26 @@ def surprisal_vonmises(turning_angle, n, b=4.0, closed=True, bits=False):
     ndarray
         ``-ln p(a) = ln(2*pi*I0(b)) - b*cos(a - mu)``.
 
+    Raises
+    ------
+    InputError
+        As :func:`surprisal_paper` (`b` must be a finite number >= 0).
+
     References
     ----------
     .. [1] Feldman, J., & Singh, M. (2005). Information along contours and
            object boundaries. Psychological Review 112(1), 243-252.
     """
-    _check_params(n, None, b)
-    a = np.asarray(turning_angle, dtype=float)
+    n, _, b = _check_params(n, None, b)
+    if b is None:
+        raise InputError("b: must be a number (the concentration, default 4), got None")
+    closed, bits = check_flag(closed, "closed"), check_flag(bits, "bits")
+    a = check_values(turning_angle, "turning_angle", nan_ends=not closed)
+    return _vonmises(a, n, b, closed, bits)
+
+
+def _vonmises(a, n, b, closed, bits):
+    """:func:`surprisal_vonmises` of checked arguments."""
     mu = 2 * np.pi / n if closed else 0.0
     log_norm = np.log(2 * np.pi) + _log_i0(b)
     u = log_norm - b * np.cos(a - mu)
@@ -233,58 +317,6 @@ def _log_i0(b):
         return float(np.log(np.i0(b)))
     t = 1.0 / (8.0 * b)
     return float(b - 0.5 * np.log(2 * np.pi * b) + np.log1p(t + 4.5 * t * t + 37.5 * t**3))
-
-
-def find_peaks(u, closed=True, prominence=None):
-    """Local maxima of surprisal, ranked from the highest.
-
-    Parameters
-    ----------
-    u : (N,) array_like
-        Values along the contour (NaN allowed at the ends of an open curve).
-    closed : bool
-        Treat `u` as circular, so a peak can sit at the first point.
-    prominence : float, optional
-        Minimum prominence (as :func:`scipy.signal.find_peaks` defines it;
-        computed by :mod:`stimuli.geometry.peaks`); default 5%
-        of the range of `u`. A constant `u` (a circle) has no peaks.
-
-    Returns
-    -------
-    peaks : (K,) ndarray of int
-        Indices of the peaks, highest value first.
-    prominences : (K,) ndarray
-        Their prominences, in the same order.
-
-    Raises
-    ------
-    InputError
-        A `prominence` that is negative, NaN or infinite.
-    """
-    if prominence is not None and not (np.ndim(prominence) == 0 and 0 <= prominence < np.inf):
-        # max(nan, floor) is nan, which silently finds no peaks at all
-        raise InputError(f"prominence must be a finite number >= 0, got {prominence}")
-    u = np.asarray(u, dtype=float)
-    finite = np.isfinite(u)
-    if not finite.any():
-        return np.empty(0, int), np.empty(0)
-    lo, hi = np.nanmin(u), np.nanmax(u)
-    if prominence is None:
-        prominence = 0.05 * (hi - lo)
-    if hi - lo <= 1e-12 * max(1.0, abs(hi)):
-        return np.empty(0, int), np.empty(0)
-    v = np.where(finite, u, lo - 1.0)
-    prom_min = max(prominence, 1e-12 * max(1.0, abs(hi)))
-    if closed:
-        idx, prom = circular_peaks_and_prominences(v)
-    else:
-        # pad so that a maximum at an end point counts as a peak
-        idx, prom = peaks_and_prominences(np.concatenate(([lo - 1.0], v, [lo - 1.0])))
-        idx = idx - 1
-    big = prom >= prom_min
-    idx, prom = idx[big], prom[big]
-    order = np.lexsort((idx, -v[idx]))
-    return idx[order], prom[order]
 
 
 @dataclass
@@ -368,7 +400,10 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     bits : bool
         Bits instead of nats.
     prominence : float, optional
-        Peak prominence threshold (see :func:`find_peaks`).
+        Peak prominence threshold (see :func:`find_peaks`). Whatever it is,
+        a peak must stand out by more than :func:`noise_prominence` (what a
+        turn 1 % of the mean turn away from it makes), so that a circle drawn
+        as a fine polygon has no peaks.
     length_unit : {'sample', 'perimeter', 'radius', 'px'}
         Unit of ``ds`` in eq. 4-5 (the 'paper' model only; the von Mises form
         has no ``ds``). The default, ``'sample'`` (ds = 1), and
@@ -384,7 +419,9 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     Raises
     ------
     InputError
-        Unknown `model` or `length_unit`, or a parameter out of range.
+        Unknown `model` or `length_unit`, a parameter out of range or of the
+        wrong type (a non-integer `n`, a string for a number or for `bits`),
+        or a contour the :class:`Contour` rules refuse.
 
     Examples
     --------
@@ -398,10 +435,16 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     >>> bool(np.allclose(big.surprisal, small.surprisal, rtol=0, atol=1e-9)), big.params["length_unit"]
     (True, 'sample')
     """
-    if model not in MODELS:
+    if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"unknown model {model!r}; expected one of {', '.join(MODELS)}")
-    if length_unit not in LENGTH_UNITS:
+    if not isinstance(length_unit, str) or length_unit not in LENGTH_UNITS:
         raise InputError(f"unknown length_unit {length_unit!r}; expected one of {', '.join(LENGTH_UNITS)}")
+    bits = check_flag(bits, "bits")
+    if prominence is not None:
+        prominence = check_real(prominence, "prominence", ge=0)
+    b = None if b is None else check_real(b, "b", ge=0)
+    b = (1.0 if model == "paper" else 4.0) if b is None else b
+    A = check_real(A, "A", gt=0)
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if n is None and spacing is None:
         n = 100
@@ -418,12 +461,15 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     k = a / ds
     unit = length_scale(length_unit, ds, L, c.area if c.closed and length_unit == "radius" else None)
     if model == "paper":
-        b = 1.0 if b is None else b
-        u = surprisal_paper(a, ds / unit, n, A=A, b=b, closed=c.closed, bits=bits)
+        u = _paper(a, ds / unit, n, A, b, c.closed, bits)
     else:
-        b = 4.0 if b is None else b
-        u = surprisal_vonmises(a, n, b=b, closed=c.closed, bits=bits)
-    peaks, prom = find_peaks(u, closed=c.closed, prominence=prominence)
+        u = _vonmises(a, n, b, c.closed, bits)
+    inner = u if c.closed else u[1:-1]  # an open curve's ends have no turning angle (NaN)
+    if not np.isfinite(inner).all():
+        raise InputError(f"b: the surprisal overflows: b*ds^2 = {b:.3g} * {ds / unit:.3g}^2 in length_unit "
+                         f"{length_unit!r}; use a smaller b, another length_unit or a rescaled contour")
+    floor = noise_prominence({"model": model, "n": n, "b": b, "ds_in_unit": ds / unit, "bits": bits})
+    peaks, _ = find_peaks(u, closed=c.closed, prominence=prominence, floor=floor)
     params = dict(
         model=model,
         n=int(n),
@@ -460,22 +506,33 @@ def surprisal_from_points(points, model="paper", A=0.25, b=None, closed=True, bi
     Returns
     -------
     (N,) ndarray
+
+    Raises
+    ------
+    InputError
+        `points` not an (N, 2) array of finite numbers with N >= 3, or a
+        parameter out of range or of the wrong type (see :func:`surprisal`).
     """
-    if length_unit not in LENGTH_UNITS:
+    if not isinstance(length_unit, str) or length_unit not in LENGTH_UNITS:
         raise InputError(f"unknown length_unit {length_unit!r}; expected one of {', '.join(LENGTH_UNITS)}")
-    p = np.asarray(points, dtype=float)
+    if not isinstance(model, str) or model not in MODELS:
+        raise InputError(f"unknown model {model!r}; expected one of {', '.join(MODELS)}")
+    closed, bits = check_flag(closed, "closed"), check_flag(bits, "bits")
+    b = None if b is None else check_real(b, "b", ge=0)
+    A = check_real(A, "A", gt=0)
+    p = check_points(points, "points", min_points=3)
     n = len(p)
-    a = turning_angles(p, closed)
+    a = unchecked_turning_angles(p, closed)
     if model == "paper":
         d = np.diff(p, axis=0)
         L = np.hypot(d[:, 0], d[:, 1]).sum()
         if closed:
             L += float(np.hypot(*(p[0] - p[-1])))
+        if not L > 0:
+            raise InputError("points: all points are equal; the curve has no length")
         ds = L / n if closed else L / (n - 1)
         # the area is only computed when the unit needs it (a pass over every point)
         area = Contour(p, closed, orient=False).area if length_unit == "radius" and closed else None
         ds = ds / length_scale(length_unit, ds, L, area)
-        return surprisal_paper(a, ds, n, A=A, b=1.0 if b is None else b, closed=closed, bits=bits)
-    if model == "vonmises":
-        return surprisal_vonmises(a, n, b=4.0 if b is None else b, closed=closed, bits=bits)
-    raise InputError(f"unknown model {model!r}; expected one of {', '.join(MODELS)}")
+        return _paper(a, ds, n, A, 1.0 if b is None else b, closed, bits)
+    return _vonmises(a, n, 4.0 if b is None else b, closed, bits)

@@ -23,7 +23,16 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["peaks_and_prominences", "circular_peaks_and_prominences"]
+from stimuli.errors import InputError
+from stimuli.geometry._checks import check_flag, check_real, check_values
+
+__all__ = ["find_peaks", "peaks_and_prominences", "circular_peaks_and_prominences", "ROUNDOFF"]
+
+#: Relative round-off (about 4500 eps): values whose range is at most this fraction of
+#: their magnitude are resolved to a few thousand units in the last place, so their
+#: "peaks" would be rounding; they are flat, and no peak is less prominent than that.
+#: (The 'perimeter' length unit at n of several hundred reaches it: see LENGTH_UNITS.)
+ROUNDOFF = 1e-12
 
 
 def _runs(x):
@@ -189,3 +198,75 @@ def circular_peaks_and_prominences(x):
     peaks = (peaks + g) % n
     order = np.argsort(peaks, kind="stable")
     return peaks[order], proms[order]
+
+
+def find_peaks(u, closed=True, prominence=None, floor=0.0):
+    """Local maxima of surprisal, ranked from the highest.
+
+    Parameters
+    ----------
+    u : (N,) array_like
+        Values along the contour (NaN allowed at the ends of an open curve).
+    closed : bool
+        Treat `u` as circular, so a peak can sit at the first point.
+    prominence : float, optional
+        Minimum prominence (as :func:`scipy.signal.find_peaks` defines it;
+        computed by :mod:`stimuli.geometry.peaks`); default 5%
+        of the range of `u`. A constant `u` (a circle) has no peaks.
+    floor : float, optional
+        Noise floor: a peak's prominence must exceed it, whatever
+        `prominence` says, and a `u` whose range is at most `floor` is flat
+        (no peaks). Default 0; :func:`surprisal` passes
+        :func:`noise_prominence`, the surprisal of resampling noise. The
+        floor is never below :data:`ROUNDOFF` (1e-12) times the largest
+        ``|u|``: differences at round-off are no peaks.
+
+    Returns
+    -------
+    peaks : (K,) ndarray of int
+        Indices of the peaks, highest value first.
+    prominences : (K,) ndarray
+        Their prominences, in the same order.
+
+    Raises
+    ------
+    InputError
+        `u` not a 1-D array of finite numbers (NaN allowed only at the two
+        ends of an open curve), a `prominence` or `floor` that is not a
+        finite number >= 0, or `closed` not a bool.
+
+    Examples
+    --------
+    >>> find_peaks([0.0, 2.0, 1.0, 3.0, 0.0])[0].tolist()
+    [3, 1]
+    >>> find_peaks(0.5 + 1e-14 * np.sin(np.arange(64.0)))[0].size  # round-off: flat
+    0
+    """
+    closed = check_flag(closed, "closed")
+    if prominence is not None:
+        # max(nan, floor) is nan, which silently finds no peaks at all
+        prominence = check_real(prominence, "prominence", ge=0)
+    floor = check_real(floor, "floor", ge=0)
+    u = check_values(u, "u", nan_ends=not closed)
+    if u.ndim != 1:
+        raise InputError(f"u: expected a 1-D array of values along the contour, got shape {u.shape}")
+    finite = np.isfinite(u)
+    if not finite.any():
+        return np.empty(0, int), np.empty(0)
+    lo, hi = np.nanmin(u), np.nanmax(u)
+    noise = max(floor, ROUNDOFF * max(abs(lo), abs(hi)))
+    if hi - lo <= noise:
+        return np.empty(0, int), np.empty(0)
+    if prominence is None:
+        prominence = 0.05 * (hi - lo)
+    v = np.where(finite, u, lo - 1.0)
+    if closed:
+        idx, prom = circular_peaks_and_prominences(v)
+    else:
+        # pad so that a maximum at an end point counts as a peak
+        idx, prom = peaks_and_prominences(np.concatenate(([lo - 1.0], v, [lo - 1.0])))
+        idx = idx - 1
+    big = (prom >= prominence) & (prom > noise)
+    idx, prom = idx[big], prom[big]
+    order = np.lexsort((idx, -v[idx]))
+    return idx[order], prom[order]

@@ -9,6 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from stimuli.errors import InputError
+from stimuli.geometry._checks import check_flag, check_points, check_real
+
 __all__ = ["turning_angles", "gaussian_curvature", "shoelace", "edges", "bounds"]
 
 
@@ -36,8 +39,25 @@ def turning_angles(points, closed=True):
     Computed as ``atan2(cross, dot)`` of consecutive segment vectors, with the
     cross product's sign flipped because y points down. It is exact for a
     polygon and finite at corners, where curvature is not (the paper's eq. 6).
+
+    Raises
+    ------
+    InputError
+        `points` not an (N, 2) array of finite numbers, fewer than 3 points
+        (closed) or 2 (open), or `closed` not a bool.
+
+    Examples
+    --------
+    >>> turning_angles(np.array([(0.0, 0.0), (1.0, 0.0), (0.0, -1.0)])).round(4).tolist()  # ccw on screen
+    [1.5708, 2.3562, 2.3562]
     """
-    p = np.asarray(points, dtype=float)
+    closed = check_flag(closed, "closed")
+    p = check_points(points, "points", min_points=3 if closed else 2)
+    return unchecked_turning_angles(p, closed)
+
+
+def unchecked_turning_angles(p, closed):
+    """:func:`turning_angles` of checked (N, 2) float points."""
     d = edges(p, closed)  # d[i] = p[i+1] - p[i]
     if closed:
         dp = np.concatenate((d[-1:], d[:-1]))  # segment arriving at vertex i
@@ -81,8 +101,22 @@ def gaussian_curvature(points, sigma):
     .. [1] Mokhtarian, F., & Mackworth, A. K. (1992). A theory of multiscale,
            curvature-based shape representation for planar curves. IEEE PAMI
            14(8), 789-805.
+
+    Raises
+    ------
+    InputError
+        `points` not an (N, 2) array of finite numbers or fewer than 3 of
+        them, all points equal, or `sigma` not a finite number > 0.
     """
-    p = np.asarray(points, dtype=float)
+    p = check_points(points, "points", min_points=3)
+    sigma = check_real(sigma, "sigma", gt=0)
+    if not (p != p[0]).any():
+        raise InputError("points: all points are equal; a curve needs at least 2 distinct points")
+    return unchecked_gaussian_curvature(p, sigma)
+
+
+def unchecked_gaussian_curvature(p, sigma):
+    """:func:`gaussian_curvature` of checked points and sigma."""
     n = len(p)
     seg = np.hypot(*np.diff(np.vstack([p, p[:1]]), axis=0).T)
     length = seg.sum()
@@ -103,8 +137,8 @@ def shoelace(points):
 
     Parameters
     ----------
-    points : (N, 2) ndarray
-        Vertices ``(x, y)``, first point not repeated.
+    points : (N, 2) array_like
+        Vertices ``(x, y)``, first point not repeated (N >= 1).
 
     Returns
     -------
@@ -118,13 +152,48 @@ def shoelace(points):
     --------
     >>> shoelace(np.array([(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]))
     2.0
+
+    Raises
+    ------
+    InputError
+        Not an (N, 2) array of numbers, no points, or non-finite
+        coordinates (or an area beyond the float range).
     """
+    # cheap checks only (the renderer calls this per ring): shape here, finiteness on the result
+    if isinstance(points, np.ndarray) and points.dtype == np.float64 and points.ndim == 2 and points.shape[1] == 2:
+        p = points
+    else:
+        p = check_points(points)
+    if not len(p):
+        raise InputError("points: need at least 1 point(s), got 0")
+    a = unchecked_shoelace(p)
+    if not np.isfinite(a):
+        check_points(p)  # names the non-finite row
+        raise InputError(f"points: the area overflows ({a}); rescale the coordinates")
+    return a
+
+
+def unchecked_shoelace(points):
+    """:func:`shoelace` of checked (N, 2) float points."""
     x, y = points[:, 0], points[:, 1]
     return 0.5 * float(x[:-1] @ y[1:] - x[1:] @ y[:-1] + x[-1] * y[0] - x[0] * y[-1])
 
 
 def edges(p, closed):
-    """Segment vectors ``p[i+1] - p[i]`` (closed: including the closing one)."""
+    """Segment vectors ``p[i+1] - p[i]`` (closed: including the closing one).
+
+    Parameters
+    ----------
+    p : (N, 2) ndarray of float
+        Checked points ``(x, y)`` in image pixels (no validation here: an
+        inner-loop helper).
+    closed : bool
+        Include the segment from the last point back to the first.
+
+    Returns
+    -------
+    (N, 2) or (N - 1, 2) ndarray
+    """
     if not closed:
         return p[1:] - p[:-1]
     d = np.empty_like(p)
@@ -135,6 +204,16 @@ def edges(p, closed):
 
 def bounds(points):
     """``(xmin, ymin, xmax, ymax)`` of (N, 2) points.
+
+    Parameters
+    ----------
+    points : (N, 2) ndarray of float
+        ``(x, y)`` in image pixels, N >= 1 (no validation here: an
+        inner-loop helper).
+
+    Returns
+    -------
+    tuple of 4 float
 
     Reduces each coordinate as a strided 1-D view: numpy's ``min(axis=0)``
     on an (N, 2) array runs an inner loop of length 2 and is about 40x
