@@ -25,17 +25,18 @@ def overlay(image, contours, infos, holes=None, verdict=None):
     holes : list of list of Contour, optional
         Drawn as black lines on a white halo (no surprisal).
     verdict : stimuli.extraction.verdict.Verdict, optional
-        A ``suspect`` verdict is written across the bottom of the image
-        (``SUSPECT: reason``) on an orange band, and the image gets an
-        orange frame; ``ok`` adds nothing.
+        A ``suspect`` verdict is written below the image (``SUSPECT:
+        reason``, wrapped on up to three lines) on an orange band added to
+        it, and the image gets an orange frame; ``ok`` adds nothing.
 
     Returns
     -------
-    (H, W, 3) uint8 ndarray, RGB
-        Surprisal is mapped with the turbo colour map over each contour's
-        own range (dark blue lowest, dark red highest; with one contour a
-        colour bar in the top-left corner gives the values), on a thin white
-        halo; peaks are white circles with a black rim.
+    (H', W, 3) uint8 ndarray, RGB
+        ``H' = H``, or taller by the verdict's band. Surprisal is mapped
+        with the turbo colour map over each contour's own range (dark blue
+        lowest, dark red highest; with one contour a colour bar gives the
+        values, in the corner where it hides the least of the outline), on
+        a thin white halo; peaks are white circles with a black rim.
     """
     import cv2
 
@@ -88,19 +89,23 @@ def overlay(image, contours, infos, holes=None, verdict=None):
         p = np.round(hole.points * scale).astype(np.int32).reshape(-1, 1, 2)
         cv2.polylines(rgb, [p], True, (255, 255, 255), lw + 2, cv2.LINE_AA, shift)
         cv2.polylines(rgb, [p], True, (0, 0, 0), max(1, lw - 1), cv2.LINE_AA, shift)
-    if verdict is not None and verdict.status != "ok":
-        _banner(rgb, f"{verdict.status.upper()}: {verdict.reason}")
     units = infos[0].params.get("units", "nats")
+    points = np.vstack([c.points for c in contours]) if contours else np.zeros((0, 2))
     if len(infos) == 1:
         lo, span = ranges[0]
-        _legend(rgb, lut, f"{lo:.4g}", f"{lo + span:.4g} {units}")
+        _legend(rgb, lut, f"{lo:.4g}", f"{lo + span:.4g} {units}", points)
     else:
-        _legend(rgb, lut, "low", f"high {units} (per object)")
+        _legend(rgb, lut, "low", f"high {units} (per object)", points)
+    if verdict is not None and verdict.status != "ok":
+        rgb = _banner(rgb, f"{verdict.status.upper()}: {verdict.reason}")
     return rgb
 
 
-def _legend(rgb, lut, low, high):
-    """A small colour bar with its end values in the top-left corner."""
+def _legend(rgb, lut, low, high, points=None, band=0):
+    """A small colour bar with its end values, in the corner where it hides the least of the contours.
+
+    `points` are the contours' points (x, y); `band` a height at the bottom the legend must not cover.
+    """
     import cv2
 
 
@@ -111,9 +116,21 @@ def _legend(rgb, lut, low, high):
     (tw1, _), _ = cv2.getTextSize(high, font, fs, 1)
     bar = int(np.clip(w // 5, 30, 200))
     total = tw0 + bar + tw1 + 20
-    if total > w or 2 * th + 8 > h:
+    if total > w or 2 * th + 8 + band > h:
         return  # too small an image for a legend
-    x0, y0 = 4, 4
+    corners = [(4, 4), (w - total - 5, 4), (4, h - band - th - 15), (w - total - 5, h - band - th - 15)]
+    if points is not None and len(points):
+        # pad by a line width or two so that the bar does not touch the outline either
+        pad = max(3, min(h, w) // 100)
+
+        def hidden(corner):
+            x, y = corner
+            inside = ((points[:, 0] > x - pad) & (points[:, 0] < x + total + pad)
+                      & (points[:, 1] > y - pad) & (points[:, 1] < y + th + 10 + pad))
+            return int(inside.sum())
+
+        corners.sort(key=hidden)  # stable: top-left when it hides nothing
+    x0, y0 = corners[0]
     cv2.rectangle(rgb, (x0, y0), (x0 + total, y0 + th + 10), (255, 255, 255), -1)
     cv2.putText(rgb, low, (x0 + 4, y0 + th + 4), font, fs, (0, 0, 0), 1, cv2.LINE_AA)
     bx = x0 + tw0 + 10
@@ -122,22 +139,45 @@ def _legend(rgb, lut, low, high):
     cv2.putText(rgb, high, (bx + bar + 6, y0 + th + 4), font, fs, (0, 0, 0), 1, cv2.LINE_AA)
 
 
-def _banner(rgb, text, colour=(255, 140, 0)):
-    """An orange frame and a band across the bottom with `text` (cut to the image's width)."""
+def _banner(rgb, text, colour=(255, 140, 0), max_lines=3):
+    """The image in an orange frame with a band below it holding `text`, wrapped to the image's width
+    on at most `max_lines` lines (the last cut with '...'; the full text is in summary.csv).
+
+    The band is added below the image, so that no part of the photo and its outline is hidden: the
+    overlay of a suspect outline is taller than its image. Returns the new image."""
     import cv2
 
     h, w = rgb.shape[:2]
     t = max(2, int(round(min(h, w) / 150)))
-    cv2.rectangle(rgb, (0, 0), (w - 1, h - 1), colour, t)
     font = cv2.FONT_HERSHEY_SIMPLEX
     fs = float(np.clip(min(h, w) / 900, 0.3, 0.8))
     (_, th), _ = cv2.getTextSize("Ag", font, fs, 1)
-    while len(text) > 8 and cv2.getTextSize(text, font, fs, 1)[0][0] > w - 8:
+
+    def fits(s):
+        return cv2.getTextSize(s, font, fs, 1)[0][0] <= w - 8
+
+
+    lines, words = [], text.split()
+    while words and len(lines) < max_lines:
+        line = words.pop(0)
+        while words and fits(line + " " + words[0]):
+            line += " " + words.pop(0)
+        lines.append(line)
+    if words:
+        lines[-1] += " " + " ".join(words)
+    last = lines[-1]
+    while len(last) > 8 and not fits(last):
         # at least 4 characters shorter each time ("..." included), or a short text never ends
-        text = text[: min(int(len(text) * 0.9), len(text) - 4) - 3].rstrip() + "..."
-    y0 = max(0, h - th - 10)
-    rgb[y0:h] = colour
-    cv2.putText(rgb, text, (4, h - 5), font, fs, (0, 0, 0), 1, cv2.LINE_AA)
+        last = last[: min(int(len(last) * 0.9), len(last) - 4) - 3].rstrip() + "..."
+    lines[-1] = last
+    step = th + 6
+    out = np.empty((h + step * len(lines) + 4, w, 3), np.uint8)
+    out[:h] = rgb
+    out[h:] = colour
+    cv2.rectangle(out, (0, 0), (w - 1, out.shape[0] - 1), colour, t)
+    for i, line in enumerate(lines):
+        cv2.putText(out, line, (4, h + th + 3 + i * step), font, fs, (0, 0, 0), 1, cv2.LINE_AA)
+    return out
 
 
 def display_rgb(image):
