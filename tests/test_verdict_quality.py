@@ -172,5 +172,5 @@ def test_suspect_banner_on_a_narrow_image(width):
         out = overlay(img, [c], [describe(c, n=40)], verdict=v)
     finally:
         faulthandler.cancel_dump_traceback_later()
-    assert out.shape == (60, width, 3)
+    assert out.shape[0] > 60 and out.shape[1:] == (width, 3)  # the band is added below the image
     assert np.all(out[-1, 1:-1] == (255, 140, 0))  # the orange band across the bottom

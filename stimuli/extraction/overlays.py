@@ -165,11 +165,11 @@ def _banner(rgb, text, colour=(255, 140, 0), max_lines=3):
         lines.append(line)
     if words:
         lines[-1] += " " + " ".join(words)
-    last = lines[-1]
-    while len(last) > 8 and not fits(last):
-        # at least 4 characters shorter each time ("..." included), or a short text never ends
-        last = last[: min(int(len(last) * 0.9), len(last) - 4) - 3].rstrip() + "..."
-    lines[-1] = last
+    for i, line in enumerate(lines):  # the last line's rest, or one word wider than the image
+        while len(line) > 8 and not fits(line):
+            # at least 4 characters shorter each time ("..." included), or a short text never ends
+            line = line[: min(int(len(line) * 0.9), len(line) - 4) - 3].rstrip() + "..."
+        lines[i] = line
     step = th + 6
     out = np.empty((h + step * len(lines) + 4, w, 3), np.uint8)
     out[:h] = rgb
