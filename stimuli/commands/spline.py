@@ -227,6 +227,8 @@ def run(args):
         if os.path.realpath(args.summary) == os.path.realpath(args.output):
             raise InputError(f"--summary {args.summary}: is the same file as -o {args.output} (the JSON would "
                              "replace the curve); choose another file")
+    if args.method == "cubic-natural" and closed:
+        raise InputError("--method cubic-natural: is for open curves (use --open)")
     if args.alpha is not None and args.method not in ("lac-g1", "lac"):
         raise InputError(f"--alpha: applies to the methods lac-g1 and lac only, not to --method {args.method}")
     P = read_points(args.points)

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.lac_gamma import lac_position, lac_theta
+from stimuli.curves.lac_gamma import lac_position, lac_theta, log_rho
 from stimuli.curves.natural import RTOL, Curve, arc_grid, integrate_natural, relabel
 from stimuli.errors import InputError
 from stimuli.validate import as_number
@@ -43,9 +43,57 @@ def _check_domain(alpha, lam, s0, s1):
     )
 
 
+#: ln of the largest float64: a radius of curvature below exp(-LOG_MAX) has a
+#: curvature that float64 cannot hold.
+LOG_MAX = float(np.log(np.finfo(float).max))
+
+
+def _check_overflow(alpha, lam, grid):
+    """The curvature ``1/rho`` must be a float64 on the grid: ``ln rho >= -LOG_MAX``.
+
+    With ``rho = exp(lam s)`` (alpha = 0) the curve winds into its pole ever
+    faster; past ``lam s = -709.78`` its curvature (and tangent angle) are
+    beyond float64, so the curve cannot be tabulated there."""
+    with np.errstate(all="ignore"):
+        lr = log_rho(grid, alpha, lam)
+    bad = ~(lr >= -LOG_MAX)
+    if not bad.any():
+        return
+    j = int(np.flatnonzero(bad)[0])
+    s_bad = float(grid[j])
+    if alpha == 0:
+        s_far = float(grid[-1] if lam < 0 else grid[0])
+        bound = -LOG_MAX / s_far
+        side = ">=" if s_far > 0 else "<="
+        raise InputError(
+            f"lam: the curvature exp(-lam*s) of the LAC (alpha=0) overflows float64 at s={s_bad:g} "
+            f"(lam*s = {lam * s_bad:.6g}); need lam*s >= -{LOG_MAX:.6g} on [s_start, s_end], "
+            f"i.e. lam {side} {bound:.6g} for this interval, got lam={lam:g}"
+        )
+    raise InputError(
+        f"lam: the curvature (lam*alpha*s + 1)**(-1/alpha) of the LAC overflows float64 at s={s_bad:g} "
+        f"for alpha={alpha:g}, lam={lam:g} (ln rho = {float(lr[j]):.6g}; need >= -{LOG_MAX:.6g}); "
+        f"use a smaller |lam| or keep the interval further from the domain end "
+        f"s = {-1 / (lam * alpha):g}"
+    )
+
+
 def lac_curvature(s, alpha, lam):
     """Curvature ``1/rho`` of the eq. 9 LAC: ``exp(-lam s)`` (alpha = 0),
     ``(lam alpha s + 1)**(-1/alpha)`` otherwise (0 where the base is 0).
+
+    Parameters
+    ----------
+    s : array_like
+        Arc lengths.
+    alpha, lam : float
+        Shape parameter and rate of eq. 9.
+
+    Returns
+    -------
+    ndarray
+        Curvature at `s` (inf where it overflows; :func:`log_aesthetic`
+        refuses such intervals).
 
     Examples
     --------
@@ -93,7 +141,11 @@ def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None
     Raises
     ------
     InputError
-        If the interval leaves the domain.
+        If the interval leaves the domain, or where the curve's curvature
+        or tangent angle overflows float64: for alpha = 0 the curvature is
+        ``exp(-lam*s)``, so ``lam*s`` must stay >= -709.78 on the interval
+        (e.g. ``lam >= -709.78`` for s in [0, 1]); large positive ``lam*s``
+        is fine (the curve straightens out).
 
     Notes
     -----
@@ -112,18 +164,39 @@ def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None
     grid = arc_grid(s_start, s_end, num, s)
     s0, s1 = float(grid[0]), float(grid[-1])
     _check_domain(alpha, lam, s0, s1)
-    th = lac_theta(grid, alpha, lam)
-    z = lac_position(grid, alpha, lam)
-    # from the first arc length, turned so that the tangent there is +x
-    z = (z - z[0]) * np.exp(-1j * th[0])
+    _check_overflow(alpha, lam, grid)
+    with np.errstate(all="ignore"):  # an overflow is refused below, in one line
+        th = lac_theta(grid, alpha, lam)
+        z = lac_position(grid, alpha, lam)
+        # from the first arc length, turned so that the tangent there is +x
+        z = (z - z[0]) * np.exp(-1j * th[0])
+        theta = th - th[0]
+        kappa = lac_curvature(grid, alpha, lam)
+    if not all(np.all(np.isfinite(v)) for v in (z, theta, kappa)):
+        raise InputError(
+            f"lam: the LAC's tangent angle or position overflows float64 for alpha={alpha:g}, lam={lam:g} "
+            f"on [{s0:g}, {s1:g}]; use a smaller |lam| or a shorter interval"
+        )
     params = dict(alpha=alpha, lam=lam, s_start=s0, s_end=s1, num=len(grid), method="incomplete gamma")
-    return Curve("lac", grid, z.real, z.imag, th - th[0], lac_curvature(grid, alpha, lam), params)
+    return Curve("lac", grid, z.real, z.imag, theta, kappa, params)
 
 
 def glac_curvature(s, alpha, lam, nu):
     """Curvature of the generalised LAC (see :func:`glac`):
     ``1 / (R(s) - nu)`` with ``R(s) = (lam alpha s + (1 + nu)**alpha)**(1/alpha)``
     (``(1 + nu) exp(lam s)`` when alpha = 0).
+
+    Parameters
+    ----------
+    s : array_like
+        Arc lengths.
+    alpha, lam, nu : float
+        Parameters of :func:`glac`.
+
+    Returns
+    -------
+    ndarray
+        Curvature at `s` (non-finite or <= 0 outside the domain).
 
     Examples
     --------

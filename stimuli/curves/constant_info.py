@@ -39,10 +39,27 @@ def constant_info_domain(C, n):
     ``|C| n^2 <= s^2``, and ``s > 0``. For ``C = 0`` the bound is 0 itself
     excluded (the curvature is ``(pi/s)(n/2 + 2)``).
 
+    Parameters
+    ----------
+    C : float
+        The constant of eq. 7 (finite).
+    n : float
+        Number of points (finite, > 0).
+
     Returns
     -------
     float
         ``s_min``; eq. 7 is defined for ``s >= s_min`` (``s > 0`` when C = 0).
+
+    Raises
+    ------
+    InputError
+        Naming `C` or `n` when not finite, or n <= 0.
+
+    Examples
+    --------
+    >>> constant_info_domain(0.01, 10)
+    1.0
     """
     C, n = _check_C_n(C, n)
     return float(np.sqrt(abs(C)) * n)

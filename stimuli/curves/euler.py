@@ -463,7 +463,7 @@ def g1_hermite(x0, y0, theta0, x1, y1, theta1, tol=1e-14, max_iter=20, derivativ
     return out
 
 
-def clothoid_points(x0, y0, theta0, k, dk, s):
+def clothoid_points(x0, y0, theta0, k, dk, s, compiled=True):
     """Points of clothoids at arc lengths `s`.
 
     Parameters
@@ -474,6 +474,11 @@ def clothoid_points(x0, y0, theta0, k, dk, s):
         Start curvature and curvature rate.
     s : array_like
         Arc lengths from the start; broadcast with the other arguments.
+    compiled : bool
+        Use the compiled kernel where it was built (default). It gives NaN
+        for a clothoid whose tangent turns by more than about 8000 rad
+        (never a spline's segment); False: the numpy evaluation, which has
+        no such bound.
 
     Returns
     -------
@@ -486,7 +491,7 @@ def clothoid_points(x0, y0, theta0, k, dk, s):
     )
     shape = s.shape
     sf = s.ravel()
-    if qic_kernel.LIB is not None:
+    if compiled and qic_kernel.LIB is not None:
         # the compiled kernel: the same integral summed per point, without numpy's temporaries
         x, y = qic_kernel.clothoid_xy(*(np.ascontiguousarray(v).ravel() for v in (x0, y0, t0, k, dk, sf)))
         x, y = x.reshape(shape), y.reshape(shape)

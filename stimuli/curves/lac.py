@@ -33,6 +33,7 @@ References
 
 from __future__ import annotations
 
+from stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass, field
 
@@ -44,7 +45,6 @@ from stimuli.curves.lac_gamma import lac_position, lac_theta
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import circle_tangents, end_angles, geometric_sign, spline_points
 from stimuli.errors import InputError
-from stimuli.validate import as_int
 
 __all__ = [
     "LACNotDrawable",
@@ -281,7 +281,7 @@ class LACSpline:
         """Sample every segment at `samples` points equally spaced in arc
         length, both ends included. Returns a
         :class:`~stimuli.curve_metrics.SampledCurve`."""
-        samples = as_int(samples, "samples (per segment)", lo=2)
+        samples = check_samples(samples, len(self.segments))
         parts = []
         offset = 0.0
         for i, seg in enumerate(self.segments):

@@ -47,6 +47,7 @@ from stimuli.errors import InputError
 __all__ = ["lac_theta", "lac_position", "lac_domain_end", "log_rho"]
 
 _DPS = 30  # mpmath digits: the difference of two incomplete gammas may cancel
+_MAX_EXTRA_DPS = 3000  # digits beyond _DPS the closed form may need (a few ms per value)
 _MAX_ANCHORS = 64  # closed-form evaluations per call (about 1-5 ms each)
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(16)
 # alpha = 0 with |lam| below this: the E1 form in mpmath (double precision
@@ -186,6 +187,20 @@ def lac_position(s, alpha, lam):
 
 
 def _gamma_form(s, alpha, lam):
+    """:func:`_gamma_form_mp`, with mpmath's own failures (a series that does not
+    converge) as one InputError naming alpha and lam."""
+    import mpmath
+
+    try:
+        return _gamma_form_mp(s, alpha, lam)
+    except mpmath.libmp.NoConvergence:
+        raise InputError(
+            f"alpha: the LAC's closed form does not converge for alpha={alpha:g}, lam={lam:g} "
+            "(alpha near 1 is hardest); use alpha = 1 exactly, or alpha further from 1"
+        ) from None
+
+
+def _gamma_form_mp(s, alpha, lam):
     """The incomplete-gamma closed form at each of the 1-D arc lengths `s`.
 
     Every alpha-dependent quantity is formed in mpmath from the exact float
@@ -203,6 +218,28 @@ def _gamma_form(s, alpha, lam):
     out = np.empty(s.shape, dtype=complex)
     # the two gammas are of size about |c|**-b and cancel: carry extra digits
     dps = _DPS + int(max(0.0, -np.log10(abs(c_f)))) * 2
+    # and they can be far larger than that (about Gamma(b) for alpha near 1: 1e158 at
+    # alpha = 1.01), while z is at most the arc length: measure the terms' size (their
+    # magnitudes are right at any precision) and carry as many more digits as they exceed
+    # the arc length by (without this, alpha = 1.01, lam = 100 gave z off by 0.86 at s = 1)
+    scale = float(np.max(np.abs(s))) if s.size else 0.0
+    if scale > 0:
+        with mpmath.workdps(dps):
+            al, lm = mpmath.mpf(alpha), mpmath.mpf(lam)
+            b, p, c = al / (al - 1), (al - 1) / al, lm * (al - 1)
+            mi = mpmath.mpc(0, -1)
+            front = abs(mpmath.exp(mi / c) / c * mpmath.power(mpmath.mpc(0, c), b))
+            u = s[np.argmax(np.abs(s))]
+            tau = mpmath.exp(p * mpmath.log1p(lm * al * mpmath.mpf(float(u))))
+            size = front * max(abs(mpmath.gammainc(b, mi / c)), abs(mpmath.gammainc(b, mi * tau / c)))
+            excess = float(mpmath.log10(size / scale)) if size > 0 else 0.0
+        if excess > _MAX_EXTRA_DPS:
+            raise InputError(
+                f"alpha: the LAC's closed form needs about {int(excess) + _DPS} digits for alpha={alpha:g}, "
+                f"lam={lam:g} (its incomplete gammas cancel; alpha near 1 is hardest); "
+                "use alpha = 1 exactly, or alpha further from 1, or a smaller |lam|"
+            )
+        dps += int(max(0.0, excess)) + 5
     with mpmath.workdps(dps):
         al = mpmath.mpf(alpha)
         lm = mpmath.mpf(lam)
@@ -223,14 +260,31 @@ def _gamma_form(s, alpha, lam):
     return out
 
 
+#: Below this |m| (alpha = 0), E1(i m) is its two-term series in ln m (next term m**2/4).
+_NIELSEN_SERIES_BELOW = 1e-8
+
+
 def _nielsen(s, lam):
     """alpha = 0: theta = (1 - exp(-lam s))/lam; with m = exp(-lam u)/lam,
-    z = -exp(i/lam)/lam * (E1(i/lam) - E1(i m(s))) (derived as in the module notes)."""
+    z = -exp(i/lam)/lam * (E1(i/lam) - E1(i m(s))) (derived as in the module notes).
+
+    For lam > 0 and large lam s, m underflows (to 0 beyond lam s ~ 745, where
+    E1 is infinite and z was NaN): there ``E1(i m) = -gamma - ln m - i pi/2 + i m + O(m**2)``
+    with ``ln m = -lam s - ln lam`` exact, so z grows linearly in s, as the
+    curve does (its tangent tends to the constant 1/lam)."""
     from scipy.special import exp1
 
+    s = np.asarray(s, dtype=float)
     m0 = 1.0 / lam
-    m = np.exp(-lam * s) / lam
-    return -np.exp(1j * m0) / lam * (exp1(1j * m0) - exp1(1j * m))
+    with np.errstate(under="ignore"):
+        m = np.exp(-lam * s) / lam
+    e = np.empty(s.shape, dtype=complex)
+    tiny = (m < _NIELSEN_SERIES_BELOW) if lam > 0 else np.zeros(s.shape, dtype=bool)
+    e[~tiny] = exp1(1j * m[~tiny])
+    if tiny.any():
+        log_m = -lam * s[tiny] - np.log(lam)
+        e[tiny] = (-np.euler_gamma - log_m) + 1j * (m[tiny] - 0.5 * np.pi)
+    return -np.exp(1j * m0) / lam * (exp1(1j * m0) - e)
 
 
 def _nielsen_mp(s, alpha, lam):

@@ -9,6 +9,7 @@ modules for the mathematics.
 
 from __future__ import annotations
 
+from stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass
 from functools import cached_property
@@ -22,7 +23,6 @@ from stimuli.curves.lac_arc import (
     piece_chords,
 )
 from stimuli.curves.metrics import SampledCurve, SplineMeasures
-from stimuli.validate import as_int
 
 __all__ = ["LACG2Spline", "solved_spline"]
 
@@ -139,7 +139,7 @@ class LACG2Spline(SplineMeasures):
         -------
         SampledCurve
         """
-        samples = as_int(samples, "samples (per segment)", lo=2)
+        samples = check_samples(samples, self.length.size)
         a, b = self._ends()
         M = a.size
         t = np.linspace(0.0, 1.0, samples)

@@ -54,7 +54,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.validate import as_number
+from stimuli.validate import as_int, as_number
 
 __all__ = [
     "Curve",
@@ -66,6 +66,7 @@ __all__ = [
     "clothoid",
     "pseudospiral",
     "EPS",
+    "MAX_POINTS",
 ]
 
 FAMILIES = ("clothoid", "pseudospiral", "lac", "superspiral", "constant-info")
@@ -135,6 +136,56 @@ class Curve:
 MAX_ARC = 1e6
 #: Largest |curvature parameter| (k0, c) of the clothoid.
 MAX_RATE = 1e12
+#: Most points a curve family or a spline's samples may have. Each point
+#: carries five float64 columns (s, x, y, theta, curvature) and costs up to
+#: ~15 us to evaluate (superspiral quadrature), so the bound is ten times below
+#: :meth:`stimuli.geometry.Contour.resample`'s 1e8 plain points: 10**7 points
+#: are about 0.4 GB and seconds to minutes of work; the command line allows
+#: 1e6 rows.
+MAX_POINTS = 10**7
+
+
+def check_flag(value, name):
+    """`value` if it is a bool (numpy's included), else an InputError naming
+    `name`: a string such as ``'no'`` would otherwise count as true."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise InputError(f"{name}: must be True or False, got {value!r}")
+
+
+def check_count(value, name, lo=2, hi=MAX_POINTS):
+    """A whole number in ``[lo, hi]`` (floats with integer values accepted,
+    bools and strings refused), as int; an InputError naming `name` otherwise."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    span = f"in [{lo}, {hi:.0e}]" if hi >= 10**6 else f"in [{lo}, {hi}]"
+    if hi >= 2**62:
+        span = ""
+    what = f"{name}: must be an integer {span}".rstrip()
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"{what}, got {value!r}")
+    if not (np.isfinite(value) and float(value).is_integer()) or not lo <= value <= hi:
+        raise InputError(f"{what}, got {value!r}")
+    return int(value)
+
+
+def check_samples(samples, segments):
+    """Samples per segment of a spline's ``sample``: an integer >= 2 with at
+    most :data:`MAX_POINTS` points in all (`segments` segments)."""
+    samples = as_int(samples, "samples (per segment)", lo=2)
+    if samples * max(int(segments), 1) > MAX_POINTS:
+        raise InputError(
+            f"samples: {samples} per segment x {segments} segments = {samples * segments} points; "
+            f"at most {MAX_POINTS:.0e} in all"
+        )
+    return samples
+
+
+def check_tolerance(value, name, allow_zero=False):
+    """A finite tolerance, > 0 (>= 0 with `allow_zero`)."""
+    if isinstance(value, bool):
+        raise InputError(f"{name}: must be a number, got {value!r}")
+    return as_number(value, name, ge=0.0) if allow_zero else as_number(value, name, gt=0.0)
 
 
 def _arc_number(value, name):
@@ -151,12 +202,18 @@ def _arc_number(value, name):
 def arc_grid(s_start, s_end, num, s=None):
     """The output arc lengths: `num` equally spaced in [s_start, s_end], or `s`.
 
-    Arc lengths must lie within +-:data:`MAX_ARC`.
+    Arc lengths must lie within +-:data:`MAX_ARC`; at most :data:`MAX_POINTS`
+    of them.
     """
     if s is not None:
-        s = np.asarray(s, dtype=float)
+        try:
+            s = np.asarray(s, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError("s must be a 1-D array of at least 2 finite arc lengths") from None
         if s.ndim != 1 or len(s) < 2 or not np.all(np.isfinite(s)):
             raise InputError("s must be a 1-D array of at least 2 finite arc lengths")
+        if len(s) > MAX_POINTS:
+            raise InputError(f"s: at most {MAX_POINTS:.0e} arc lengths, got {len(s)}")
         if np.max(np.abs(s)) > MAX_ARC:
             raise InputError(f"s: arc lengths must lie within +-{MAX_ARC:g}")
         if np.any(np.diff(s) <= 0):
@@ -166,9 +223,8 @@ def arc_grid(s_start, s_end, num, s=None):
     s_end = _arc_number(s_end, "s_end")
     if not s_end > s_start:
         raise InputError(f"s_end must be greater than s_start, got s_start={s_start:g}, s_end={s_end:g}")
-    if isinstance(num, bool) or not float(num).is_integer() or num < 2:
-        raise InputError(f"num (points) must be an integer >= 2, got {num!r}")
-    return np.linspace(s_start, s_end, int(num))
+    num = check_count(num, "num (points)")
+    return np.linspace(s_start, s_end, num)
 
 
 _MAX_NFEV = 1_000_000  # about 50,000 rad of turning, ~10 s
@@ -254,20 +310,45 @@ def integrate_natural(
     """
     from scipy.integrate import solve_ivp
 
+    if not callable(curvature_fn):
+        raise InputError(f"curvature_fn: must be a callable kappa(s), got {type(curvature_fn).__name__}")
+    if theta_fn is not None and not callable(theta_fn):
+        raise InputError(f"theta_fn: must be a callable theta(s) or None, got {type(theta_fn).__name__}")
     grid = arc_grid(s_start, s_end, num, s)
     s0, s1 = float(grid[0]), float(grid[-1])
     length = s1 - s0
-    rtol = float(rtol)
-    atol = rtol * length if atol is None else float(atol)
-    max_step = length / 64 if max_step is None else float(max_step)
+    # SciPy raises its own ValueError (or spins to the step budget) on these
+    rtol = check_tolerance(rtol, "rtol")
+    atol = rtol * length if atol is None else check_tolerance(atol, "atol")
+    max_step = length / 64 if max_step is None else check_tolerance(max_step, "max_step")
 
     with np.errstate(all="ignore"):  # non-finite values are reported below
-        kappa = np.asarray(curvature_fn(grid), dtype=float)
-    if kappa.shape != grid.shape:
-        kappa = np.broadcast_to(kappa, grid.shape).astype(float)
+        try:
+            kappa = np.asarray(curvature_fn(grid), dtype=float)
+            if kappa.shape != grid.shape:
+                kappa = np.broadcast_to(kappa, grid.shape).astype(float)
+        except (TypeError, ValueError):
+            raise InputError(
+                f"curvature_fn: must return one finite number per arc length (an array of shape "
+                f"{grid.shape} or a scalar)"
+            ) from None
     if not np.all(np.isfinite(kappa)):
         bad = grid[~np.isfinite(kappa)][0]
         raise InputError(f"curvature is not finite at s={bad:g}")
+    if theta_fn is not None:
+        with np.errstate(all="ignore"):
+            theta = np.asarray(theta_fn(grid), dtype=float)
+        if theta.shape != grid.shape or not np.all(np.isfinite(theta)):
+            raise InputError(f"the tangent angle is not finite on [{s0:g}, {s1:g}] (it overflows)")
+        # the tangent's total change is at least its change between the output points; at 15 to
+        # 25 evaluations per radian (measured), more than _MAX_NFEV / 10 radians would only run
+        # into the budget below after seconds of work: say so at once
+        turn = float(np.sum(np.abs(np.diff(theta))))
+        if turn > _MAX_NFEV / 10:
+            raise InputError(
+                f"the curve turns by {turn:.3g} rad on [{s0:g}, {s1:g}]; integrating it needs more than "
+                f"{_MAX_NFEV:.0e} steps (about 20 per radian); shorten the interval"
+            )
 
     calls = [0]
 
@@ -309,7 +390,6 @@ def integrate_natural(
         theta, x, y = sol.y
     else:
         x, y = sol.y
-        theta = np.asarray(theta_fn(grid), dtype=float)
     params = dict(
         s_start=s0,
         s_end=s1,
@@ -401,6 +481,15 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     # one clothoid evaluator for the whole package: the segments' own
     # (Fresnel integrals, or their series where those lose precision)
     x, y, _, _ = clothoid_points(0.0, 0.0, 0.0, k0 + c * s0, c, grid - s0)
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        # the compiled evaluator gives up (NaN) on a clothoid turning by more than about 8000 rad
+        # (never a spline's segment); the numpy evaluator's Fresnel closed form has no such bound
+        x, y, _, _ = clothoid_points(0.0, 0.0, 0.0, k0 + c * s0, c, grid - s0, compiled=False)
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y)) and np.all(np.isfinite(theta))):
+        raise InputError(
+            f"clothoid: the points overflow for k0={k0:g}, c={c:g} on [{s0:g}, {grid[-1]:g}]; "
+            "use smaller |k0|, |c| or a shorter interval"
+        )
     return Curve("clothoid", grid, x, y, theta, kappa, {**base, "method": "fresnel"})
 
 
@@ -471,7 +560,8 @@ def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=
         # digit is lost below p ~ 1e-16 and the integrator stalls on the noise);
         # s0**p expm1(p ln(u/s0)) / (a p) is the same, exact to rounding, and
         # tends to the m = 1 form ln(u/s0)/a as p -> 0
-        front = s0**p / (a * p)
+        with np.errstate(over="ignore"):  # an overflow (inf) is refused by integrate_natural
+            front = np.float64(s0) ** p / (a * p)
 
         def theta(u):
             return front * np.expm1(p * np.log(np.asarray(u) / s0))

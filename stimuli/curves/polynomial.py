@@ -10,6 +10,7 @@ pixels (y down); reported curvature follows the project's geometric sign.
 
 from __future__ import annotations
 
+from stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass
 
@@ -18,7 +19,6 @@ import numpy as np
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import geometric_sign, spline_points
 from stimuli.errors import InputError
-from stimuli.validate import as_int
 
 __all__ = ["PolynomialSpline", "polynomial_spline"]
 
@@ -66,7 +66,7 @@ class PolynomialSpline:
 
         Curvature is NaN where the parametric speed vanishes (a cusp, e.g.
         when points double back): it is undefined there."""
-        samples = as_int(samples, "samples (per segment)", lo=2)
+        samples = check_samples(samples, len(self.knots) - 1)
         kn = self.knots
         u = kn[:-1, None] + (kn[1:] - kn[:-1])[:, None] * np.linspace(0.0, 1.0, samples)[None, :]
         uf = u.ravel()

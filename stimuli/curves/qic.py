@@ -58,7 +58,9 @@ from stimuli.curves.qic_rule import (
     segment_bulge,
     straying_nodes,
 )
+from stimuli.curves.natural import check_count, check_flag, check_tolerance
 from stimuli.errors import InputError
+from stimuli.validate import as_number
 
 __all__ = ["ConvergenceError", "QICSpline", "qic_spline"]
 
@@ -287,14 +289,16 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
         the last point, in the input coordinates. ``None`` gives a natural
         end (zero curvature).
     corners : sequence of int
-        Points where the spline must break its tangent (G0 corners). The
+        Points where the spline must break its tangent (G0 corners): whole
+        0-based row indices (``1.5`` is refused, not rounded). The
         curve is split there into open pieces with natural ends.
     tol : float
         Newton stops when every curvature jump at a G2 node is below ``tol``
         times the largest |curvature| and every segment closes to 1e-14 of
-        its chord.
+        its chord (finite, > 0).
     max_iter : int
-        Bound on Newton iterations (each with at most 30 step halvings).
+        Bound on Newton iterations (each with at most 30 step halvings);
+        1 to 100000.
     y_down : bool
         Whether y points down (image pixels). Only the sign of reported
         curvature for open curves depends on it.
@@ -318,7 +322,8 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     ------
     InputError
         Bad points (non-finite, too few, repeated consecutive points) or
-        options.
+        options (each named: flags must be bools, tolerances and angles
+        finite and positive).
     ConvergenceError
         The pure G2 spline: Newton did not converge within `max_iter`
         iterations (e.g. jagged or randomly ordered points). The robust
@@ -354,11 +359,23 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
     ()
     """
     t_start = time.perf_counter()
+    closed = check_flag(closed, "closed")
+    robust = check_flag(robust, "robust")
+    y_down = check_flag(y_down, "y_down")
+    log_aesthetic = check_flag(log_aesthetic, "log_aesthetic")
+    tol = check_tolerance(tol, "tol")
+    max_iter = check_count(max_iter, "max_iter", lo=1, hi=100_000)
+    if corner_turn is not None:
+        corner_turn = as_number(corner_turn, "corner_turn", ge=0.0)
+    if max_tangent_deviation is not None:
+        max_tangent_deviation = as_number(max_tangent_deviation, "max_tangent_deviation", ge=0.0)
     P = spline_points(points, closed)
     N = len(P)
     g0 = set()
+    if isinstance(corners, (str, bytes)) or not np.iterable(corners):
+        raise InputError(f"corners: expected a sequence of point indices, got {corners!r}")
     for c in corners:
-        c = int(c)
+        c = check_count(c, "corners", lo=-(2**62), hi=2**62)  # whole numbers only: 1.5 is no row
         if not (0 <= c < N):
             raise InputError(f"corners: index {c} out of range 0..{N - 1}")
         if closed or 0 < c < N - 1:

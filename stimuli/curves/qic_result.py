@@ -10,13 +10,13 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 
+from stimuli.curves.natural import check_samples
 import numpy as np
 
 from stimuli.curves import qic_kernel
 from stimuli.curves.euler import clothoid_points
 from stimuli.curves.metrics import SampledCurve, SplineMeasures
 from stimuli.curves.qic_newton import tangent_range
-from stimuli.validate import as_int
 
 __all__ = ["QICSpline"]
 
@@ -105,7 +105,7 @@ class QICSpline(SplineMeasures):
         -------
         SampledCurve
         """
-        samples = as_int(samples, "samples (per segment)", lo=2)
+        samples = check_samples(samples, self.length.size)
         return self._samples(np.full(self.length.size, samples))
 
     def sample_by_turn(self, max_step=0.1, max_samples=32):

@@ -10,6 +10,7 @@ from dataclasses import replace
 
 from stimuli.curves.polynomial import PolynomialSpline, polynomial_spline
 from stimuli.curves.qic import ConvergenceError, QICSpline, qic_spline
+from stimuli.curves.natural import check_flag
 from stimuli.errors import InputError
 
 __all__ = [
@@ -41,6 +42,8 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         (:func:`stimuli.curves.lac.lac_g1_spline`), ``'lac'`` (the G2
         log-aesthetic spline, :func:`stimuli.curves.lac_spline.lac_spline`).
     closed : bool
+        Closed curve (default) or open; must be a bool (a string such as
+        ``'no'`` is refused).
     **kwargs
         Passed to the fitting function.
 
@@ -50,13 +53,14 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         Each has ``sample(k)``, ``metrics(k)``, ``iterations``, ``seconds``
         and ``method``.
     """
+    closed = check_flag(closed, "closed")
     if method in ("qic", "qic-g2"):
         return qic_spline(points, closed, robust=method == "qic", **kwargs)
     if method == "cubic":
         return polynomial_spline(points, 3, closed, **kwargs)
     if method == "cubic-natural":
         if closed:
-            raise InputError("method 'cubic-natural' is for open curves (use --open)")
+            raise InputError("method: 'cubic-natural' is for open curves (closed=False)")
         return polynomial_spline(points, 3, False, bc_type="natural", **kwargs)
     if method in ("poly2", "poly3", "poly4", "poly5"):
         sp = polynomial_spline(points, int(method[-1]), closed, **kwargs)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.natural import Curve
+from stimuli.curves.natural import Curve, check_count, check_tolerance
 from stimuli.errors import InputError
 from stimuli.validate import as_number
 
@@ -41,10 +41,11 @@ def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, 
         ``psi = 0`` (origin, ``theta = 0``, ``rho = 1``).
     num : int
         Number of points, **equally spaced in tangent angle** (not in arc
-        length) over ``[0, theta_end]``.
+        length) over ``[0, theta_end]``; 2 to
+        :data:`stimuli.curves.natural.MAX_POINTS` (1e7).
     epsabs, epsrel : float
         Tolerances of :func:`scipy.integrate.quad_vec` (adaptive 21-point
-        Gauss-Kronrod).
+        Gauss-Kronrod): finite, >= 0, not both 0.
 
     Returns
     -------
@@ -56,7 +57,8 @@ def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, 
     Raises
     ------
     InputError
-        Parameters outside ``c > b > 0, a > 0`` or ``theta_end <= 0``.
+        Parameters outside ``c > b > 0, a > 0`` or ``theta_end <= 0``, or
+        bad `num`, `epsabs`, `epsrel`.
 
     Notes
     -----
@@ -74,9 +76,11 @@ def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, 
         raise InputError(f"superspiral: need c > b > 0 and a > 0, got a={a:g}, b={b:g}, c={c:g}")
     if not theta_end > 0:
         raise InputError(f"superspiral: theta_end must be > 0, got {theta_end:g}")
-    if isinstance(num, bool) or not float(num).is_integer() or num < 2:
-        raise InputError(f"num (points) must be an integer >= 2, got {num!r}")
-    num = int(num)
+    num = check_count(num, "num (points)")
+    epsabs = check_tolerance(epsabs, "epsabs", allow_zero=True)
+    epsrel = check_tolerance(epsrel, "epsrel", allow_zero=True)
+    if epsabs == 0 and epsrel == 0:
+        raise InputError("epsabs, epsrel: at least one tolerance must be > 0")
     psi = np.linspace(0.0, theta_end, num)
     left = psi[:-1]
     h = np.diff(psi)
