@@ -256,3 +256,14 @@ def test_public_functions_document_their_parameters():
 
     for f in (extract_contours, contour_curvature, default_sigma, check_contour_in_image, check_image_size):
         assert "Parameters\n    ----------" in f.__doc__, f.__name__
+
+
+def test_curvature_peaks_refuses_a_string_flag():
+    from stimuli.errors import InputError
+    from stimuli.extraction.scalespace import curvature_peaks
+
+    th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
+    ellipse = np.c_[60 * np.cos(th), 30 * np.sin(th)]
+    with pytest.raises(InputError, match="minima: must be True or False"):
+        curvature_peaks(ellipse, minima="no")
+    assert len(curvature_peaks(ellipse, minima=np.bool_(False))["t"]) == 2  # the two ends of the major axis

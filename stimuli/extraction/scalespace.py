@@ -293,6 +293,8 @@ def curvature_peaks(contour, sigma=None, prominence=None, minima=False):
     """
     from stimuli.geometry.information import find_peaks
 
+    if not isinstance(minima, (bool, np.bool_)):  # 'no' would be taken as True
+        raise InputError(f"minima: must be True or False, got {minima!r}")
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if not c.closed:
         raise InputError("curvature_peaks() is for closed contours")
