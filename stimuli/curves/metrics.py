@@ -251,14 +251,20 @@ def self_intersections(x, y, closed=True):
     1
     >>> self_intersections(np.array([0, 1, 1, 0.]), np.array([0, 0, 1, 1.]))  # a square
     0
+    >>> self_intersections(np.array([0, 1, 2, 3.]), np.zeros(4)) > 0  # closed, it runs back over itself
+    True
     """
     from stimuli.errors import InputError
     from stimuli.geometry.contour import Contour
 
+    pts = np.column_stack([x, y])
     try:
-        c = Contour(np.column_stack([x, y]), closed=closed, orient=False)
-    except InputError:  # fewer than 3 distinct points: nothing to cross
-        return 0
+        c = Contour(pts, closed=closed, orient=False)
+    except InputError:
+        if not closed or len(np.unique(pts, axis=0)) < 3:  # fewer than 3 distinct points: nothing to cross
+            return 0
+        # a closed curve enclosing no area (it retraces itself): count on the open path that closes it
+        c = Contour(np.vstack([pts, pts[:1]]), closed=False, orient=False)
     return int(len(c.self_intersections()))
 
 
