@@ -90,8 +90,33 @@ def as_int(value, name, lo=None, hi=None):
     return v
 
 
-def as_rng(rng):
-    """Check that `rng` is a `numpy.random.Generator` (the only source of randomness)."""
-    if not isinstance(rng, np.random.Generator):
-        raise InputError(f"rng: expected a numpy.random.Generator, got {type(rng).__name__}")
-    return rng
+def as_rng(rng, name="rng"):
+    """A `numpy.random.Generator` from what a user passes as `rng`.
+
+    A `Generator` is used as it is (its state advances); a non-negative
+    integer seed (or a `numpy.random.SeedSequence`) gives
+    ``numpy.random.default_rng(seed)``, so the same seed gives the same
+    stimulus. Anything else, including None (fresh entropy would make the
+    result irreproducible), a bool, a float, a negative integer or a legacy
+    `numpy.random.RandomState`, is refused.
+
+    Raises
+    ------
+    InputError
+        Naming `name` and what was expected.
+
+    Examples
+    --------
+    >>> as_rng(7).integers(100) == np.random.default_rng(7).integers(100)
+    np.True_
+    """
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, (bool, np.bool_)):
+        if rng < 0:
+            raise InputError(f"{name}: a seed must be a non-negative integer, got {rng!r}")
+        return np.random.default_rng(int(rng))
+    if isinstance(rng, np.random.SeedSequence):
+        return np.random.default_rng(rng)
+    got = type(rng).__name__ + (f" {rng!r}"[:60] if isinstance(rng, (bool, float, str, np.generic)) else "")
+    raise InputError(f"{name}: expected an integer seed >= 0 or a numpy.random.Generator, got {got}")

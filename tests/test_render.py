@@ -306,7 +306,7 @@ def test_figure_ground_grey_and_rgb_and_integer_paths_agree():
     # 8 bits: coverage rounded to 1/255 first, so a pixel may move by one level
     u8 = render_silhouette(p, shape=(64, 64), figure=0.2, ground=0.9, dtype="uint8")["img"]
     assert u8.dtype == np.uint8 and np.abs(u8.astype(int) - to_uint8(res["img"])).max() <= 1
-    assert np.all(u8[cov == 0] == to_uint8(np.array(0.9))) and np.all(u8[cov == 1] == 51)
+    assert np.all(u8[cov == 0] == to_uint8(np.full((1, 1), 0.9))[0, 0]) and np.all(u8[cov == 1] == 51)
     for f, g in ((0.0, 1.0), (1.0, 0.0)):  # black and white: 255 * coverage, rounded
         b = render_silhouette(p, shape=(64, 64), figure=f, ground=g, dtype="uint8")["img"]
         ink = np.rint(255 * cov)
@@ -417,7 +417,7 @@ def test_fit_to_image_centres_and_keeps_margin():
         lambda: render_fragments(np.zeros((3, 2)), 1.0, size=4),
         lambda: render_dots([(1, 1)], 0.0, size=4),
         lambda: fit_to_image([(1, 1), (1, 1), (1, 1)], 10),
-        lambda: to_uint8(np.array([0.5, 1.5])),
+        lambda: to_uint8(np.array([[0.5, 1.5]])),
     ],
 )
 def test_bad_input_raises_input_error(call):

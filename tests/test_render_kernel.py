@@ -44,11 +44,13 @@ def both(make):
 
 def shapes(rng, h, w):
     """A star, a self-intersecting polygon and a star with a hole, often
-    crossing the image's border."""
+    crossing the image's border. The star has a vertex at least every
+    quarter turn, at least 1 px from its centre, so it holds the hole (rings
+    that cross each other are refused)."""
     n = int(rng.integers(3, 40))
     c = rng.uniform(-10.0, [w + 10.0, h + 10.0])
-    t = np.sort(rng.uniform(0.0, 2.0 * np.pi, n))
-    r = rng.uniform(1.0, 40.0, n)
+    t = np.sort(np.concatenate([rng.uniform(0.0, 2.0 * np.pi, n), 0.5 * np.pi * np.arange(4)]))
+    r = rng.uniform(1.0, 40.0, n + 4)
     star = np.column_stack([c[0] + r * np.cos(t), c[1] + r * np.sin(t)])
     tangle = rng.uniform(-20.0, [w + 20.0, h + 20.0], (n, 2))
     hole = np.column_stack([c[0] + 0.4 * np.cos(t), c[1] + 0.4 * np.sin(t)])

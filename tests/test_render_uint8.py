@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import shapely
 
-from stimuli.geometry.contour import shoelace
+from stimuli.geometry.polyline import shoelace
 from stimuli.render import coverage, render_silhouette
 from stimuli.render.raster import FLOAT32_MIN_PIXELS, sum_dtype
 from stimuli.shapes.generators import fourier_shape

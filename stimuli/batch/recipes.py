@@ -51,6 +51,7 @@ from stimuli.batch.params import RecipeParams as _Params
 from stimuli.batch.placement import Canvas, place
 from stimuli.errors import InputError
 from stimuli.geometry.contour import Contour
+from stimuli.validate import as_rng
 from stimuli.shapes import deformations
 from stimuli.shapes import generators
 from stimuli.shapes import guided
@@ -373,7 +374,9 @@ def make(recipe, rng, canvas=None, **params):
     recipe : str
         A key of `RECIPES`.
     rng : numpy.random.Generator or int
-        The generator (an int seeds ``numpy.random.default_rng``).
+        The generator (a non-negative int seeds ``numpy.random.default_rng``;
+        None, floats and other objects are refused: see
+        :func:`stimuli.validate.as_rng`).
     canvas : Canvas, optional
         Default ``Canvas()`` (512 x 512, margin 32).
     **params
@@ -386,7 +389,8 @@ def make(recipe, rng, canvas=None, **params):
     Raises
     ------
     InputError
-        Unknown recipe or invalid parameters (one line naming the key).
+        Unknown recipe, invalid parameters (one line naming the key), a bad
+        `rng` or a `canvas` that is not a :class:`Canvas`.
 
     Examples
     --------
@@ -406,6 +410,9 @@ def make(recipe, rng, canvas=None, **params):
     except ValidationError as exc:
         loc, msg = describe(exc, params, model)
         raise InputError(f"{recipe}: {loc_str(loc) if loc else 'params'}: {msg}") from None
-    if not isinstance(rng, np.random.Generator):
-        rng = np.random.default_rng(rng)
-    return fn(p, rng, canvas if canvas is not None else Canvas())
+    rng = as_rng(rng)
+    if canvas is None:
+        canvas = Canvas()
+    elif not isinstance(canvas, Canvas):
+        raise InputError(f"canvas: expected a Canvas(width, height, margin), got {type(canvas).__name__}")
+    return fn(p, rng, canvas)

@@ -33,6 +33,13 @@ def _check_unit(img, name="image"):
     return a
 
 
+def _check_image_shape(img, name="image"):
+    """Refuse what is not a (height, width) grey, (height, width, 3) RGB or (height, width, 4) RGBA image."""
+    if img.ndim not in (2, 3) or (img.ndim == 3 and img.shape[2] not in (3, 4)) or img.size == 0:
+        raise InputError(f"{name}: expected a (height, width), (height, width, 3) or (height, width, 4) image "
+                         f"with at least one pixel, got shape {img.shape}")
+
+
 def _quantise(img, top, dtype):
     a = _check_unit(img)
     m = np.multiply(a, float(top), out=np.empty(a.shape))
@@ -46,12 +53,29 @@ def to_uint8(img):
     uint8 input is returned unchanged, uint16 input is rescaled
     (``rint(v / 257)``).
 
+    Parameters
+    ----------
+    img : array_like
+        A (height, width) grey, (height, width, 3) RGB or (height, width, 4)
+        RGBA image: floats in [0, 1], uint8 or uint16.
+
+    Returns
+    -------
+    uint8 array of the same shape
+
     Raises
     ------
     InputError
-        Float values outside [0, 1] or not finite; other dtypes.
+        Another shape or an empty image; float values outside [0, 1] or not
+        finite; other dtypes.
+
+    Examples
+    --------
+    >>> to_uint8(np.array([[0.0, 0.5, 1.0]])).tolist()
+    [[0, 128, 255]]
     """
     img = np.asarray(img)
+    _check_image_shape(img)
     if img.dtype == np.uint8:
         return img
     if img.dtype == np.uint16:
@@ -67,12 +91,24 @@ def to_uint16(img):
     uint16 input is returned unchanged, uint8 input is rescaled exactly
     (``v * 257``, so that 255 becomes 65535).
 
+    Parameters
+    ----------
+    img : array_like
+        A (height, width) grey, (height, width, 3) RGB or (height, width, 4)
+        RGBA image: floats in [0, 1], uint8 or uint16.
+
+    Returns
+    -------
+    uint16 array of the same shape
+
     Raises
     ------
     InputError
-        Float values outside [0, 1] or not finite; other dtypes.
+        Another shape or an empty image; float values outside [0, 1] or not
+        finite; other dtypes.
     """
     img = np.asarray(img)
+    _check_image_shape(img)
     if img.dtype == np.uint16:
         return img
     if img.dtype == np.uint8:
@@ -173,7 +209,25 @@ def svg_text(result):
     unit per pixel matches the PNG with no shift (mean difference under 0.2
     grey levels; librsvg flattens arcs a little inside the true circle). Numbers have at most 6 decimals; no time stamps, so the
     same result always gives the same text.
+
+    Parameters
+    ----------
+    result : dict
+        What a ``render_*`` function returned (its ``kind``, ``size``,
+        colours and geometry are used).
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    InputError
+        Not such a dict, or an unknown ``kind``.
     """
+    if not isinstance(result, dict):
+        raise InputError(f"result: expected the dict a render_* function returns, got {type(result).__name__}; "
+                         "write_svg also takes rings")
     kind = result.get("kind")
     w, h = result["size"]
     fig, gnd = _hex(result["figure"]), _hex(result["ground"])

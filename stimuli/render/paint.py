@@ -7,6 +7,7 @@ centres at integer coordinates).
 
 from __future__ import annotations
 
+import math
 
 import numpy as np
 
@@ -17,7 +18,7 @@ from stimuli.render.discs import disc_accumulation
 from stimuli.render.raster import (
     box_coverage, ring_accumulation, ring_area, ring_stream, stream_box, sum_dtype, winding,
 )
-from stimuli.render.rings import as_rings, resolve_shape
+from stimuli.render.rings import MAX_PIXELS, MAX_SIDE, as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
 # Images
@@ -138,6 +139,8 @@ def silhouette_u8(rings, oriented, orient, h, w, figure, ground):
 
 
 _F64, _U8 = np.dtype(np.float64), np.dtype(np.uint8)
+# the largest square the fast path draws; larger ones go through resolve_shape's checks
+_MAX_U8_SIDE = min(MAX_SIDE, math.isqrt(MAX_PIXELS))
 
 
 def _plain_silhouette_u8(obj, size, figure, ground, orient):
@@ -151,7 +154,8 @@ def _plain_silhouette_u8(obj, size, figure, ground, orient):
     there they made up half of the renderer's time.
     """
     pts = getattr(obj, "points", obj)
-    if type(pts) is not np.ndarray or pts.dtype != _F64 or pts.ndim != 2 or pts.shape[1] != 2 or size < 1:
+    if (type(pts) is not np.ndarray or pts.dtype != _F64 or pts.ndim != 2 or pts.shape[1] != 2 or size < 1
+            or size > _MAX_U8_SIDE):
         return None
     f, g = colours(figure, ground)
     ring = pts.copy()  # C order; the result's ring, not the caller's array
@@ -242,9 +246,14 @@ def render_silhouette(
         The outline as ``(x, y)`` points in image pixels (x = column, y = row,
         y down, pixel centres at integer coordinates), first point not
         repeated. A list of rings makes one shape; a ring inside an odd
-        number of others is a hole.
+        number of others is a hole. Rings of one shape must be nested or
+        apart (they may touch); rings that cross each other or coincide are
+        refused, since no orientation makes the painted region and its area
+        agree there (merge them with shapely first).
     size : int or (int, int), optional
-        Image ``(width, height)`` (an int for a square). Give this or `shape`.
+        Image ``(width, height)`` (an int for a square), sides up to
+        ``MAX_SIDE`` (2**20) px and at most ``MAX_PIXELS`` (2**30) pixels
+        (:mod:`stimuli.render.rings`). Give this or `shape`.
     shape : (int, int), optional
         Image ``(height, width)``, the numpy way round.
     figure, ground : float or (float, float, float), optional
@@ -258,7 +267,10 @@ def render_silhouette(
         :func:`to_uint8` of the float image by one level (where the value
         is a tie, such as exact half coverage, or for grey levels).
     orient : bool, optional
-        See :func:`coverage`.
+        See :func:`coverage`. With False a hole must run opposite to the
+        ring around it, else the rings are refused (rings of one direction
+        nested in each other add up to a winding number of 2, painted as 1
+        but counted twice in `area`).
 
     Returns
     -------
@@ -269,12 +281,15 @@ def render_silhouette(
         rings drawn, as (N, 2) arrays), ``orient``, ``area`` (the integral
         of the winding number over the image, px^2: the exact area of the
         shape inside the image for a simple ring or properly nested holes,
-        i.e. the sum of the coverage).
+        i.e. the sum of the coverage; for a ring that crosses itself, the
+        winding integral, which counts lobes of opposite winding with
+        opposite signs).
 
     Raises
     ------
     InputError
-        Bad points, size, colours or dtype.
+        Bad points, size, colours or dtype; rings that cross each other or
+        coincide.
 
     Examples
     --------

@@ -10,6 +10,15 @@ from stimuli.errors import InputError
 from stimuli.validate import as_number, as_points
 from stimuli.render.rings import resolve_shape
 
+#: Smallest bounding-box extent (in the points' units) that is scaled to an
+#: image: far below any unit a shape is drawn in, far above the subnormal
+#: range where floating point loses digits and the scale overflows.
+MIN_EXTENT = 1e-150
+#: Smallest extent relative to the largest coordinate: below it the points
+#: differ by round-off only (as :class:`stimuli.Contour` requires).
+MIN_RELATIVE_EXTENT = 1e-10
+
+
 def fit_to_image(points, size, margin=None, scale=None):
     """Scale and centre points into an image.
 
@@ -40,8 +49,11 @@ def fit_to_image(points, size, margin=None, scale=None):
     Raises
     ------
     InputError
-        Bad points, size or margin, or points whose bounding box is a single
-        point.
+        Bad points, size, margin or scale, points whose bounding box is a
+        single point, or a bounding box whose larger side is below
+        :data:`MIN_EXTENT` units or below :data:`MIN_RELATIVE_EXTENT` of
+        the largest coordinate (its points differ by round-off only), or a
+        `scale` that takes the points beyond the float range.
 
     Examples
     --------
@@ -63,15 +75,26 @@ def fit_to_image(points, size, margin=None, scale=None):
             raise InputError(f"margin: must be >= 0 and less than half the smaller image side, got {margin!r}")
         if not np.any(extent > 0):
             raise InputError("points: all points coincide; cannot scale them to the image")
+        span, far = float(extent.max()), float(np.abs(pts).max())
+        if span < MIN_EXTENT or span < MIN_RELATIVE_EXTENT * far:
+            raise InputError(
+                f"points: the bounding box spans only {span:.3g} units (at coordinates up to {far:.3g}); "
+                f"it must span at least {MIN_EXTENT:g} units and {MIN_RELATIVE_EXTENT:g} of the largest "
+                "coordinate to be scaled to the image: rescale the points"
+            )
         room = np.array([w, h], float) - 2.0 * margin
         with np.errstate(divide="ignore"):
             scale = float(np.min(np.where(extent > 0, room / np.where(extent > 0, extent, 1.0), np.inf)))
     else:
         scale = as_number(scale, "scale", gt=0)
     centre = np.array([(w - 1) / 2.0, (h - 1) / 2.0])
-    offset = centre - scale * (lo + hi) / 2.0
+    with np.errstate(over="ignore", invalid="ignore"):
+        offset = centre - scale * (lo / 2.0 + hi / 2.0)
+        out = pts * scale + offset
+    if not (np.isfinite(out).all() and np.isfinite(offset).all()):
+        raise InputError(f"scale: {scale:g} takes the points beyond the float range; use a smaller scale")
     return {
-        "points": pts * scale + offset,
+        "points": out,
         "scale": scale,
         "offset": offset,
         "size": (w, h),

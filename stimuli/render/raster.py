@@ -63,7 +63,7 @@ import numpy as np
 from stimuli.geometry.polyline import shoelace
 from stimuli.render import kernel
 from stimuli.render.kernel import LIB
-from stimuli.render.rings import as_rings, orient_rings, resolve_shape
+from stimuli.render.rings import as_rings, check_alternating, orient_rings, resolve_shape
 from stimuli.render.workspace import ramp, scratch
 
 # Coverage within this of 0 or 1 is round-off and is snapped (px^2).
@@ -421,6 +421,8 @@ def ring_stream(rings, oriented=False, orient=True):
     single = orient and not oriented and len(rings) == 1
     if orient and not oriented and not single:
         rings = orient_rings(rings)
+    elif not orient and not oriented and len(rings) > 1:
+        check_alternating(rings)
     p, bridge = _stream(rings)
     return p, bridge, rings[0] if single else None
 
@@ -453,7 +455,9 @@ def coverage(rings, shape, orient=True):
         Closed rings of ``(x, y)`` points in image pixels (x = column,
         y = row, y down, pixel centres at integer coordinates); the first
         point is not repeated at the end. Several rings make one shape: a
-        ring inside an odd number of other rings is a hole.
+        ring inside an odd number of other rings is a hole. They must be
+        nested or apart (they may touch): rings that cross each other or
+        coincide are refused.
     shape : (int, int)
         Image ``(height, width)``.
     orient : bool, optional
@@ -481,8 +485,9 @@ def coverage(rings, shape, orient=True):
     Raises
     ------
     InputError
-        Non-finite coordinates, a ring with fewer than 3 distinct points, or
-        a bad shape.
+        Non-finite coordinates, a ring with fewer than 3 distinct points,
+        rings that cross each other, or a bad shape (see
+        :func:`stimuli.render.rings.resolve_shape` for the size limits).
 
     References
     ----------

@@ -14,8 +14,22 @@ from stimuli.errors import InputError
 from stimuli.geometry.polyline import shoelace
 from stimuli.validate import as_points
 
+#: Largest image side in pixels, and largest number of pixels, that is
+#: rendered: OpenCV's limits for image files (``CV_IO_MAX_IMAGE_WIDTH``,
+#: ``CV_IO_MAX_IMAGE_PIXELS``), beyond which a PNG could not be read back.
+MAX_SIDE = 1 << 20
+MAX_PIXELS = 1 << 30
+
+
 def resolve_shape(size=None, shape=None):
-    """Return (height, width) from `size` (int or (width, height)) or `shape`."""
+    """Return (height, width) from `size` (int or (width, height)) or `shape`.
+
+    Raises
+    ------
+    InputError
+        Not exactly one of them, sides that are not positive integers, a side
+        above :data:`MAX_SIDE` or more than :data:`MAX_PIXELS` pixels.
+    """
     if (size is None) == (shape is None):
         raise InputError("give exactly one of size=(width, height) and shape=(height, width)")
     if size is not None:
@@ -35,6 +49,9 @@ def resolve_shape(size=None, shape=None):
         raise InputError(f"size: width and height must be integers, got {w!r}, {h!r}") from None
     if hi != h or wi != w or hi < 1 or wi < 1:
         raise InputError(f"size: width and height must be positive integers, got {w!r}, {h!r}")
+    if max(hi, wi) > MAX_SIDE or hi * wi > MAX_PIXELS:
+        raise InputError(f"size: {wi} x {hi} is too large; an image may have sides up to {MAX_SIDE} px "
+                         f"and up to {MAX_PIXELS} ({MAX_PIXELS / 1e9:.2f} G) pixels")
     return hi, wi
 
 
@@ -55,6 +72,12 @@ def as_rings(obj, name="rings"):
 
     Returns (rings, oriented): `oriented` is True when the rings come from a
     shapely geometry already oriented so that holes subtract.
+
+    Raises
+    ------
+    InputError
+        Bad points, a ring with fewer than 3 distinct points, or two rings
+        that cross each other (see :func:`check_apart`).
     """
     geom_type = getattr(obj, "geom_type", None)
     if geom_type in ("Polygon", "MultiPolygon", "GeometryCollection"):
@@ -67,7 +90,41 @@ def as_rings(obj, name="rings"):
         raise InputError(f"{name}: expected an (N, 2) array, a Contour or a list of them") from None
     if not items:
         raise InputError(f"{name}: no rings given")
-    return [_ring(r, f"{name}[{k}]") for k, r in enumerate(items)], False
+    rings = [_ring(r, f"{name}[{k}]") for k, r in enumerate(items)]
+    if len(rings) > 1:
+        check_apart(rings, name)
+    return rings, False
+
+
+def check_apart(rings, name="rings"):
+    """Refuse rings of one shape that cross each other.
+
+    The rings of a shape must be nested (holes, islands in holes) or apart;
+    they may touch but not coincide. Where two cross, orienting them by nesting (or as given)
+    makes winding numbers of 2 or of opposite signs, and the painted region
+    and its area (the winding integral) no longer agree. A ring that
+    crosses only itself is allowed (it is filled by the non-zero rule).
+
+    Raises
+    ------
+    InputError
+        Naming the two rings.
+    """
+    import shapely
+
+    polys = np.array([shapely.Polygon(r) for r in rings], dtype=object)
+    i, j = np.triu_indices(len(rings), 1)
+    with np.errstate(all="ignore"):
+        try:
+            hit = shapely.overlaps(polys[i], polys[j]) | shapely.equals(polys[i], polys[j])
+        except shapely.errors.GEOSException:  # pragma: no cover - GEOS refusing a degenerate ring
+            return
+    if hit.any():
+        a, b = int(i[hit][0]), int(j[hit][0])
+        raise InputError(
+            f"{name}: rings {a} and {b} cross each other or coincide; the rings of one shape must be nested (holes) or apart: "
+            "draw them as separate shapes, or merge them first (e.g. with shapely's union or symmetric_difference)"
+        )
 
 
 def _ring(obj, name):
@@ -116,19 +173,39 @@ def orient_rings(rings):
 
     A ring inside an even number of other rings gets a positive shoelace sum
     (it adds), one inside an odd number a negative one (it subtracts). Rings
-    must not cross one another for this to be the even-odd region.
+    must not cross one another for this to be the even-odd region (see
+    :func:`check_apart`); they may touch (a hole whose corner lies on the
+    outer ring is still inside it).
     """
     if len(rings) == 1:
         r = rings[0]
         return [r if shoelace(r) >= 0 else r[::-1]]
-    from matplotlib.path import Path as MplPath
+    import shapely
 
-    paths = [MplPath(r) for r in rings]
+    polys = np.array([shapely.Polygon(r) for r in rings], dtype=object)
+    try:
+        inside = shapely.contains(polys[None, :], polys[:, None])  # [i, j]: ring i inside ring j
+    except shapely.errors.GEOSException:  # pragma: no cover - a self-crossing ring GEOS refuses
+        from matplotlib.path import Path as MplPath
+
+        paths = [MplPath(r) for r in rings]
+        inside = np.array([[p.contains_point(r[0], radius=0.0) for p in paths] for r in rings])
+    np.fill_diagonal(inside, False)
     out = []
     for i, r in enumerate(rings):
-        depth = sum(
-            1 for j, p in enumerate(paths) if j != i and p.contains_point(r[0], radius=0.0)
-        )
+        depth = int(inside[i].sum())
         want = 1.0 if depth % 2 == 0 else -1.0
         out.append(r if shoelace(r) * want >= 0 else r[::-1])
     return out
+
+
+def check_alternating(rings, name="rings"):
+    """Refuse rings given as they are (``orient=False``) whose directions do
+    not alternate with nesting depth: a hole running the same way as the
+    ring around it makes a winding number of 2 (painted as 1, counted twice
+    in the area)."""
+    flipped = [a is not b for a, b in zip(orient_rings(rings), rings)]
+    if any(flipped) and not all(flipped):
+        k = next(i for i, f in enumerate(flipped) if f != flipped[0])
+        raise InputError(f"{name}: with orient=False every hole must run opposite to the ring around it; "
+                         f"ring {k} does not (or pass orient=True)")

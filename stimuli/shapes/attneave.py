@@ -3,8 +3,8 @@ curved versions.
 
 Coordinates are ``(x, y)`` with y pointing DOWN, in grid cells around the
 polygon's own centre (``params["centre"]``); every generator takes its
-randomness from a `numpy.random.Generator` and returns ``(contour, params)``
-(see :mod:`stimuli.shapes.generators`).
+randomness from `rng`, a `numpy.random.Generator` or an integer seed, and
+returns ``(contour, params)`` (see :mod:`stimuli.shapes.generators`).
 
 References
 ----------
@@ -18,7 +18,8 @@ import numpy as np
 
 from stimuli.errors import InputError
 from stimuli.geometry.contour import Contour
-from stimuli.validate import as_int, as_number, as_rng
+from stimuli.shapes._limits import MAX_GRID, MAX_POINTS
+from stimuli.validate import as_int, as_number, as_points, as_rng
 
 __all__ = ["attneave_polygon", "attneave_curved", "smooth_closed", "SMOOTH_METHODS"]
 
@@ -99,7 +100,7 @@ def _method1_attempt(rng, n_points, grid, min_angle, max_angle):
 
 def _check_attneave(n_points, grid, min_angle, max_angle, max_tries):
     n_points = as_int(n_points, "n_points", lo=3)
-    grid = as_int(grid, "grid", lo=2)
+    grid = as_int(grid, "grid", lo=2, hi=MAX_GRID)
     if n_points > grid * grid:
         raise InputError(f"n_points: a {grid}x{grid} grid has only {grid * grid} points, got {n_points}")
     min_angle = as_number(min_angle, "min_angle", ge=0, lt=180)
@@ -132,12 +133,14 @@ def attneave_polygon(rng, n_points=12, grid=100, min_angle=10.0, max_angle=170.0
 
     Parameters
     ----------
-    rng : numpy.random.Generator
-        The only source of randomness.
+    rng : numpy.random.Generator or int
+        The only source of randomness (an integer is a seed).
     n_points : int
-        Number of points, which is the number of vertices (>= 3).
+        Number of points, which is the number of vertices (>= 3, at most
+        ``grid**2``).
     grid : int
-        Side of the lattice; coordinates are integers in [0, grid - 1].
+        Side of the lattice, in [2, 1e6]; coordinates are integers in
+        [0, grid - 1].
     min_angle, max_angle : float
         Limits in degrees on the angle between the sides at each vertex.
     max_tries : int
@@ -220,6 +223,27 @@ def attneave_curved(
     clothoid QIC spline most of all) and, for ``'qic'``, converges. Both are
     returned.
 
+    Parameters
+    ----------
+    rng : numpy.random.Generator or int
+        The only source of randomness (an integer is a seed).
+    n_points : int
+        Number of vertices (>= 3, at most ``grid**2``).
+    grid : int
+        Side of the lattice, in [2, 1e6]; vertices are at integer coordinates
+        in [0, grid - 1].
+    min_angle, max_angle : float
+        Limits in degrees on the angle between the two sides at each vertex
+        of the polygon (see :func:`attneave_polygon`).
+    max_tries : int
+        Draws before giving up (>= 1); a draw counts whether the polygon or
+        its smoothing failed.
+    method : {'cubic', 'bspline', 'qic'}
+        How the polygon is smoothed (see :func:`smooth_closed`).
+    samples_per_edge : int
+        Points of the curve per polygon side (>= 2; ``n_points *
+        samples_per_edge`` at most 1e6).
+
     Returns
     -------
     polygon : Contour
@@ -229,9 +253,24 @@ def attneave_curved(
     params : dict
         Those of :func:`attneave_polygon` and of :func:`smooth_closed`
         (``method, samples_per_edge``), with ``tries`` counting every draw.
+
+    Raises
+    ------
+    InputError
+        A bad parameter, naming it, or no polygon whose smoothing is simple
+        and stays near it in `max_tries` draws.
+
+    Examples
+    --------
+    >>> polygon, curved, p = attneave_curved(1, n_points=8, samples_per_edge=16)
+    >>> len(curved) == 8 * 16, curved.is_simple(), p["method"]
+    (True, True, 'cubic')
     """
     rng = as_rng(rng)
     n_points, grid, min_angle, max_angle, max_tries = _check_attneave(n_points, grid, min_angle, max_angle, max_tries)
+    if method not in SMOOTH_METHODS:
+        raise InputError(f"method: expected one of {', '.join(SMOOTH_METHODS)}, got {method!r}")
+    _check_samples(samples_per_edge, n_points)
     for tries in range(1, max_tries + 1):
         p = _method1_attempt(rng, n_points, grid, min_angle, max_angle)
         if p is None:
@@ -283,7 +322,8 @@ def smooth_closed(points, method="cubic", samples_per_edge=32):
         (:func:`stimuli.curves.qic.qic_spline`): clothoid segments, G2
         except at the few vertices where that would loop or swing out.
     samples_per_edge : int
-        Points per polygon side in the output (>= 2).
+        Points per polygon side in the output (>= 2; ``N * samples_per_edge``
+        at most 1e6).
 
     Returns
     -------
@@ -295,15 +335,20 @@ def smooth_closed(points, method="cubic", samples_per_edge=32):
     params : dict
         ``method, samples_per_edge``.
 
+    Raises
+    ------
+    InputError
+        Points that are not an (N, 2) array of finite numbers with N >= 3,
+        consecutive vertices that coincide (``'cubic'``), or a bad `method`
+        or `samples_per_edge`.
+
     References
     ----------
     .. [1] Lee, E. T. Y. (1989). Choosing nodes in parametric curve
            interpolation. Computer-Aided Design 21(6), 363-370.
     """
-    p = np.asarray(getattr(points, "points", points), dtype=float)
-    if p.ndim != 2 or p.shape[1] != 2 or len(p) < 3:
-        raise InputError(f"points: expected an (N, 2) array with N >= 3, got shape {p.shape}")
-    m = as_int(samples_per_edge, "samples_per_edge", lo=2)
+    p = as_points(points, "points", min_points=3)
+    m = _check_samples(samples_per_edge, len(p))
     n = len(p)
     if method == "cubic":
         from scipy.interpolate import CubicSpline
@@ -327,6 +372,10 @@ def smooth_closed(points, method="cubic", samples_per_edge=32):
     else:
         raise InputError(f"method: expected one of {', '.join(SMOOTH_METHODS)}, got {method!r}")
     return Contour(out, orient=True), dict(method=method, samples_per_edge=m)
+
+
+def _check_samples(samples_per_edge, n):
+    return as_int(samples_per_edge, "samples_per_edge", lo=2, hi=max(2, MAX_POINTS // n))
 
 
 class _NoCurve(InputError):

@@ -72,6 +72,7 @@ import numpy as np
 
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
+from stimuli.validate import as_int, as_number, as_rng
 
 __all__ = [
     "Deformation",
@@ -121,6 +122,29 @@ class Deformation:
     params: dict = field(default_factory=dict)
 
 
+def _as_closed(contour, name="contour", orient=False):
+    """A closed `Contour` from a Contour or an (N, 2) array of ``(x, y)`` points
+    (image pixels, y down), taken as a closed ring in the order given (made
+    counter-clockwise on the screen if `orient`)."""
+    if isinstance(contour, Contour):
+        if not contour.closed:
+            raise InputError(f"{name}: a closed contour is needed, got an open one")
+        if orient and contour.signed_area < 0:
+            return Contour(contour.points, True, name=contour.name)
+        return contour
+    try:
+        return Contour(contour, True, orient=orient)
+    except InputError as exc:
+        raise InputError(f"{name}: {exc}") from None
+
+
+def _vertex(index, n, name="index"):
+    """A vertex index in [-n, n) (negative counts from the end) as one in [0, n)."""
+    if isinstance(index, (bool, np.bool_)):
+        raise InputError(f"{name}: must be an integer vertex index, got {index!r}")
+    return as_int(index, name, lo=-n, hi=n - 1) % n
+
+
 def area_gradient(points, index):
     """Gradient of `Contour.signed_area` with respect to vertex `index`.
 
@@ -151,9 +175,11 @@ def insert_vertex(contour, edge, position=0.5):
 
     Parameters
     ----------
-    contour : Contour
+    contour : Contour or (N, 2) array
+        Closed, points ``(x, y)`` in image pixels (y down).
     edge : int
-        Side from vertex `edge` to vertex ``edge + 1``.
+        Side from vertex `edge` to vertex ``edge + 1`` (in [-N, N);
+        negative counts from the end).
     position : float
         Fraction of the way along the side, in (0, 1).
 
@@ -161,12 +187,18 @@ def insert_vertex(contour, edge, position=0.5):
     -------
     Contour
         With the new vertex at index ``edge + 1``; same shape and area.
+
+    Raises
+    ------
+    InputError
+        Bad points, an `edge` that is not a vertex index, or `position`
+        outside (0, 1).
     """
+    contour = _as_closed(contour)
     p = contour.points
     n = len(p)
-    edge = int(edge) % n
-    if not 0 < position < 1:
-        raise InputError(f"position: must be in (0, 1), got {position}")
+    edge = _vertex(edge, n, "edge")
+    position = as_number(position, "position", gt=0, lt=1)
     a, b = p[edge], p[(edge + 1) % n]
     q = a + position * (b - a)
     out = np.vstack([p[: edge + 1], q[None, :], p[edge + 1 :]])
@@ -174,9 +206,45 @@ def insert_vertex(contour, edge, position=0.5):
 
 
 def move_vertex(contour, index, vector):
-    """The contour with vertex `index` moved by `vector` (orientation kept)."""
+    """The contour with vertex `index` moved by `vector` (orientation kept).
+
+    Parameters
+    ----------
+    contour : Contour or (N, 2) array
+        Points ``(x, y)`` in image pixels (y down); an array is taken as a
+        closed contour.
+    index : int
+        The vertex moved, in [-N, N) (negative counts from the end).
+    vector : (2,) array_like
+        The move ``(dx, dy)`` in pixels (finite).
+
+    Returns
+    -------
+    Contour
+        A new contour, open or closed as the input; the input is unchanged.
+
+    Raises
+    ------
+    InputError
+        Bad points, an index that is not a vertex, or a bad vector.
+
+    Examples
+    --------
+    >>> sq = Contour([[0, 0], [0, 10], [10, 10], [10, 0]])
+    >>> move_vertex(sq, 1, (-5, 0)).points[1].tolist()
+    [-5.0, 10.0]
+    """
+    if not isinstance(contour, Contour):
+        contour = _as_closed(contour)
+    index = _vertex(index, contour.n)
+    try:
+        v = np.asarray(vector, dtype=float)
+    except (TypeError, ValueError):
+        v = None
+    if v is None or v.shape != (2,) or not np.isfinite(v).all():
+        raise InputError(f"vector: expected a finite (dx, dy) pair, got {vector!r}")
     p = contour.points.copy()
-    p[index] = p[index] + np.asarray(vector, dtype=float)
+    p[index] = p[index] + v
     return Contour(p, contour.closed, orient=False, name=contour.name)
 
 
@@ -199,12 +267,13 @@ def deform_at(contour, index, displacement, mode="vertex", width=None):
 
     Parameters
     ----------
-    contour : Contour
+    contour : Contour or (N, 2) array
         Closed, counter-clockwise on the screen (image pixels, y down). For
         ``mode='edge'`` pass the contour with the vertex already inserted
         (:func:`insert_vertex`); the move itself is the same as ``'vertex'``.
     index : int
-        The vertex moved (the bump's centre).
+        The vertex moved (the bump's centre), in [-N, N) (negative counts
+        from the end).
     displacement : float
         Distance `d` in pixels the vertex (the bump's centre) moves (> 0).
     mode : {'vertex', 'edge', 'bump'}
@@ -217,10 +286,26 @@ def deform_at(contour, index, displacement, mode="vertex", width=None):
     info : dict
         ``direction`` (unit outward vector), ``moved`` (vertices moved),
         ``area_change`` (predicted ``|dA|`` in px^2).
+
+    Raises
+    ------
+    InputError
+        Bad points or parameters, naming them; a contour that runs
+        clockwise on the screen; a vertex whose neighbours coincide (it has
+        no normal).
     """
-    d = float(displacement)
-    if not d > 0:
-        raise InputError(f"displacement: must be > 0, got {displacement}")
+    contour = _as_closed(contour)
+    if contour.signed_area < 0:
+        raise InputError("contour: runs clockwise on the screen, so 'outward' would point in; reverse the points "
+                         "or pass Contour(points), which orients them")
+    index = _vertex(index, contour.n)
+    d = as_number(displacement, "displacement", gt=0)
+    if mode not in MODES:
+        raise InputError(f"mode: expected one of {', '.join(MODES)}, got {mode!r}")
+    if mode == "bump":
+        if width is None:
+            raise InputError("width: must be > 0 for a bump, got None")
+        width = as_number(width, "width", gt=0)
     p = contour.points
     n0 = outward_normal(p, index)
     if mode in ("vertex", "edge"):
@@ -230,8 +315,6 @@ def deform_at(contour, index, displacement, mode="vertex", width=None):
         predicted = abs(float(v @ area_gradient(p, index)))
         moved = 1
     elif mode == "bump":
-        if width is None or not width > 0:
-            raise InputError(f"width: must be > 0 for a bump, got {width}")
         w = bump_profile(_arc_offsets(contour, index), width)
         V = (d * w)[:, None] * n0[None, :]
         concave = Contour(p - V, True, orient=False, name=contour.name)
@@ -351,10 +434,12 @@ def deform(contour, rng, mode="edge", displacement=10.0, position=0.5, width=Non
 
     Parameters
     ----------
-    contour : Contour
-        Closed and simple, in image pixels (y down).
-    rng : numpy.random.Generator
-        Orders the candidate places (sides, vertices or bump centres).
+    contour : Contour or (N, 2) array
+        Closed and simple, in image pixels (y down); one that runs clockwise
+        on the screen is re-oriented (``base`` is then in the new order).
+    rng : numpy.random.Generator or int
+        Orders the candidate places (sides, vertices or bump centres); an
+        integer is a seed.
     mode : {'edge', 'vertex', 'bump'}
         See the module docstring.
     displacement : float
@@ -385,19 +470,15 @@ def deform(contour, rng, mode="edge", displacement=10.0, position=0.5, width=Non
     >>> float(dfm.base.area - dfm.concave.area), float(dfm.convex.area - dfm.base.area)
     (500.0, 500.0)
     """
-    if not isinstance(contour, Contour) or not contour.closed:
-        raise InputError("contour: a closed Contour is needed")
+    contour = _as_closed(contour, orient=True)
+    rng = as_rng(rng)
     if mode not in MODES:
         raise InputError(f"mode: expected one of {', '.join(MODES)}, got {mode!r}")
-    d = float(displacement)
-    if not (math.isfinite(d) and d > 0):
-        raise InputError(f"displacement: must be > 0, got {displacement!r}")
-    if mode == "edge" and not 0 < float(position) < 1:
-        raise InputError(f"position: must be in (0, 1), got {position!r}")
-    if width is not None and not float(width) > 0:
-        raise InputError(f"width: must be > 0, got {width!r}")
-    if not float(min_turn) >= 0:
-        raise InputError(f"min_turn: must be >= 0, got {min_turn!r}")
+    d = as_number(displacement, "displacement", gt=0)
+    position = as_number(position, "position", **(dict(gt=0, lt=1) if mode == "edge" else {}))
+    if width is not None:
+        width = as_number(width, "width", gt=0)
+    min_turn = as_number(min_turn, "min_turn", ge=0, lt=180)
     if not contour.is_simple():
         contour.require_simple()
     min_turn_rad = math.radians(float(min_turn))

@@ -1,7 +1,8 @@
 """Shape generators: random polygons, radial-frequency patterns, Fourier shapes, ...
 
-Every generator takes its randomness from a `numpy.random.Generator` passed
-in, and returns ``(contour, params)``: a closed, simple `Contour` and a dict of
+Every generator takes its randomness from `rng`: a `numpy.random.Generator`
+(used as it is) or a non-negative integer seed (``numpy.random.default_rng(seed)``);
+None and other objects are refused (:func:`stimuli.validate.as_rng`). Each returns ``(contour, params)``: a closed, simple `Contour` and a dict of
 every resolved parameter (JSON-serialisable), as stimupy returns its
 parameters with its images.
 
@@ -20,6 +21,12 @@ and their curved versions, elliptic Fourier shapes) draw again from the same
 `Generator` until they get a simple curve, up to ``max_tries`` draws, so the
 result is still a deterministic function of the seed. The number of draws
 used is recorded as ``params["tries"]``.
+
+Sampling. A periodic shape sampled at `n` points is refused when `n` gives
+fewer than 4 points per cycle of its fastest component (:func:`check_sampling`):
+below that the samples alias (an RF pattern of frequency 8 at 16 points is a
+perfect circle). `n` is at most :data:`MAX_POINTS`, and a harmonic sum at most
+:data:`MAX_TERMS` terms (points times harmonics).
 """
 
 from __future__ import annotations
@@ -31,6 +38,7 @@ import numpy as np
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
 from stimuli.validate import as_int, as_number, as_rng
+from stimuli.shapes._limits import MAX_POINTS, MAX_TERMS
 from stimuli.shapes.attneave import SMOOTH_METHODS, attneave_curved, attneave_polygon, smooth_closed
 
 __all__ = [
@@ -45,7 +53,13 @@ __all__ = [
     "blob",
     "contour_from_csv",
     "SMOOTH_METHODS",
+    "MAX_POINTS",
+    "MAX_TERMS",
+    "check_sampling",
 ]
+
+#: Rows of the (n, harmonics) cosine and sine tables computed at once.
+_BLOCK_TERMS = 1 << 20
 
 # --------------------------------------------------------------------------- helpers
 
@@ -63,6 +77,65 @@ def _mv(m, v):
 
 def _angles(n):
     return 2.0 * np.pi * np.arange(n) / n
+
+
+def _check_n(n, name="n"):
+    return as_int(n, name, lo=8, hi=MAX_POINTS)
+
+
+def check_sampling(n, cycles, what, param):
+    """Refuse a sampling that aliases: fewer than 4 of `n` points per cycle.
+
+    Parameters
+    ----------
+    n : int
+        Points per revolution.
+    cycles : float
+        Cycles per revolution of the fastest component (a radial frequency,
+        the highest harmonic, the superformula's `m`).
+    what, param : str
+        The component, and the parameter to lower, for the message.
+
+    Raises
+    ------
+    InputError
+        Naming `n` when ``n < 4 * cycles``.
+
+    Examples
+    --------
+    >>> check_sampling(16, 8, "radial frequency 8", "frequency")
+    Traceback (most recent call last):
+    ...
+    stimuli.errors.InputError: n: 16 points alias radial frequency 8 (at least 4 points per cycle are needed, n >= 32); raise n or lower frequency
+    """
+    need = 4.0 * float(cycles)
+    if n < need:
+        raise InputError(f"n: {n} points alias {what} (at least 4 points per cycle are needed, n >= {math.ceil(need)}); "
+                         f"raise n or lower {param}")
+
+
+def _check_terms(n, k, param):
+    if n * k > MAX_TERMS:
+        raise InputError(f"{param}: {k} harmonics at {n} points is {n * k:.3g} terms, more than {MAX_TERMS:.0e}; "
+                         f"lower {param} or n")
+
+
+def _trig_sums(th, k, coefs):
+    """``_mv(cos(outer(th, k)), a)`` or, for a name starting 's', the same with sin,
+    for each ``name: a`` of `coefs` (a dict of the results).
+
+    The tables are built a block of rows at a time, so memory stays bounded;
+    each row's sum is the one a single table gives, bit for bit.
+    """
+    n = len(th)
+    step = max(1, _BLOCK_TERMS // max(1, len(k)))
+    out = {name: np.empty(n) for name in coefs}
+    for i in range(0, n, step):
+        arg = np.outer(th[i : i + step], k)
+        tables = {"c": np.cos(arg), "s": np.sin(arg)}
+        for name, a in coefs.items():
+            out[name][i : i + step] = _mv(tables[name[0]], a)
+    return out
 
 
 # ------------------------------------------------------------ radial frequency
@@ -95,8 +168,9 @@ def radial_frequency(rng=None, r0=100.0, frequency=5, amplitude=0.1, phase=None,
 
     Parameters
     ----------
-    rng : numpy.random.Generator, optional
-        Draws the phases that are not given (uniform in [0, 2 pi)).
+    rng : numpy.random.Generator or int, optional
+        Draws the phases when `phase` is None (uniform in [0, 2 pi)); an
+        integer is a seed. Needed only then.
     r0 : float
         Mean radius (> 0), in the output's units (pixels when placed natively).
     frequency : int or list of int
@@ -108,13 +182,20 @@ def radial_frequency(rng=None, r0=100.0, frequency=5, amplitude=0.1, phase=None,
     phase : float or list of float, optional
         Phases phi_k in radians; drawn from `rng` when None.
     n : int
-        Number of points.
+        Number of points, in [8, :data:`MAX_POINTS`] and at least 4 per
+        cycle of the highest frequency (fewer alias: see
+        :func:`check_sampling`).
 
     Returns
     -------
     contour : Contour
     params : dict
         ``r0, frequency, amplitude, phase (lists), n, centre``.
+
+    Raises
+    ------
+    InputError
+        A bad parameter, naming it; `n` too small for the highest frequency.
 
     References
     ----------
@@ -137,13 +218,15 @@ def radial_frequency(rng=None, r0=100.0, frequency=5, amplitude=0.1, phase=None,
         raise InputError(f"amplitude: give one amplitude per frequency ({len(freqs)}), got {len(amps)}")
     if sum(amps) >= 1:
         raise InputError(f"amplitude: the amplitudes must sum to < 1 so the radius stays positive, got {sum(amps):g}")
+    n = _check_n(n)
+    check_sampling(n, max(freqs), f"radial frequency {max(freqs)}", "frequency")
+    _check_terms(n, len(freqs), "frequency")
     if phase is None:
         phases = [float(x) for x in as_rng(rng).uniform(0.0, 2 * np.pi, size=len(freqs))]
     else:
         phases = [as_number(x, f"phase[{i}]") for i, x in enumerate(_as_list(phase, "phase"))]
         if len(phases) != len(freqs):
             raise InputError(f"phase: give one phase per frequency ({len(freqs)}), got {len(phases)}")
-    n = as_int(n, "n", lo=8)
     th = _angles(n)
     r = radial_frequency_radius(th, r0, freqs, amps, phases)
     c = Contour(_polar(r, th), simple=True)
@@ -158,7 +241,8 @@ def fourier_shape(rng, kind="radial", r0=100.0, amplitude=0.1, falloff=1.5, harm
 
     Parameters
     ----------
-    rng : numpy.random.Generator
+    rng : numpy.random.Generator or int
+        The generator, or an integer seed.
     kind : {'radial', 'elliptic'}
         ``'radial'``: ``r(theta) = r0 * (1 + sum_{k=2}^{K} a_k cos(k theta) +
         b_k sin(k theta))`` with ``a_k, b_k ~ N(0, (amplitude * k**-falloff)**2)``;
@@ -177,7 +261,9 @@ def fourier_shape(rng, kind="radial", r0=100.0, amplitude=0.1, falloff=1.5, harm
     harmonics : int
         Highest harmonic K (>= 2).
     n : int
-        Number of points, equally spaced in theta (or t).
+        Number of points, equally spaced in theta (or t), in [8,
+        :data:`MAX_POINTS`] and at least ``4 * harmonics`` (fewer alias);
+        ``n * harmonics`` at most :data:`MAX_TERMS`.
     max_tries : int
         Draws before giving up.
 
@@ -204,27 +290,27 @@ def fourier_shape(rng, kind="radial", r0=100.0, amplitude=0.1, falloff=1.5, harm
     amplitude = as_number(amplitude, "amplitude", ge=0)
     falloff = as_number(falloff, "falloff", ge=0)
     K = as_int(harmonics, "harmonics", lo=2)
-    n = as_int(n, "n", lo=8)
+    n = _check_n(n)
     max_tries = as_int(max_tries, "max_tries", lo=1)
-    if n < 4 * K:
-        raise InputError(f"n: need at least 4 points per cycle of the highest harmonic ({4 * K}), got {n}")
+    check_sampling(n, K, f"harmonic {K}", "harmonics")
+    _check_terms(n, K - 1, "harmonics")
     k = np.arange(2, K + 1)
     sd = amplitude * k.astype(float) ** -falloff
     th = _angles(n)
-    ck = np.cos(np.outer(th, k))
-    sk = np.sin(np.outer(th, k))
     for tries in range(1, max_tries + 1):
         if kind == "radial":
             a, b = rng.normal(size=(2, len(k))) * sd
-            r = r0 * (1.0 + _mv(ck, a) + _mv(sk, b))
+            t = _trig_sums(th, k, {"ca": a, "sb": b})
+            r = r0 * (1.0 + t["ca"] + t["sb"])
             if r.min() < 0.1 * r0:
                 continue
             c = Contour(_polar(r, th))
             coef = np.column_stack([k, a, b])
         else:
             a, b, cc, d = rng.normal(size=(4, len(k))) * (r0 * sd)
-            x = r0 * np.cos(th) + _mv(ck, a) + _mv(sk, b)
-            y = -r0 * np.sin(th) + _mv(ck, cc) + _mv(sk, d)
+            t = _trig_sums(th, k, {"ca": a, "sb": b, "cc": cc, "sd": d})
+            x = r0 * np.cos(th) + t["ca"] + t["sb"]
+            y = -r0 * np.sin(th) + t["cc"] + t["sd"]
             c = Contour(np.column_stack([x, y]))
             if not c.is_simple():
                 continue
@@ -258,14 +344,16 @@ def superformula(m=5, n1=2.0, n2=7.0, n3=7.0, a=1.0, b=1.0, scale=100.0, n=1024)
     Parameters
     ----------
     m : float
-        Rotational symmetry (>= 0). The curve closes after one turn when m is
-        an even integer, or an odd integer with ``a == b`` and ``n2 == n3``.
+        Rotational symmetry (>= 0): m lobes per turn. The curve closes after
+        one turn when m is an even integer, or an odd integer with ``a == b``
+        and ``n2 == n3``.
     n1, n2, n3, a, b : float
         Shape exponents and axes (> 0).
     scale : float
         Multiplies the radius (> 0).
     n : int
-        Number of points.
+        Number of points, in [8, :data:`MAX_POINTS`] and at least ``4 * m``
+        (fewer alias: the lobes fall between the samples).
 
     Returns
     -------
@@ -276,7 +364,8 @@ def superformula(m=5, n1=2.0, n2=7.0, n3=7.0, a=1.0, b=1.0, scale=100.0, n=1024)
     Raises
     ------
     InputError
-        Parameters for which the curve does not close after one turn.
+        Parameters for which the curve does not close after one turn, or
+        `n` too small for `m`.
 
     References
     ----------
@@ -287,7 +376,8 @@ def superformula(m=5, n1=2.0, n2=7.0, n3=7.0, a=1.0, b=1.0, scale=100.0, n=1024)
     m = as_number(m, "m", ge=0)
     n1, n2, n3, a, b = (as_number(v, name, gt=0) for v, name in zip((n1, n2, n3, a, b), ("n1", "n2", "n3", "a", "b")))
     scale = as_number(scale, "scale", gt=0)
-    n = as_int(n, "n", lo=8)
+    n = _check_n(n)
+    check_sampling(n, m, f"{m:g} lobes (m)", "m")
     what = f"superformula(m={m:g}, n1={n1:g}, n2={n2:g}, n3={n3:g}, a={a:g}, b={b:g}, scale={scale:g})"
     # extreme exponents or axes overflow or underflow the float range: the radius is checked
     # below, so numpy's warnings would only repeat it (with a source line) before the error
@@ -318,6 +408,10 @@ def superformula(m=5, n1=2.0, n2=7.0, n3=7.0, a=1.0, b=1.0, scale=100.0, n=1024)
 # ------------------------------------------------------------ smooth blobs
 
 
+#: Largest RMS log-radius of :func:`blob`.
+MAX_BLOB_SIGMA = 3.0
+
+
 def blob(rng, r0=100.0, sigma=0.2, width=0.6, n=1024):
     """A smooth random blob: a circle whose log-radius is smoothed noise.
 
@@ -331,15 +425,19 @@ def blob(rng, r0=100.0, sigma=0.2, width=0.6, n=1024):
 
     Parameters
     ----------
-    rng : numpy.random.Generator
+    rng : numpy.random.Generator or int
+        The generator, or an integer seed.
     r0 : float
         Geometric-mean radius (> 0).
     sigma : float
-        RMS of the log-radius (>= 0; 0 gives a circle).
+        RMS of the log-radius, in [0, :data:`MAX_BLOB_SIGMA`] (0 gives a
+        circle; 3 already lets the radius range over a factor of about 1e6).
     width : float
         Correlation width in radians (> 0); smaller is bumpier.
     n : int
-        Number of points, equally spaced in theta.
+        Number of points, equally spaced in theta, in [8, :data:`MAX_POINTS`];
+        the harmonics used (up to ``n / 4``, so none aliases) times `n` at
+        most :data:`MAX_TERMS`.
 
     Returns
     -------
@@ -350,16 +448,17 @@ def blob(rng, r0=100.0, sigma=0.2, width=0.6, n=1024):
     """
     rng = as_rng(rng)
     r0 = as_number(r0, "r0", gt=0)
-    sigma = as_number(sigma, "sigma", ge=0)
+    sigma = as_number(sigma, "sigma", ge=0, le=MAX_BLOB_SIGMA)
     width = as_number(width, "width", gt=0)
-    n = as_int(n, "n", lo=8)
-    kmax = max(2, int(math.floor(math.sqrt(2 * math.log(1e3)) / width)))
-    kmax = min(kmax, n // 4)
+    n = _check_n(n)
+    kmax = max(2, int(min(math.floor(math.sqrt(2 * math.log(1e3)) / width), n // 4)))
+    _check_terms(n, kmax - 1, "width")
     k = np.arange(2, kmax + 1)
     z = rng.normal(size=(2, len(k)))
     coef = (z[0] + 1j * z[1]) * np.exp(-0.5 * (k * width) ** 2)
     th = _angles(n)
-    g = _mv(np.cos(np.outer(th, k)), coef.real) - _mv(np.sin(np.outer(th, k)), coef.imag)
+    t = _trig_sums(th, k, {"c": coef.real, "s": coef.imag})
+    g = t["c"] - t["s"]
     rms = float(np.sqrt(np.mean(g**2)))
     g = g * (sigma / rms) if rms > 0 else g
     r = r0 * np.exp(g)

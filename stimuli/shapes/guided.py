@@ -52,6 +52,8 @@ import numpy as np
 from stimuli.geometry.contour import Contour
 from stimuli.errors import InputError
 from stimuli.geometry.information import surprisal
+from stimuli.shapes._limits import MAX_POINTS
+from stimuli.validate import as_int, as_number
 from stimuli.shapes.selection import rank_by_prominence, rank_candidates, select_separated
 
 __all__ = [
@@ -66,13 +68,46 @@ __all__ = [
 ]
 
 
-def information(contour, n=256, model="paper", A=0.25, b=None, prominence=None):
-    """Surprisal of `contour` at `n` equally spaced points (see :func:`stimuli.information.surprisal`)."""
+def _closed(contour):
+    """A closed `Contour` from a Contour or an (N, 2) array of ``(x, y)`` points
+    (image pixels, y down; an array is taken as closed and oriented
+    counter-clockwise on the screen)."""
     if not isinstance(contour, Contour):
-        contour = Contour(contour)
+        try:
+            contour = Contour(contour, True)
+        except InputError as exc:
+            raise InputError(f"contour: {exc}") from None
     if not contour.closed:
         raise InputError("contour: information-guided stimuli need a closed contour")
-    return surprisal(contour, n=int(n), model=model, A=A, b=b, prominence=prominence)
+    return contour
+
+
+def information(contour, n=256, model="paper", A=0.25, b=None, prominence=None):
+    """Surprisal of `contour` at `n` equally spaced points.
+
+    Parameters
+    ----------
+    contour : Contour or (N, 2) array
+        Closed, points ``(x, y)`` in image pixels (y down); an array is taken
+        as a closed contour.
+    n : int
+        Number of samples, in [3, 1e6].
+    model, A, b, prominence
+        Passed to :func:`stimuli.information.surprisal`.
+
+    Returns
+    -------
+    SurprisalResult
+        As :func:`stimuli.information.surprisal` returns it.
+
+    Raises
+    ------
+    InputError
+        An open contour, bad points or a bad parameter, naming it.
+    """
+    contour = _closed(contour)
+    n = as_int(n, "n", lo=3, hi=MAX_POINTS)
+    return surprisal(contour, n=n, model=model, A=A, b=b, prominence=prominence)
 
 
 def arc_polyline(contour, s0, s1):
@@ -117,10 +152,10 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
 
     Parameters
     ----------
-    contour : Contour
-        Closed (image pixels, y down).
+    contour : Contour or (N, 2) array
+        Closed (image pixels, y down); an array is taken as a closed contour.
     k : int, optional
-        Number of points (>= 3). Local maxima of surprisal (curvature
+        Number of points (an integer >= 3). Local maxima of surprisal (curvature
         extrema, the points Attneave's cat joins) come first, best first,
         then the other points. Default: every local maximum whose
         prominence is at least `prominence` (default 0.1% of the range of
@@ -130,9 +165,9 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
     model, A, b, prominence
         Passed to :func:`stimuli.information.surprisal`.
     min_separation : float, optional
-        Minimum arc distance between chosen points, px (default two sample
-        spacings, so that one corner falling between two samples gives one
-        point).
+        Minimum arc distance between chosen points, px (>= 0; default two
+        sample spacings, so that one corner falling between two samples
+        gives one point).
 
     Returns
     -------
@@ -148,10 +183,12 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
     Raises
     ------
     InputError
-        When fewer than `k` points can be placed.
+        A bad parameter, naming it, or fewer than `k` points can be placed.
     """
     import shapely
 
+    contour = _closed(contour)
+    k, min_separation = _check_k(k, 3, min_separation)
     res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
     at, _ = _points_at_samples(contour, res, np.arange(res.params["n"]))
 
@@ -222,6 +259,15 @@ def _untangle(chosen, rank, at):
     return kept, dropped
 
 
+def _check_k(k, k_min, min_separation):
+    """Validated `k` (None or an integer >= k_min) and `min_separation` (None or a number >= 0)."""
+    if k is not None:
+        k = as_int(k, "k", lo=k_min, hi=MAX_POINTS)
+    if min_separation is not None:
+        min_separation = as_number(min_separation, "min_separation", ge=0)
+    return k, min_separation
+
+
 def _extremum_prominence(res, prominence):
     # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
     # sharpest corners; Attneave's points are every curvature extremum, ranked
@@ -233,8 +279,6 @@ def _choose(contour, k, which, k_min, min_separation, prominence, res):
 
     Returns ``k, separation, chosen, n_extrema, order`` (the ranking).
     """
-    if k is not None and int(k) < k_min:
-        raise InputError(f"k: must be >= {k_min}, got {k}")
     L = contour.perimeter
     sep = 2 * res.params["ds"] if min_separation is None else float(min_separation)
     order, n_ext = rank_candidates(res.surprisal, which, span=1, prominence=_extremum_prominence(res, prominence))
@@ -286,12 +330,12 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
 
     Parameters
     ----------
-    contour : Contour
-        Closed (image pixels, y down).
+    contour : Contour or (N, 2) array
+        Closed (image pixels, y down); an array is taken as a closed contour.
     fraction : float
         Fraction of the perimeter shown, in (0, 1).
     n_fragments : int
-        Pieces per set (>= 1).
+        Pieces per set (an integer >= 1).
     n : int
         Surprisal sampling.
     model, A, b, prominence
@@ -320,22 +364,15 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
     Raises
     ------
     InputError
-        When the pieces and gaps cannot fit (``fraction * L + m * min_gap >
+        A bad parameter, naming it; when the pieces and gaps cannot fit (``fraction * L + m * min_gap >
         L``), fewer than `n_fragments` prominent peaks or troughs can be
         placed, or the contrast is below `min_contrast`.
     """
-    fraction = float(fraction)
-    if not 0 < fraction < 1:
-        raise InputError(f"fraction: must be in (0, 1), got {fraction}")
-    m = int(n_fragments)
-    if m < 1:
-        raise InputError(f"n_fragments: must be >= 1, got {n_fragments}")
-    min_gap = float(min_gap)
-    if not min_gap >= 0:
-        raise InputError(f"min_gap: must be >= 0, got {min_gap}")
-    min_contrast = float(min_contrast)
-    if not 0 <= min_contrast < 1:
-        raise InputError(f"min_contrast: must be in [0, 1), got {min_contrast}")
+    contour = _closed(contour)
+    fraction = as_number(fraction, "fraction", gt=0, lt=1)
+    m = as_int(n_fragments, "n_fragments", lo=1, hi=MAX_POINTS)
+    min_gap = as_number(min_gap, "min_gap", ge=0)
+    min_contrast = as_number(min_contrast, "min_contrast", ge=0, lt=1)
     L = contour.perimeter
     ell = fraction * L / m
     if fraction * L + m * min_gap > L:
@@ -390,8 +427,22 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
 def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, min_separation=None, prominence=None):
     """Dots at the `k` most (``'peaks'``) or least (``'troughs'``) informative points.
 
-    Parameters are as in :func:`attneave_cat`; `k` defaults to every local
-    extremum of the chosen kind and `min_separation` to two sample spacings.
+    Parameters
+    ----------
+    contour : Contour or (N, 2) array
+        Closed (image pixels, y down); an array is taken as a closed contour.
+    k : int, optional
+        Number of dots (an integer >= 1). Default: every local extremum of
+        the chosen kind that keeps `min_separation`.
+    which : {'peaks', 'troughs'}
+        Most or least informative points.
+    n : int
+        Surprisal sampling (points along the contour).
+    model, A, b, prominence
+        Passed to :func:`stimuli.information.surprisal`.
+    min_separation : float, optional
+        Minimum arc distance between dots, px (>= 0; default two sample
+        spacings).
 
     Returns
     -------
@@ -400,7 +451,14 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
     params : dict
         ``k, which, indices, t, surprisal, height`` (``(u - min u) /
         range`` at each dot), ``n_extrema`` and the surprisal parameters.
+
+    Raises
+    ------
+    InputError
+        A bad parameter, naming it, or fewer than `k` dots can be placed.
     """
+    contour = _closed(contour)
+    k, min_separation = _check_k(k, 1, min_separation)
     res = information(contour, n=n, model=model, A=A, b=b, prominence=prominence)
     k, sep, chosen, n_ext, _ = _choose(contour, k, which, 1, min_separation, prominence, res)
     idx = np.sort(np.asarray(chosen))
