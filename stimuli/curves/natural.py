@@ -53,8 +53,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from stimuli.curves.checks import (  # noqa: F401  (re-exported: the families import them from here)
+    MAX_ARC,
+    MAX_POINTS,
+    MAX_RATE,
+    arc_grid,
+    check_count,
+    check_flag,
+    check_samples,
+    check_tolerance,
+)
 from stimuli.errors import InputError
-from stimuli.validate import as_int, as_number
+from stimuli.validate import as_number
 
 __all__ = [
     "Curve",
@@ -129,102 +139,6 @@ class Curve:
 # --------------------------------------------------------------------------- helpers
 
 
-
-
-#: Largest |arc length| of a curve, in its own units: far beyond any figure,
-#: and small enough that curvature x arc length cannot overflow.
-MAX_ARC = 1e6
-#: Largest |curvature parameter| (k0, c) of the clothoid.
-MAX_RATE = 1e12
-#: Most points a curve family or a spline's samples may have. Each point
-#: carries five float64 columns (s, x, y, theta, curvature) and costs up to
-#: ~15 us to evaluate (superspiral quadrature), so the bound is ten times below
-#: :meth:`stimuli.geometry.Contour.resample`'s 1e8 plain points: 10**7 points
-#: are about 0.4 GB and seconds to minutes of work; the command line allows
-#: 1e6 rows.
-MAX_POINTS = 10**7
-
-
-def check_flag(value, name):
-    """`value` if it is a bool (numpy's included), else an InputError naming
-    `name`: a string such as ``'no'`` would otherwise count as true."""
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    raise InputError(f"{name}: must be True or False, got {value!r}")
-
-
-def check_count(value, name, lo=2, hi=MAX_POINTS):
-    """A whole number in ``[lo, hi]`` (floats with integer values accepted,
-    bools and strings refused), as int; an InputError naming `name` otherwise."""
-    if isinstance(value, np.generic):
-        value = value.item()
-    span = f"in [{lo}, {hi:.0e}]" if hi >= 10**6 else f"in [{lo}, {hi}]"
-    if hi >= 2**62:
-        span = ""
-    what = f"{name}: must be an integer {span}".rstrip()
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"{what}, got {value!r}")
-    if not (np.isfinite(value) and float(value).is_integer()) or not lo <= value <= hi:
-        raise InputError(f"{what}, got {value!r}")
-    return int(value)
-
-
-def check_samples(samples, segments):
-    """Samples per segment of a spline's ``sample``: an integer >= 2 with at
-    most :data:`MAX_POINTS` points in all (`segments` segments)."""
-    samples = as_int(samples, "samples (per segment)", lo=2)
-    if samples * max(int(segments), 1) > MAX_POINTS:
-        raise InputError(
-            f"samples: {samples} per segment x {segments} segments = {samples * segments} points; "
-            f"at most {MAX_POINTS:.0e} in all"
-        )
-    return samples
-
-
-def check_tolerance(value, name, allow_zero=False):
-    """A finite tolerance, > 0 (>= 0 with `allow_zero`)."""
-    if isinstance(value, bool):
-        raise InputError(f"{name}: must be a number, got {value!r}")
-    return as_number(value, name, ge=0.0) if allow_zero else as_number(value, name, gt=0.0)
-
-
-def _arc_number(value, name):
-    """A finite arc length within +-MAX_ARC; messages print plain numbers
-    (never ``np.float64(...)``)."""
-    if isinstance(value, np.generic):
-        value = value.item()
-    v = as_number(value, name)
-    if abs(v) > MAX_ARC:
-        raise InputError(f"{name}: arc lengths must lie within +-{MAX_ARC:g}, got {v:g}")
-    return v
-
-
-def arc_grid(s_start, s_end, num, s=None):
-    """The output arc lengths: `num` equally spaced in [s_start, s_end], or `s`.
-
-    Arc lengths must lie within +-:data:`MAX_ARC`; at most :data:`MAX_POINTS`
-    of them.
-    """
-    if s is not None:
-        try:
-            s = np.asarray(s, dtype=float)
-        except (TypeError, ValueError):
-            raise InputError("s must be a 1-D array of at least 2 finite arc lengths") from None
-        if s.ndim != 1 or len(s) < 2 or not np.all(np.isfinite(s)):
-            raise InputError("s must be a 1-D array of at least 2 finite arc lengths")
-        if len(s) > MAX_POINTS:
-            raise InputError(f"s: at most {MAX_POINTS:.0e} arc lengths, got {len(s)}")
-        if np.max(np.abs(s)) > MAX_ARC:
-            raise InputError(f"s: arc lengths must lie within +-{MAX_ARC:g}")
-        if np.any(np.diff(s) <= 0):
-            raise InputError("s must be strictly increasing")
-        return s
-    s_start = _arc_number(s_start, "s_start")
-    s_end = _arc_number(s_end, "s_end")
-    if not s_end > s_start:
-        raise InputError(f"s_end must be greater than s_start, got s_start={s_start:g}, s_end={s_end:g}")
-    num = check_count(num, "num (points)")
-    return np.linspace(s_start, s_end, num)
 
 
 _MAX_NFEV = 1_000_000  # about 50,000 rad of turning, ~10 s
@@ -471,7 +385,8 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     t = v * scale
     # Rounding of t (relative eps) is amplified by sqrt(pi/|c|) and by the
     # phase pi*t0**2/2; this estimate is ~100x pessimistic (measured).
-    err = EPS * np.max(t * t) * np.sqrt(np.pi / abs(c))
+    with np.errstate(over="ignore"):  # an overflowing estimate is inf: the integrator takes over
+        err = EPS * np.max(t * t) * np.sqrt(np.pi / abs(c))
     if err > 1e-10 * max(1.0, grid[-1] - s0):
         curve = integrate_natural(
             lambda u: k0 + c * u, s=grid, theta_fn=lambda u: k0 * (u - s0) + 0.5 * c * (u - s0) * (u + s0)
