@@ -12,31 +12,56 @@ import numpy as np
 
 from stimuli.errors import InputError
 
-__all__ = ["as_points", "as_number", "as_int", "as_rng"]
+__all__ = ["check_points", "as_points", "as_number", "as_int", "as_rng"]
+
+
+def check_points(points, what="points", min_points=1):
+    """An (N, 2) float array of finite ``(x, y)``, N >= `min_points`.
+
+    Accepts anything with a ``.points`` attribute (a `Contour`). Returns the
+    input itself when it already is a float64 array (no copy: callers that
+    keep or freeze the array must copy it).
+
+    Raises
+    ------
+    InputError
+        Naming `what`: not numbers, complex numbers, a shape other than
+        (N, 2), a non-finite coordinate (with its row), or too few points.
+    """
+    pts = getattr(points, "points", points)
+    try:
+        raw = np.asarray(pts)
+    except (TypeError, ValueError):  # ragged rows
+        raise InputError(f"{what}: expected an (N, 2) array of (x, y) numbers") from None
+    if raw.dtype.kind == "c":
+        raise InputError(f"{what}: coordinates must be real numbers, got complex values")
+    try:
+        p = np.asarray(raw, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what}: expected an (N, 2) array of (x, y) numbers") from None
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise InputError(f"{what}: expected an (N, 2) array of (x, y) points, got shape {p.shape}")
+    # a sum is finite only if every term is (an overflowing sum is checked term by term)
+    with np.errstate(over="ignore", invalid="ignore"):
+        total = p.sum()
+    if len(p) and not np.isfinite(total) and not np.isfinite(p).all():
+        row = int(np.flatnonzero(~np.isfinite(p).all(axis=1))[0])
+        raise InputError(f"{what}: row {row}: coordinates must be finite, got {p[row].tolist()}")
+    if len(p) < min_points:
+        raise InputError(f"{what}: need at least {min_points} point(s), got {len(p)}")
+    return p
 
 
 def as_points(obj, what="points", min_points=1):
-    """Check and convert an (N, 2) array of ``(x, y)`` points (or anything with
-    a ``.points`` attribute, such as a `Contour`).
+    """Check and copy an (N, 2) array of ``(x, y)`` points (or anything with
+    a ``.points`` attribute, such as a `Contour`): :func:`check_points`, copied.
 
     Raises
     ------
     InputError
         One line naming `what` and, for a non-finite value, the row.
     """
-    pts = getattr(obj, "points", obj)
-    try:
-        pts = np.array(pts, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what}: expected an (N, 2) array of (x, y) numbers") from None
-    if pts.ndim != 2 or pts.shape[1] != 2:
-        raise InputError(f"{what}: expected an (N, 2) array of (x, y) points, got shape {pts.shape}")
-    if not np.isfinite(pts).all():
-        row = int(np.flatnonzero(~np.isfinite(pts).all(axis=1))[0])
-        raise InputError(f"{what}: row {row}: coordinates must be finite, got {pts[row].tolist()}")
-    if len(pts) < min_points:
-        raise InputError(f"{what}: need at least {min_points} point(s), got {len(pts)}")
-    return pts
+    return np.array(check_points(obj, what, min_points), dtype=float)
 
 
 def as_number(value, name, gt=None, ge=None, lt=None, le=None):

@@ -14,6 +14,7 @@ import numbers
 import numpy as np
 
 from stimuli.errors import InputError
+from stimuli.validate import check_points  # noqa: F401  (the one point-array check, re-exported)
 
 __all__ = ["check_points", "check_flag", "check_real", "check_int", "check_values", "check_scale", "check_area",
            "count_distinct_upto3", "MAX_COORDINATE", "MIN_EXTENT", "MIN_RELATIVE_EXTENT", "MIN_AREA_RATIO"]
@@ -32,43 +33,6 @@ MIN_RELATIVE_EXTENT = 1e-10
 #: (a circle encloses 1/(4 pi) = 0.08): below it, it is a line retracing itself and has
 #: no inside, so convex and concave (the sign of its curvature) are undefined.
 MIN_AREA_RATIO = 1e-12
-
-
-def check_points(points, what="points", min_points=1):
-    """An (N, 2) float array of finite ``(x, y)``, N >= `min_points`.
-
-    Accepts anything with a ``.points`` attribute (a `Contour`). Returns the
-    input itself when it already is a float64 array (no copy: callers that
-    keep or freeze the array must copy it).
-
-    Raises
-    ------
-    InputError
-        Naming `what`: not numbers, complex numbers, a shape other than
-        (N, 2), a non-finite coordinate (with its row), or too few points.
-    """
-    pts = getattr(points, "points", points)
-    try:
-        raw = np.asarray(pts)
-    except (TypeError, ValueError):  # ragged rows
-        raise InputError(f"{what}: expected an (N, 2) array of (x, y) numbers") from None
-    if raw.dtype.kind == "c":
-        raise InputError(f"{what}: coordinates must be real numbers, got complex values")
-    try:
-        p = np.asarray(raw, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{what}: expected an (N, 2) array of (x, y) numbers") from None
-    if p.ndim != 2 or p.shape[1] != 2:
-        raise InputError(f"{what}: expected an (N, 2) array of (x, y) points, got shape {p.shape}")
-    # a sum is finite only if every term is (an overflowing sum is checked term by term)
-    with np.errstate(over="ignore", invalid="ignore"):
-        total = p.sum()
-    if len(p) and not np.isfinite(total) and not np.isfinite(p).all():
-        row = int(np.flatnonzero(~np.isfinite(p).all(axis=1))[0])
-        raise InputError(f"{what}: row {row}: coordinates must be finite, got {p[row].tolist()}")
-    if len(p) < min_points:
-        raise InputError(f"{what}: need at least {min_points} point(s), got {len(p)}")
-    return p
 
 
 def check_flag(value, name):
