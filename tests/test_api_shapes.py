@@ -289,3 +289,15 @@ def test_user_facing_docstrings_have_parameters():
                 if "Parameters\n    ----------" not in (obj.__doc__ or ""):
                     missing.append(f"{pkg.__name__}.{name}")
     assert not missing, missing
+
+
+def test_guided_stimuli_find_no_extrema_on_a_circle_and_four_on_an_ellipse():
+    # a densely drawn circle's surprisal ripples by 1e-10 of its value: noise, not 64 extrema
+    from stimuli.shapes import guided
+
+    th = np.linspace(0, 2 * np.pi, 4000, endpoint=False)
+    circle = np.c_[200 + 50 * np.cos(th), 200 + 50 * np.sin(th)]
+    ellipse = np.c_[200 + 80 * np.cos(th), 200 + 40 * np.sin(th)]
+    for f in (guided.dots, guided.attneave_cat):
+        assert f(circle, k=4)[-1]["n_extrema"] == 0
+        assert f(ellipse, k=4)[-1]["n_extrema"] == 4

@@ -270,8 +270,12 @@ def _check_k(k, k_min, min_separation):
 
 def _extremum_prominence(res, prominence):
     # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
-    # sharpest corners; Attneave's points are every curvature extremum, ranked
-    return 1e-3 * float(np.ptp(res.surprisal)) if prominence is None else prominence
+    # sharpest corners; Attneave's points are every curvature extremum, ranked. Never below
+    # resampling noise: a circle has no extrema (its ripple of 1e-10 gave 64)
+    from stimuli.geometry.information import noise_prominence
+
+    own = 1e-3 * float(np.ptp(res.surprisal)) if prominence is None else prominence
+    return max(own, noise_prominence(res.params))
 
 
 def _choose(contour, k, which, k_min, min_separation, prominence, res):
