@@ -218,3 +218,18 @@ def test_superformula_overflow_raises_without_numpy_warnings():
             superformula(a=1e-300)
         c, _ = superformula()  # the ordinary case is untouched
     assert c.n == 1024
+
+
+def test_aliasing_and_blob_bounds_are_refused_when_the_config_is_read():
+    # the generators' own rules, found before any job runs (one line naming the key)
+    from stimuli.batch.params import SHAPES
+    from stimuli.shapes.generators import MAX_BLOB_SIGMA
+
+    for recipe, params, needle in (("radial_frequency", dict(frequency=[3, 8], amplitude=[0.1, 0.1], n=16),
+                                    "alias radial frequency 8"),
+                                   ("superformula", dict(m=1e6, n=1024), "alias superformula m"),
+                                   ("blob", dict(sigma=MAX_BLOB_SIGMA * 1.01), "less than or equal to 3")):
+        with pytest.raises(ValueError, match=needle):
+            SHAPES[recipe](**params)
+    SHAPES["blob"](sigma=MAX_BLOB_SIGMA)
+    SHAPES["radial_frequency"](frequency=8, amplitude=0.1, n=32)

@@ -110,6 +110,14 @@ def _one_or_list(item_type):
     return BeforeValidator(convert)
 
 
+def _check_sampling(n, cycles, what, param):
+    """The generators' rule (:func:`stimuli.shapes.generators.check_sampling`), when the config is read:
+    at least 4 of the `n` points per cycle, or the shape aliases."""
+    if n < 4 * cycles:
+        raise ValueError(f"n: {n} points alias {what} {cycles:g} (at least 4 points per cycle are needed, "
+                         f"n >= {4 * cycles:g}); raise n or lower {param}")
+
+
 class AttneavePolygonParams(ShapeParams):
     """Attneave & Arnoult (1956) Method 1; see :func:`stimuli.generators.attneave_polygon`."""
 
@@ -157,6 +165,7 @@ class RadialFrequencyParams(ShapeParams):
             raise ValueError(f"give one phase per frequency ({len(self.frequency)}), got {len(self.phase)}")
         if sum(self.amplitude) >= 1:
             raise ValueError(f"the amplitudes must sum to < 1 so the radius stays positive, got {sum(self.amplitude):g}")
+        _check_sampling(self.n, max(self.frequency), "radial frequency", "frequency")
         return self
 
 
@@ -190,12 +199,18 @@ class SuperformulaParams(ShapeParams):
     scale: float = Field(100.0, gt=0, allow_inf_nan=False)
     n: int = Field(1024, ge=8, le=1_000_000)
 
+    @model_validator(mode="after")
+    def _check(self):
+        _check_sampling(self.n, self.m, "superformula m", "m")
+        return self
+
 
 class BlobParams(ShapeParams):
     """Smooth random blob; see :func:`stimuli.generators.blob`."""
 
     r0: float = Field(100.0, gt=0, allow_inf_nan=False)
-    sigma: float = Field(0.2, ge=0, allow_inf_nan=False, description="RMS of the log-radius")
+    # the generator's bound (stimuli.shapes.generators.MAX_BLOB_SIGMA), checked when the config is read
+    sigma: float = Field(0.2, ge=0, le=3.0, allow_inf_nan=False, description="RMS of the log-radius")
     width: float = Field(0.6, gt=0, allow_inf_nan=False, description="correlation width in radians")
     n: int = Field(1024, ge=8, le=1_000_000)
 
