@@ -74,6 +74,8 @@ def as_number(value, name, gt=None, ge=None, lt=None, le=None):
     """
     try:
         v = float(value)
+    except OverflowError:  # an integer beyond the float range
+        raise InputError(f"{name}: must be a finite number, got {value!r}") from None
     except (TypeError, ValueError):
         raise InputError(f"{name}: must be a number, got {value!r}") from None
     if not np.isfinite(v):
@@ -104,7 +106,7 @@ def as_int(value, name, lo=None, hi=None):
     """
     try:
         v = int(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):  # OverflowError: an infinite float
         raise InputError(f"{name}: must be an integer, got {value!r}") from None
     if v != value:
         raise InputError(f"{name}: must be an integer, got {value!r}")

@@ -147,3 +147,14 @@ def test_good_arguments_still_work():
     nearest, _t, _d = Contour(SQ).project([5, -1])
     np.testing.assert_allclose(nearest, [[5, 0]])
     assert shoelace(SQ) == 100.0
+
+
+def test_numbers_beyond_the_float_range_are_input_errors():
+    # float(10**400) and int(inf) raise OverflowError, which escaped as a traceback
+    from stimuli.geometry._checks import check_int, check_real
+    from stimuli.validate import as_int, as_number
+
+    for f, v in ((check_real, 10**400), (as_number, 10**400), (check_int, float("inf")), (as_int, float("inf"))):
+        with pytest.raises(InputError, match="^x: must be"):
+            f(v, "x")
+    assert check_int(10**400, "x") == 10**400  # a whole number, however large

@@ -14,7 +14,7 @@ import numbers
 import numpy as np
 
 from stimuli.errors import InputError
-from stimuli.validate import check_points  # noqa: F401  (the one point-array check, re-exported)
+from stimuli.validate import as_int, as_number, check_points  # noqa: F401  (check_points re-exported)
 
 __all__ = ["check_points", "check_flag", "check_real", "check_int", "check_values", "check_scale", "check_area",
            "count_distinct_upto3", "MAX_COORDINATE", "MIN_EXTENT", "MIN_RELATIVE_EXTENT", "MIN_AREA_RATIO"]
@@ -43,42 +43,32 @@ def check_flag(value, name):
 
 
 def _scalar(value, name, kind):
+    """Refuse what ``float()`` or ``int()`` would take but is no number here: strings, bools,
+    None, arrays, complex values (the conversion and its bounds are :mod:`stimuli.validate`'s)."""
     if isinstance(value, (str, bytes, bool, np.bool_)) or value is None or np.ndim(value) != 0:
         raise InputError(f"{name}: must be {kind}, got {value!r}")
     if np.iscomplexobj(value):
         raise InputError(f"{name}: must be {kind}, got complex {value!r}")
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise InputError(f"{name}: must be {kind}, got {value!r}") from None
 
 
 def check_real(value, name, gt=None, ge=None):
-    """One finite real number (not a string, bool or array), optionally bounded below."""
-    v = _scalar(value, name, "a number")
-    if not np.isfinite(v):
-        raise InputError(f"{name}: must be a finite number, got {value!r}")
-    if gt is not None and not v > gt:
-        raise InputError(f"{name}: must be > {gt}, got {value!r}")
-    if ge is not None and not v >= ge:
-        raise InputError(f"{name}: must be >= {ge}, got {value!r}")
-    return v
+    """One finite real number (not a string, bool or array), optionally bounded below.
+
+    :func:`stimuli.validate.as_number` (its messages), after refusing what
+    ``float()`` would take but is no number here (``'1'``, ``True``).
+    """
+    _scalar(value, name, "a number")
+    return as_number(value, name, gt=gt, ge=ge)
 
 
 def check_int(value, name, lo=None, hi=None):
-    """One integer (an integral float such as ``10.0`` too; not 3.7, a string, bool or array)."""
-    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)):
-        v = int(value)
-    else:
-        f = _scalar(value, name, "an integer")
-        if not (np.isfinite(f) and f == int(f)):
-            raise InputError(f"{name}: must be an integer, got {value!r}")
-        v = int(f)
-    if lo is not None and v < lo:
-        raise InputError(f"{name}: must be >= {lo}, got {value!r}")
-    if hi is not None and v > hi:
-        raise InputError(f"{name}: must be <= {hi}, got {value!r}")
-    return v
+    """One integer (an integral float such as ``10.0`` too; not 3.7, a string, bool or array).
+
+    :func:`stimuli.validate.as_int` (its messages), after the same refusals as :func:`check_real`.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        _scalar(value, name, "an integer")
+    return as_int(value, name, lo=lo, hi=hi)
 
 
 def check_values(values, name, nan_ends=False):
