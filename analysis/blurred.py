@@ -12,6 +12,8 @@ import scipy.optimize
 import scipy.special
 import scipy.stats
 
+from analysis.choice import BETA_BOUND
+
 __all__ = ["blur_kernel", "fit_beta_blurred"]
 
 
@@ -72,7 +74,7 @@ def _blurred(beta, Z, logW):
     return logq, (r * (Z - E)[:, None, :]).sum(axis=2)
 
 
-def fit_beta_blurred(Z, C, sd_points, bound=20.0, level=0.95):
+def fit_beta_blurred(Z, C, sd_points, bound=BETA_BOUND, level=0.95):
     """ML beta of the choice model observed through localisation error.
 
     A click chosen at point j of stimulus s is observed at point k with

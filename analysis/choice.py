@@ -48,7 +48,13 @@ import numpy as np
 import scipy.optimize
 import scipy.stats
 
-__all__ = ["standardize", "point_index", "loglik", "fit_beta", "profile_ci", "fit_choice"]
+__all__ = ["BETA_BOUND", "standardize", "point_index", "loglik", "fit_beta", "profile_ci", "fit_choice"]
+
+#: The search bound of every fitted coefficient, pooled, per participant, per stimulus or joint:
+#: on standardised predictors, beta = 20 makes a point one sd above another e^20 times as likely
+#: to be clicked, which no finite set of clicks can tell from infinity (a fit there is flagged
+#: ``at_bound``, not estimated). One bound for all fits, so that summary.json never shows two.
+BETA_BOUND = 20.0
 
 
 def standardize(u, axis=-1, rtol=1e-9):
@@ -137,7 +143,7 @@ def loglik(beta, Z, A, M):
     return float(ll[0]) if scalar else ll
 
 
-def fit_beta(Z, A, M, bound=20.0, level=0.95, tol=1e-10, max_iter=200):
+def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
     """Maximum-likelihood beta of ``p(j) ∝ exp(beta * z_j)`` for one or many groups.
 
     Parameters
@@ -255,7 +261,7 @@ def fit_beta(Z, A, M, bound=20.0, level=0.95, tol=1e-10, max_iter=200):
     return out
 
 
-def profile_ci(Z, A, M, beta_hat, level=0.95, bound=20.0):
+def profile_ci(Z, A, M, beta_hat, level=0.95, bound=BETA_BOUND):
     """Profile-likelihood confidence interval of beta for one group.
 
     Solves ``l(beta) = l(beta_hat) - chi2_1(level) / 2`` on each side of the
@@ -279,7 +285,7 @@ def profile_ci(Z, A, M, beta_hat, level=0.95, bound=20.0):
     return (float(low), float(high))
 
 
-def _newton_choice(X, A, M, max_iter=100, tol=1e-10, bound=50.0):
+def _newton_choice(X, A, M, max_iter=100, tol=1e-10, bound=BETA_BOUND):
     """ML coefficients of the multi-predictor choice model by damped Newton steps.
 
     X (S, n, K), A (K,), M (S,) -> (beta (K,), loglik, info (K, K), converged).
@@ -324,7 +330,7 @@ def _newton_choice(X, A, M, max_iter=100, tol=1e-10, bound=50.0):
     return b, ll, C, converged
 
 
-def fit_choice(X, A, M, names=None, level=0.95, bound=50.0):
+def fit_choice(X, A, M, names=None, level=0.95, bound=BETA_BOUND):
     """Joint ML fit of the choice model with several predictors.
 
     ``p(j) ∝ exp(sum_k beta_k * x_sjk)`` over the n points of each stimulus
