@@ -28,7 +28,7 @@ import numpy as np
 from _machine import header
 
 from stimuli import Contour, InputError
-from stimuli.extraction.core import extract
+from stimuli.extraction import extract
 from stimuli.geometry.information import surprisal
 from stimuli.shapes import guided
 from stimuli.shapes.selection import rank_candidates, select_separated
