@@ -112,3 +112,35 @@ def test_glac_domain():
         glac(0.5, 1.0, -1.5)
     with pytest.raises(InputError, match="leaves the domain"):
         glac(1.0, -1.0, 0.5, 0.0, 5.0)
+
+
+@pytest.mark.parametrize("alpha", [0.985, 0.999, 1 - 1e-9, 1 + 1e-6, 1.005])
+@pytest.mark.parametrize("lam", [0.8, -0.35, 40.0])
+def test_alpha_near_one_agrees_with_quadrature(alpha, lam):
+    # the panel quadrature that replaces the incomplete gammas near alpha = 1 (their
+    # cancellation needs thousands of digits there), against mpmath's own quadrature
+    s = np.array([0.05, 0.6, 1.4])
+    s = s[lam * alpha * s + 1 > 0.05]
+    z = lac_position(s, alpha, lam)
+    for u, zu in zip(s, z):
+        assert abs(zu - quad_position(float(u), alpha, lam)) <= 1e-12
+
+
+def test_alpha_near_one_tends_to_the_logarithmic_spiral_near_its_pole():
+    # alpha -> 1: the elementary log spiral (rho = 1 + lam s), including arc lengths within
+    # 1e-12 of the pole rho = 0, where the curve winds ever tighter
+    lam = 2.0
+    s = np.r_[np.linspace(-0.5 * (1 - 1e-12), 0.0, 50), np.linspace(0.01, 3.0, 50)]
+    spiral = lac_position(s, 1.0, lam)
+    for eps in (1e-6, -1e-6):
+        near = lac_position(s / (1 + eps) if eps > 0 else s, 1 + eps, lam)
+        assert np.max(np.abs(near - spiral)) < 1e-4
+
+
+def test_alpha_near_one_is_fast():
+    import time
+
+    t = time.perf_counter()
+    cv = log_aesthetic(0.999, 1.0, 0.0, 1.0, 201)
+    assert time.perf_counter() - t < 1.0  # the incomplete-gamma form took 19 s here
+    assert np.all(np.isfinite(cv.x)) and abs(cv.s[-1] - np.sum(np.hypot(np.diff(cv.x), np.diff(cv.y)))) < 1e-4

@@ -27,6 +27,17 @@ circle. This is the paper's result written for the arc-length form of eq. 9
 ``rho(psi) = ((alpha - 1) lam psi + 1)**(1/(alpha - 1))``); the special
 cases are derived here in the same way.
 
+Near alpha = 1 the closed form is exact but costly: ``b = alpha/(alpha - 1)``
+is large and the two incomplete gammas, of size about ``Gamma(b)``, cancel
+to thousands of digits (alpha = 0.999 took 19 s for 201 points, and
+alpha = 1 + 1e-6 was refused). For ``|alpha - 1| <`` :data:`NEAR_ONE` the
+position is instead the integral of ``exp(i theta)`` of the closed-form
+tangent angle by 16-point Gauss-Legendre on panels over which theta turns
+by at most 0.5 rad and rho changes by at most a factor of 2
+(:func:`_panel_quadrature`): within 4e-16 of the closed form on every case
+compared (alpha 0.985-1.05, lam -3 to 100, arc lengths to within 1e-14 of
+the pole), in about 1 ms.
+
 References
 ----------
 .. [1] R. Ziatdinov, N. Yoshida and T. Kim, "Analytic parametric equations
@@ -50,6 +61,9 @@ _DPS = 30  # mpmath digits: the difference of two incomplete gammas may cancel
 _MAX_EXTRA_DPS = 3000  # digits beyond _DPS the closed form may need (a few ms per value)
 _MAX_ANCHORS = 64  # closed-form evaluations per call (about 1-5 ms each)
 _GL_T, _GL_W = np.polynomial.legendre.leggauss(16)
+#: Below this |alpha - 1| positions are integrated on panels (see the module notes).
+NEAR_ONE = 0.02
+_MAX_PANELS = 2_000_000
 # alpha = 0 with |lam| below this: the E1 form in mpmath (double precision
 # loses about 1e-16/|lam| to the phase 1/lam, measured: 1e-14 at lam = 1e-2,
 # 8e-11 at 1e-6, and every digit below lam = 1e-16)
@@ -164,8 +178,13 @@ def lac_position(s, alpha, lam):
         # rho = 1 + lam s: z = int (1 + lam u)**(i/lam) du
         e = 1.0 + 1j / lam
         return np.expm1(e * np.log1p(lam * s)) / (lam * e)
-    closed = _nielsen_mp if alpha == 0 else _gamma_form
     flat = s.ravel()
+    if abs(alpha - 1.0) < NEAR_ONE:
+        z = _panel_quadrature(flat, alpha, lam)
+        if z is not None:
+            return z.reshape(s.shape)
+    closed = _nielsen_mp if alpha == 0 else _gamma_form
+
     if flat.size <= _MAX_ANCHORS:
         return closed(flat, alpha, lam).reshape(s.shape)
     # a dense grid: the closed form at every k-th arc length (anchors) and,
@@ -184,6 +203,40 @@ def lac_position(s, alpha, lam):
     out = np.empty(flat.size, dtype=complex)
     out[order] = z
     return out.reshape(s.shape)
+
+
+def _panel_quadrature(s, alpha, lam):
+    """``int_0^s exp(i theta(u)) du`` at the 1-D arc lengths `s` by 16-point
+    Gauss-Legendre on panels between them and 0, split until theta turns by
+    at most 0.5 rad and rho changes by at most a factor of 2 on each (so the
+    integrand is a slow, nearly uniform rotation: exact to rounding); None
+    when that takes more than ``_MAX_PANELS`` panels."""
+    edges = np.unique(np.r_[s, 0.0])
+    sign = np.sign(lam)
+
+    def progress(u):  # increasing in u (theta' = kappa > 0; ln rho is monotone, as lam's sign)
+        return 2.0 * lac_theta(u, alpha, lam) + sign * log_rho(u, alpha, lam) / np.log(2.0)
+
+    for _ in range(60):
+        with np.errstate(all="ignore"):
+            step = np.diff(progress(edges))
+        parts = np.where(np.isfinite(step), np.ceil(np.abs(step)), 4).astype(np.int64)
+        parts = np.maximum(parts, 1)
+        if parts.max() == 1:
+            break
+        if parts.sum() > _MAX_PANELS:
+            return None
+        # each panel cut into `parts` equal ones
+        which = np.repeat(np.arange(edges.size - 1), parts)
+        k = np.arange(which.size) - (np.cumsum(parts) - parts)[which]
+        edges = np.r_[edges[which] + (edges[which + 1] - edges[which]) * k / parts[which], edges[-1]]
+    else:
+        return None
+    half = 0.5 * np.diff(edges)
+    q = (edges[:-1] + half)[:, None] + half[:, None] * _GL_T[None, :]
+    with np.errstate(all="ignore"):
+        z = np.r_[0.0, np.cumsum((np.exp(1j * lac_theta(q, alpha, lam)) @ _GL_W) * half)]
+    return z[np.searchsorted(edges, s)] - z[np.searchsorted(edges, 0.0)]
 
 
 def _gamma_form(s, alpha, lam):
