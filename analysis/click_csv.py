@@ -33,7 +33,8 @@ import numpy as np
 from stimuli.errors import InputError
 from stimuli.io import MAX_TEXT_BYTES, check_regular_file
 
-__all__ = ["SEPARATORS", "read_tolerant_csv", "sniff_separator", "sniff_decimal", "to_decimal_point"]
+__all__ = ["SEPARATORS", "read_tolerant_csv", "repeated_header", "sniff_separator", "sniff_decimal",
+           "to_decimal_point"]
 
 #: Separators recognised in a header line, by name for messages.
 SEPARATORS = {",": "','", ";": "';'", "\t": "tab", "|": "'|'"}
@@ -327,3 +328,28 @@ def _read_fast(raw, sep, names, header):
     if white.any():
         df, keep, errors = df.loc[~white].reset_index(drop=True), keep[~white], errors[~white]
     return df, keep + 1, errors
+
+
+def repeated_header(df):
+    """Rows whose every field is the header's name of its column (stripped; a byte-order mark ignored).
+
+    Such a line is the header of a file that was appended to another, as
+    ``cat`` or a copy and paste of several participants' files writes it.
+    """
+    names = list(df.columns)
+    out = np.zeros(len(df), bool)
+    if not names or not len(df):
+        return out
+
+    def same(values, name):
+        v = values.str.strip().str.lstrip("\ufeff").str.strip()
+        # an empty name in the header was read as 'Unnamed: i'
+        return ((v == name) | ((v == "") & name.startswith("Unnamed: "))).to_numpy(dtype=bool)
+
+    idx = np.flatnonzero(same(df[names[0]], names[0]))  # candidates by the first column, then the others
+    for name in names[1:]:
+        if not len(idx):
+            break
+        idx = idx[same(df[name].iloc[idx], name)]
+    out[idx] = True
+    return out

@@ -68,6 +68,8 @@ __all__ = [
     "parse_columns",
     "read_clicks",
     "malformed_rows",
+    "repeated_header_rows",
+    "REPEATED_HEADER",
     "parse_coordinates",
     "to_image_coords",
     "from_image_coords",
@@ -83,6 +85,8 @@ MAX_COORDINATE = 1e12
 SCALE_RANGE = (1e-6, 1e6)
 #: Units relative to the window, which need the window's size in pixels.
 WINDOW_UNITS = ("height", "norm")
+#: ``row_error`` of a line that repeats the header (files joined together); excluded as repeated_header.
+REPEATED_HEADER = "the header line again (files joined together?): not a click"
 # spellings of "no value" that spreadsheets and R/pandas write
 MISSING_TOKENS = frozenset({"", "nan", "na", "n/a", "null", "none", "<na>"})
 
@@ -149,6 +153,10 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     missing coordinate; lists of unequal lengths are left as written and
     excluded with reason ``coordinate_list``.
 
+    Several files joined into one (``cat P01.csv P02.csv``) repeat the header
+    line: such a line is kept, with ``row_error`` saying so, and analysis
+    excludes it with reason ``repeated_header``.
+
     Parameters
     ----------
     path : str or Path
@@ -192,7 +200,7 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     >>> read_clicks(f)[["participant", "x", "y"]].values.tolist()
     [['P1', '12.5', '40']]
     """
-    from .click_csv import read_tolerant_csv, sniff_decimal, to_decimal_point
+    from .click_csv import read_tolerant_csv, repeated_header, sniff_decimal, to_decimal_point
 
     path = Path(path)
     mapping = parse_columns(columns)
@@ -200,6 +208,10 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
         raise InputError(f"--decimal: expected '.' or ',', got {decimal!r}")
     df, lines, row_error, _ = read_tolerant_csv(path, sep=sep, what="a CSV click file",
                                                 empty=f"expected a header with {', '.join(CANONICAL)}")
+    # files joined one after another (cat P01.csv P02.csv) repeat the header: such a line is no click;
+    # it is kept and flagged (analysis excludes it as repeated_header), not mistaken for a click with
+    # non-numeric coordinates
+    row_error = np.where(repeated_header(df), REPEATED_HEADER, np.asarray(row_error, dtype=object))
     absent = [f"{v} (for {k})" for k, v in mapping.items() if v not in df.columns]
     if absent:
         raise InputError(f"{path}: --columns names column(s) not in the file: {', '.join(absent)}; "
@@ -358,10 +370,19 @@ def malformed_rows(clicks):
     """Rows that :func:`read_clicks` found malformed (wrong field count), as a bool array.
 
     Frames built otherwise (e.g. simulated clicks) have no malformed rows.
+    A repeated header line is not counted here (:func:`repeated_header_rows`).
     """
     if "row_error" not in clicks.columns:
         return np.zeros(len(clicks), bool)
-    return (clicks["row_error"].astype(str) != "").to_numpy()
+    err = clicks["row_error"].astype(str)
+    return ((err != "") & (err != REPEATED_HEADER)).to_numpy()
+
+
+def repeated_header_rows(clicks):
+    """Rows that :func:`read_clicks` found to repeat the file's header line, as a bool array."""
+    if "row_error" not in clicks.columns:
+        return np.zeros(len(clicks), bool)
+    return (clicks["row_error"].astype(str) == REPEATED_HEADER).to_numpy()
 
 
 def parse_window_size(spec):

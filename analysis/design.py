@@ -71,7 +71,9 @@ def design(mapped, predictions, ids):
     used = ~mapped["excluded"].to_numpy()
     sindex = {s: i for i, s in enumerate(ids)}
     part_all = mapped["participant"].to_numpy(dtype=object)
-    participants = sorted(set(pd.unique(part_all)) - {""})
+    # a header line repeated inside the file holds the column's name, not a participant
+    header = (mapped["reason"] == "repeated_header").to_numpy() if "reason" in mapped.columns else False
+    participants = sorted(set(pd.unique(part_all[~header])) - {""})
     S, G = len(ids), len(participants)
     sidx = mapped["stimulus_id"].map(sindex).to_numpy()[used].astype(np.int64)
     pidx = pd.Categorical(part_all[used], categories=participants).codes.astype(np.int64)

@@ -12,6 +12,7 @@ p-value from the few left would mislead).
 
 from __future__ import annotations
 
+from pathlib import Path
 
 from stimuli.tables import shorten
 
@@ -25,6 +26,7 @@ _HINTS = {
     "far_from_contour": "check --coords, --scale and --window-size, or --tolerance",
     "unknown_stimulus": "stimulus values must name a stimulus id, image file name or image path of the set",
     "non_numeric_coordinate": "check the decimal mark (--decimal) and separator (--sep)",
+    "repeated_header": "header lines inside the file, as when files are joined together; not clicks",
     "malformed_row": "rows whose field count differs from the header's; see row_error in clicks.csv",
     "coordinate_list": "x and y lists of different lengths",
 }
@@ -55,8 +57,11 @@ def match_stimulus_ids(values, stimset):
         equal the end of exactly one stimulus's image path; the longest such
         match wins, so ``a/rf.png`` and ``b/rf.png`` are told apart by their
         folder), ``'file_stem'`` (the value's file name without extension is
-        an id, for sets without images) or ``''`` (no match, or a file name
-        shared by several images with nothing to tell them apart).
+        an id, for sets without images), ``'case'`` (one of these, found
+        only when letter case is ignored and then by exactly one stimulus: a
+        path typed on Windows, ``C:\\Exp\\RF_003.PNG``, names the file
+        ``rf_003.png`` there) or ``''`` (no match, or a file name shared by
+        several images with nothing to tell them apart).
 
     Examples
     --------
@@ -65,10 +70,10 @@ def match_stimulus_ids(values, stimset):
     >>> th = np.linspace(0, 2 * np.pi, 32, endpoint=False)
     >>> d = tempfile.mkdtemp()
     >>> _ = write_stimulus_set(d, {"rf_003": np.c_[50 + 20 * np.cos(th), 50 + 20 * np.sin(th)]}, size=(100, 100))
-    >>> ids, how = match_stimulus_ids(["rf_003", "rf_003.png", "C:\\\\exp\\\\rf_003.png", "other.png"],
+    >>> ids, how = match_stimulus_ids(["rf_003", "rf_003.png", "C:\\\\exp\\\\rf_003.png", "other.png", "RF_003"],
     ...                               read_stimulus_set(d))
     >>> ids.tolist(), how.tolist()
-    (['rf_003', 'rf_003', 'rf_003', 'other.png'], ['id', 'image', 'image', ''])
+    (['rf_003', 'rf_003', 'rf_003', 'other.png', 'rf_003'], ['id', 'image', 'image', '', 'case'])
     """
     import pandas as pd
 
@@ -81,10 +86,24 @@ def match_stimulus_ids(values, stimset):
             parts = _parts(img.strip())
             if parts:
                 images.setdefault(parts[-1], []).append((parts, sid))
+    # the same tables with letter case folded, for values that match nothing as written; an id that
+    # differs from another only by case is left out (it would name either)
+    folded = {}
+    for sid in ids:
+        folded.setdefault(sid.casefold(), []).append(sid)
+    folded_ids = {k: v[0] for k, v in folded.items() if len(v) == 1}
+    folded_images = {}
+    for name, entries in images.items():
+        folded_images.setdefault(name.casefold(), []).extend(([q.casefold() for q in parts], sid)
+                                                             for parts, sid in entries)
     vals = pd.Series(values, dtype=object).fillna("").astype(str).str.strip()
     table = {}
     for v in pd.unique(vals):  # few distinct values: a dictionary lookup per click
         table[v] = _match_one(v, known, images)
+        if table[v][1] == "":
+            sid, how = _match_one(v.casefold(), folded_ids, folded_images)
+            if how:
+                table[v] = (folded_ids.get(sid, sid) if how != "image" else sid), "case"
     out = vals.map(lambda v: table[v][0]).to_numpy(dtype=object)
     how = vals.map(lambda v: table[v][1]).to_numpy(dtype=object)
     return out, how
@@ -127,7 +146,7 @@ def resolve_stimulus_ids(clicks, stimset):
         matches nothing).
     """
     ids, how = match_stimulus_ids(clicks["stimulus_id"].to_numpy(dtype=object), stimset)
-    changed = (how == "image") | (how == "file_stem")
+    changed = (how == "image") | (how == "file_stem") | (how == "case")
     if not changed.any():
         return clicks
     out = clicks.copy()
@@ -166,6 +185,14 @@ def exclusion_report(table, threshold=WARN_FRACTION, examples=3):
     >>> exclusion_report(t)
     '75% of the clicks (3 of 4) were excluded: outside_image 3 (check --coords, --scale and --window-size)'
     """
+    from analysis.mapping import NOT_CLICKS
+
+    # a repeated header or a row of separators only is no click: the share is of the clicks
+    not_click = table["reason"].isin(NOT_CLICKS)
+    if len(table) and not_click.all():
+        counts = table["reason"].value_counts()
+        return "no row is a click: " + ", ".join(f"{r} {int(c)}" for r, c in counts.items())
+    table = table[~not_click]
     n = len(table)
     excluded = table["excluded"].to_numpy(dtype=bool)
     k = int(excluded.sum())
@@ -179,8 +206,12 @@ def exclusion_report(table, threshold=WARN_FRACTION, examples=3):
             vals = table.loc[table["reason"] == reason, "stimulus_id"].astype(str).unique()[:examples]
             detail.append("e.g. " + ", ".join(shorten(v) for v in vals))
         elif reason == "malformed_row":
-            lines = table.loc[table["reason"] == reason, "line"].to_numpy()[:examples]
-            detail.append("line(s) " + ", ".join(str(int(v)) for v in lines))
+            rows = table.loc[table["reason"] == reason].head(examples)
+            if "source_file" in rows.columns:  # several files: each line with its file's name
+                where = [f"{Path(f).name}:{int(v)}" for f, v in zip(rows["source_file"], rows["line"])]
+            else:
+                where = [str(int(v)) for v in rows["line"]]
+            detail.append("line(s) " + ", ".join(where))
         parts.append(f"{reason} {int(count)}" + (f" ({'; '.join(detail)})" if detail else ""))
     more = len(counts) - 3
     return (f"{100 * k / n:.0f}% of the clicks ({k} of {n}) were excluded: " + ", ".join(parts)

@@ -14,6 +14,12 @@ Exclusion
 No row is dropped. A row is excluded, with the first reason that applies,
 in this order:
 
+``repeated_header``
+    The row repeats the file's header line (several files joined into one;
+    see :func:`analysis.clicks.read_clicks`): no click.
+``empty_row``
+    Every field of the row is empty (a spreadsheet's row of separators
+    only, ``;;;;``): no click.
 ``malformed_row``
     The row's field count differs from the header's (see
     :func:`analysis.clicks.read_clicks`; ``row_error`` says how).
@@ -54,7 +60,7 @@ from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
 from .argnames import arg
-from .clicks import malformed_rows, parse_coordinates, to_image_coords
+from .clicks import malformed_rows, parse_coordinates, repeated_header_rows, to_image_coords
 from .choice import point_index, standardize
 from .circular import midrank_percentile
 from .predictors import RIVALS, rival_values
@@ -71,6 +77,8 @@ __all__ = [
 ]
 
 REASONS = (
+    "repeated_header",
+    "empty_row",
     "malformed_row",
     "missing_coordinate",
     "non_numeric_coordinate",
@@ -81,6 +89,8 @@ REASONS = (
     "outside_image",
     "far_from_contour",
 )
+#: Reasons of rows that are no clicks (not counted in the share of excluded clicks that is reported).
+NOT_CLICKS = ("repeated_header", "empty_row")
 DEFAULT_TOLERANCE_FRACTION = 0.05
 #: Predictors known for every stimulus: the tested surprisal and its rivals (:mod:`analysis.predictors`).
 PREDICTORS = ("surprisal",) + RIVALS
@@ -236,6 +246,17 @@ def _number(name, value):
     raise InputError(f"{arg(name)} must be a finite number, got {value!r}")
 
 
+def _empty_rows(df, px, py):
+    """Rows whose every field is empty (only x and y missing are checked first: few rows are)."""
+    rows = np.flatnonzero((px == "missing_coordinate") & (py == "missing_coordinate"))
+    out = np.zeros(len(df), bool)
+    if len(rows):
+        added = ("line", "row_error", "list_index", "source_file")  # what the readers add
+        data = df.iloc[rows][[c for c in df.columns if c not in added]].astype(str)
+        out[rows] = (data.apply(lambda c: c.str.strip()) == "").all(axis=1).to_numpy()
+    return out
+
+
 def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     """Map every click to its stimulus's contour and flag the ones to exclude.
 
@@ -290,6 +311,8 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     y, py = _parse(df["y"])
     reason = np.where(px != "", px, py).astype(object)
     reason[malformed_rows(df)] = "malformed_row"
+    reason[_empty_rows(df, px, py)] = "empty_row"
+    reason[repeated_header_rows(df)] = "repeated_header"
     sid = _ids(df["stimulus_id"])
     part = _ids(df["participant"])
     df["stimulus_id"], df["participant"] = sid, part
