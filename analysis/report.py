@@ -140,7 +140,7 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
     from stimuli.tables import write_table
 
     out = Path(out)
-    check_output_dir(out, force, (inputs or {}).values())
+    check_output_dir(out, force, [p for v in (inputs or {}).values() for p in (v if isinstance(v, list) else [v])])
     tmp = temporary_directory(out)
     try:
         write_table(analysis.clicks, tmp / "clicks.csv")
@@ -153,7 +153,7 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
         if not summary["r_export"]["choices_csv"]:
             summary["warnings"] = summary.get("warnings", []) + [summary["r_export"]["note"]]
         if inputs:
-            summary["inputs"] = {k: str(v) for k, v in inputs.items()}
+            summary["inputs"] = {k: [str(p) for p in v] if isinstance(v, list) else str(v) for k, v in inputs.items()}
         images = []
         if figures:
             from . import plots

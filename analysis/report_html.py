@@ -81,6 +81,14 @@ def _pct(v):
     return "n/a" if v is None else f"{100 * v:.1f}%"
 
 
+def _files(v):
+    """The click file(s) as given: one path, or the first few of a list and how many in all."""
+    if not isinstance(v, list):
+        return str(v)
+    shown = ", ".join(str(p) for p in v[:3])
+    return shown + (f" and {len(v) - 3} more ({len(v)} files)" if len(v) > 3 else "")
+
+
 def _table(header, rows, cls=""):
     esc = html.escape
     head = "".join(f"<th>{esc(h)}</th>" for h in header)
@@ -193,7 +201,7 @@ figcaption {{ font-size: 90%; }} .warn {{ color: #a00; }} code {{ font-size: 90%
 .scroll {{ max-height: 40em; overflow-y: auto; }}
 </style></head><body>
 <h1>Clicks against predicted information along contours</h1>
-<p>attneave {esc(str(s.get('version')))}, run {esc(str(s.get('date')))}; clicks: <code>{esc(str((s.get('inputs') or {}).get('clicks', 'n/a')))}</code>,
+<p>attneave {esc(str(s.get('version')))}, run {esc(str(s.get('date')))}; clicks: <code>{esc(_files((s.get('inputs') or {}).get('clicks', 'n/a')))}</code>,
 stimuli: <code>{esc(str((s.get('inputs') or {}).get('stimuli', 'n/a')))}</code>.</p>
 {warn}
 <h2>Method</h2>

@@ -20,7 +20,9 @@ def add_parser(sub):
             "complete or not at all."
         ),
     )
-    p.add_argument("clicks", metavar="CLICKS.csv")
+    p.add_argument("clicks", metavar="CLICKS.csv", nargs="+",
+                   help="click file(s), e.g. one per participant as the experiment writes them (attneave_*.csv); "
+                        "read one by one and pooled, with a column source_file in clicks.csv")
     p.add_argument("--stimuli", required=True, metavar="DIR", help="stimulus-set directory (manifest.csv)")
     p.add_argument("-o", "--output", required=True, metavar="OUT",
                    help="output directory (new or empty; an earlier analysis is replaced with --force); it may not be an input, hold an input "
@@ -77,7 +79,8 @@ def run(args):
     import sys
 
     from analysis.analyze import analyze
-    from analysis.clicks import WINDOW_UNITS, parse_window_size, read_clicks, window_units_to_pixels
+    from analysis.click_files import participants_in_several_files, read_click_files
+    from analysis.clicks import WINDOW_UNITS, parse_window_size, window_units_to_pixels
     from analysis.exclusions import exclusion_report, resolve_stimulus_ids
     from analysis.report import check_output_dir, write_analysis
     from stimuli.errors import InputError
@@ -85,8 +88,8 @@ def run(args):
 
     # everything that can be wrong with the inputs is found before anything is written; first that
     # OUT (replaced whole) is neither an input, nor holds one, nor is the working directory
-    check_output_dir(args.output, args.force, (args.clicks, args.stimuli))
-    clicks = read_clicks(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
+    check_output_dir(args.output, args.force, (*args.clicks, args.stimuli))
+    clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
     window, coords = parse_window_size(args.window_size), args.coords
     if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
         clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
@@ -105,11 +108,12 @@ def run(args):
         print(f"attneave analyze: error: no usable click, nothing analysed or written: {why}", file=sys.stderr)
         return 1
     res.summary["params"].update(coords=args.coords, window_size=list(window) if window else None)
-    warning = exclusion_report(res.clicks)
-    if warning:
-        res.summary["warnings"].append(warning)
+    for warning in (exclusion_report(res.clicks), participants_in_several_files(clicks)):
+        if warning:
+            res.summary["warnings"].append(warning)
+    click_files = args.clicks[0] if len(args.clicks) == 1 else list(args.clicks)
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
-                   inputs=dict(clicks=args.clicks, stimuli=args.stimuli))
+                   inputs=dict(clicks=click_files, stimuli=args.stimuli))
     from analysis.report_html import t_text
 
     s = res.summary

@@ -1,0 +1,139 @@
+"""Several click files read as one table.
+
+The browser experiment and the PsychoPy script write one CSV per
+participant (``attneave_P01.csv``, ...), so ``attneave analyze`` takes
+them all at once: each is read by :func:`analysis.clicks.read_clicks` on
+its own (its own separator and decimal mark, its own line numbers) and the
+rows are stacked, with a column ``source_file`` naming the file each came
+from. Nothing is merged silently: the same file given twice, or two files
+holding the same bytes (a download and the copy that was POSTed), are
+refused, and a participant id found in several files is reported (its
+clicks are pooled, as for one participant's two sessions).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+from stimuli.errors import InputError
+
+__all__ = ["SOURCE", "read_click_files", "participants_in_several_files"]
+
+#: The column naming the file a row came from (only when several files are read).
+SOURCE = "source_file"
+
+
+def _digest(path):
+    """SHA-256 of a file's bytes, or None when it cannot be read (read_clicks then names the problem)."""
+    try:
+        h = hashlib.sha256()
+        with open(path, "rb") as f:
+            for block in iter(lambda: f.read(1 << 20), b""):
+                h.update(block)
+        return h.hexdigest()
+    except OSError:
+        return None
+
+
+def read_click_files(paths, columns=None, sep=None, decimal=None):
+    """Read one or several click files into one table.
+
+    Parameters
+    ----------
+    paths : str, Path or sequence of them
+        Click files (CSV), e.g. one per participant.
+    columns, sep, decimal
+        As for :func:`analysis.clicks.read_clicks`, applied to every file
+        (the separator and decimal mark are found per file when not given).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One file: exactly :func:`~analysis.clicks.read_clicks`'s table.
+        Several: their rows in the order of `paths`, with a column
+        :data:`SOURCE` (the path as given) after ``line`` (each file's own
+        line numbers); a column a file lacks (another file's extra columns)
+        is empty text on its rows. A file's own column named ``source_file``
+        is kept as ``input_source_file``.
+
+    Raises
+    ------
+    InputError
+        A file that read_clicks refuses (the message names it), the same
+        file given twice, or two files with identical contents.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (d / "P01.csv").write_text("participant,stimulus_id,x,y\\nP01,rf_003,12.5,40\\n")
+    >>> _ = (d / "P02.csv").write_text("participant;stimulus_id;x;y\\nP02;rf_003;30,5;41\\n")
+    >>> t = read_click_files([d / "P01.csv", d / "P02.csv"])
+    >>> t[["line", "participant", "x"]].values.tolist()
+    [[2, 'P01', '12.5'], [2, 'P02', '30.5']]
+    >>> [pathlib.Path(v).name for v in t["source_file"]]
+    ['P01.csv', 'P02.csv']
+    """
+    import pandas as pd
+
+    from analysis.clicks import read_clicks
+
+    if isinstance(paths, (str, Path)):
+        paths = [paths]
+    paths = list(paths)
+    if not paths:
+        raise InputError("no click file given")
+    if len(paths) == 1:
+        return read_clicks(paths[0], columns=columns, sep=sep, decimal=decimal)
+    seen, contents = {}, {}
+    for p in paths:
+        key = Path(p).resolve()
+        if key in seen:
+            raise InputError(f"{p}: given twice (as {seen[key]} too); give each click file once")
+        seen[key] = p
+        digest = _digest(p)
+        if digest is not None and digest in contents:
+            raise InputError(f"{p}: the same contents as {contents[digest]} (a file saved twice?); its clicks "
+                             f"would count twice: give it once")
+        if digest is not None:
+            contents[digest] = p
+    tables = []
+    for p in paths:
+        t = read_clicks(p, columns=columns, sep=sep, decimal=decimal)
+        if SOURCE in t.columns:
+            t = t.rename(columns={SOURCE: f"input_{SOURCE}"})
+        t.insert(1, SOURCE, str(p))
+        tables.append(t)
+    out = pd.concat(tables, ignore_index=True, sort=False)
+    for c in out.columns:
+        if c == "list_index":  # -1: a row that held no list (read_clicks's convention)
+            out[c] = out[c].fillna(-1).astype("Int64")
+        elif c != "line" and out[c].isna().any():
+            out[c] = out[c].astype(object).where(out[c].notna(), "")
+    return out
+
+
+def participants_in_several_files(clicks):
+    """A warning naming participant ids found in more than one file ('' if none).
+
+    Parameters
+    ----------
+    clicks : pandas.DataFrame
+        :func:`read_click_files`'s table (without a :data:`SOURCE` column
+        there is one file and nothing to report).
+    """
+    from analysis.clicks import repeated_header_rows
+
+    if SOURCE not in clicks.columns or "participant" not in clicks.columns:
+        return ""
+    part = clicks["participant"].astype(str).str.strip()
+    keep = (part != "").to_numpy() & ~repeated_header_rows(clicks)  # a repeated header names no one
+    files = clicks.loc[keep, SOURCE].groupby(part[keep]).nunique()
+    shared = files[files > 1]
+    if shared.empty:
+        return ""
+    names = ", ".join(f"{k} ({v} files)" for k, v in list(shared.items())[:5])
+    more = f" and {len(shared) - 5} more" if len(shared) > 5 else ""
+    return (f"participant id(s) found in several click files, whose clicks are pooled as one participant's: "
+            f"{names}{more}; if they are different people, give them different ids")
