@@ -314,3 +314,57 @@ def test_bad_url_parameters_stop_with_a_message(browser, setup, query, message):
     assert message in page.inner_text("#screen")
     assert page.is_hidden("#next")
     page.close()
+
+
+def _one_trial(page, shapes):
+    """Click the three targets of the trial shown and press Next; returns its stimulus id."""
+    page.wait_for_selector("#frame:not([hidden]) #stimulus[data-stimulus-id]")
+    sid = page.get_attribute("#stimulus", "data-stimulus-id")
+    for p in _targets(shapes, sid):
+        x, y, _, _ = _client(page, p)
+        page.mouse.click(x, y)
+    page.click("#next")
+    return sid
+
+
+def test_a_reload_resumes_where_the_participant_was_and_keeps_every_click(browser, setup, tmp_path):
+    # a participant reloads (or closes and reopens) the page after two of four trials: the two trials'
+    # clicks are kept, the page resumes with the third, and the file holds all four trials once, in the
+    # seeded order; leaving while trials are under way asks the browser's "leave site?" question
+    participant = "R01"
+    context = browser.new_context(viewport={"width": 1280, "height": 800})
+    page = context.new_page()
+    asked = []
+    page.on("dialog", lambda d: (asked.append(d.type), d.accept()))
+    page.goto(_url(setup["exp"], participant=participant))
+    page.click("#next")  # instructions
+    first = [_one_trial(page, setup["shapes"]) for _ in range(2)]
+    page.wait_for_selector("#screen:not([hidden])[data-screen=break]")
+    before = page.evaluate("window.attneaveData")
+    page.reload()
+    assert asked == ["beforeunload"]
+    page.wait_for_selector("#screen:not([hidden])[data-screen=resume]")
+    assert "2 of 4" in page.inner_text("#screen")
+    page.click("#next")
+    rest = _run(page, setup["shapes"])
+    text = _csv(page, tmp_path / "clicks.csv")
+    lst = order.participant_list(participant, 2, "test")
+    assert first + [s for s, *_ in rest] == _expected_order(setup, participant, lst)
+    rows = page.evaluate("window.attneaveData")
+    assert rows[:6] == before and len(rows) == 12
+    df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
+    assert df.trial.astype(int).tolist() == [t for t in range(1, 5) for _ in range(3)]
+    assert df.stimulus_id.tolist()[::3] == first + [s for s, *_ in rest]
+
+    # finished: opening the page again shows the end with the same file, and asks nothing on leaving
+    page.reload()
+    page.wait_for_selector("#download")
+    assert _csv(page, tmp_path / "again.csv") == text and asked == ["beforeunload"]
+    # ?fresh=1 starts again; another participant in the same browser never sees R01's progress
+    page.goto(_url(setup["exp"], participant=participant, fresh=1))
+    assert page.get_attribute("#screen", "data-screen") == "instructions"
+    page.goto(_url(setup["exp"], participant="R02"))
+    assert page.get_attribute("#screen", "data-screen") == "instructions"
+    context.close()
+    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    assert summary["n_excluded"] == 0 and summary["n_clicks"] == 12

@@ -9,6 +9,7 @@
  *     ?px_per_mm=F      CSS px per mm: skips the card calibration
  *     ?px_per_deg=F     CSS px per degree: skips the calibration and the viewing distance
  *     ?distance_cm=F    viewing distance used with px_per_mm or the calibration
+ *     ?fresh=1          forget this participant's saved progress and start again
  *   Elements
  *     #next             advances every screen before, between and after trials, and ends
  *                       a trial once its clicks are in (disabled until then). Space = #next.
@@ -18,7 +19,7 @@
  *     #download         on the final screen, a link whose href holds the CSV (data: URL).
  *     #submit-status    with --submit-url: data-state = pending | ok | failed.
  *     #screen           the text screen; data-screen names it while shown: participant,
- *                       calibration, instructions, break, practice-end, end, error.
+ *                       calibration, instructions, resume, break, practice-end, end, error.
  *   Data
  *     window.attneaveData   the rows so far (objects with the CSV's columns), one per click,
  *                           main trials only (practice rows are in window.attneavePractice).
@@ -29,6 +30,12 @@
  *     integers: pixel i spans [i - 0.5, i + 0.5]) whatever the CSS size:
  *       x = (clientX - rect.left) * naturalWidth / rect.width - 0.5
  *     so `attneave analyze` reads the CSV as it is. Sizes in px are CSS px.
+ *   Progress: after every main trial the rows so far and the place in the trial order are
+ *     kept in the browser's localStorage (key attneave:<hash of the page's settings>:<id>).
+ *     Opening the page again with the same participant id (a reload, a closed tab) shows the
+ *     screen "resume" and goes on with the next trial, or, once finished, the end screen
+ *     with the download again. They are removed once a --submit-url POST succeeded. While
+ *     trials are under way, leaving the page asks the browser's "leave site?" question.
  *   Trial order: mulberry32 seeded with FNV-1a(seed + ":" + participant), Fisher-Yates;
  *     the same code is in analysis/experiment/order.py (and the PsychoPy script).
  */
@@ -269,6 +276,38 @@
     waitNext(done);
   }
 
+  // ---------------------------------------------------------------- progress kept in the browser
+
+  // A reload, a closed tab or a crashed browser must not cost a participant the trials done:
+  // the rows are kept after every trial under this page's settings and the participant's id
+  // (a page built with other settings never resumes another's progress).
+  var storeKey = null;
+  var underway = false;  // trials begun and not finished: leaving the page asks first
+  function saveProgress(done, finished) {
+    try {
+      root.localStorage.setItem(storeKey, JSON.stringify({
+        version: 1, list: session.list, order: session.order, done: done, finished: finished,
+        pxPerMm: session.pxPerMm, pxPerDeg: session.pxPerDeg, distanceCm: session.distanceCm, rows: data
+      }));
+    } catch (err) { /* storage full or disabled (private mode): the page still works, without resuming */ }
+  }
+  function savedProgress() {
+    try {
+      var s = JSON.parse(root.localStorage.getItem(storeKey) || 'null');
+      var same = s && s.version === 1 && s.list === session.list && Array.isArray(s.rows)
+        && JSON.stringify(s.order) === JSON.stringify(session.order) && s.done >= 1 && s.done <= s.order.length;
+      return same ? s : null;
+    } catch (err) { return null; }
+  }
+  function forgetProgress() {
+    try { root.localStorage.removeItem(storeKey); } catch (err) { /* nothing kept */ }
+  }
+  root.addEventListener('beforeunload', function (e) {
+    if (!underway) return;
+    e.preventDefault();
+    e.returnValue = '';  // the browser's own "leave site?" question
+  });
+
   // ---------------------------------------------------------------- trials
 
   var trial = null;  // the running trial: {stim, clicks, onset, ...}
@@ -407,8 +446,8 @@
     root.setTimeout(then, ms);
   }
 
-  function runSequence(stims, isPractice, done) {
-    var i = 0;
+  function runSequence(stims, isPractice, done, from) {
+    var i = from || 0;
     function step() {
       if (i >= stims.length) { done(); return; }
       var stim = stims[i];
@@ -417,6 +456,7 @@
         i += 1;
         var rows = rowsOf(t, isPractice ? 'practice' : i);
         Array.prototype.push.apply(isPractice ? practiceData : data, rows);
+        if (!isPractice) saveProgress(i, false);
         pause(cfg.iti_ms, function () {
           var brk = !isPractice && cfg.break_every > 0 && i % cfg.break_every === 0 && i < stims.length;
           if (brk) {
@@ -451,6 +491,7 @@
         });
     }
     function ok() {
+      forgetProgress();  // the experimenter has the data: nothing of it stays in this browser
       status.setAttribute('data-state', 'ok');
       status.textContent = 'Your data were sent. Thank you.';
     }
@@ -458,6 +499,8 @@
   }
 
   function finish() {
+    underway = false;
+    saveProgress(session.order.length, true);
     var text = csv();
     var name = 'attneave_' + String(session.participant).replace(/[^A-Za-z0-9_.-]/g, '_') + '.csv';
     var link = el('a', { id: 'download', href: 'data:text/csv;charset=utf-8,' + encodeURIComponent(text), download: name, text: 'Download your data (' + name + ')' });
@@ -502,6 +545,11 @@
     mine.forEach(function (s) { byId[s.id] = s; });
     session.order = ids;
     var trials = ids.map(function (s) { return byId[s]; });
+    storeKey = 'attneave:' + fnv1a32(JSON.stringify(cfg)).toString(16) + ':' + id;
+    if (params.get('fresh') === '1') forgetProgress();
+    var saved = savedProgress();
+    if (saved) { resume(saved, trials); return; }
+    underway = true;
     preload(cfg.practice.concat(trials));
     var needsScale = cfg.scale.size_px === null && session.pxPerDeg === null;
     var go = function () {
@@ -520,6 +568,19 @@
         go();
       });
     } else go();
+  }
+
+  /** Go on from saved progress: its rows and calibration back, practice and instructions skipped. */
+  function resume(saved, trials) {
+    Array.prototype.push.apply(data, saved.rows);
+    session.pxPerMm = saved.pxPerMm;
+    session.pxPerDeg = saved.pxPerDeg;
+    session.distanceCm = saved.distanceCm;
+    if (saved.finished || saved.done >= trials.length) { finish(); return; }
+    underway = true;
+    preload(trials.slice(saved.done));
+    message('Welcome back. You had done ' + saved.done + ' of ' + trials.length + ' shapes; the experiment goes on '
+      + 'with the next one. Press Next to go on.', 'resume', function () { runSequence(trials, false, finish, saved.done); });
   }
 
   start();
