@@ -2,6 +2,7 @@
 
 import json
 import math
+import os
 import py_compile
 import shutil
 import subprocess
@@ -402,6 +403,20 @@ def test_psychopy_export(stimset, tmp_path):
     ids = [f"s{i}" for i in range(9)]
     assert mod.trial_order("P3", ids, None, "random", "k") == order.trial_order("P3", ids, None, "random", "k")
     assert mod.participant_list("P3", 4, "") == order.participant_list("P3", 4, "")
+    # the data file: rewritten after every trial, never over an earlier session's file
+    data = tmp_path / "data"
+    first = mod.data_path("P 3", str(data))
+    assert first == str(data / "attneave_P_3.csv")
+    mod.save([], first)
+    assert not os.path.exists(first)  # no click yet (escape at once): no file for analyze to refuse
+    row = dict.fromkeys(mod.COLUMNS, "1")
+    mod.save([row], first)
+    mod.save([row, row], first)  # the next trial: the whole file again
+    assert len(pd.read_csv(first)) == 2 and not os.path.exists(first + ".tmp")
+    second = mod.data_path("P 3", str(data))
+    assert second == str(data / "attneave_P_3_2.csv")
+    mod.save([row], second)
+    assert len(pd.read_csv(first)) == 2 and len(pd.read_csv(second)) == 1
 
 
 @pytest.mark.parametrize("units, size_w", [("pix", 160.0 * 300 / 160), ("height", 0.8)])
