@@ -16,9 +16,11 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
+import numpy as np
+
 from stimuli.errors import InputError
 
-__all__ = ["SOURCE", "read_click_files", "participants_in_several_files"]
+__all__ = ["SOURCE", "read_click_files", "participants_in_several_files", "repeated_rows"]
 
 #: The column naming the file a row came from (only when several files are read).
 SOURCE = "source_file"
@@ -137,3 +139,30 @@ def participants_in_several_files(clicks):
     more = f" and {len(shared) - 5} more" if len(shared) > 5 else ""
     return (f"participant id(s) found in several click files, whose clicks are pooled as one participant's: "
             f"{names}{more}; if they are different people, give them different ids")
+
+
+def repeated_rows(clicks):
+    """A warning counting rows that repeat an earlier row in every column but ``line`` ('' if none).
+
+    The browser page and the PsychoPy script stamp each click with its time,
+    so such rows are a file (or part of one) added twice, not clicks; they
+    are still analysed (nothing is dropped on a guess), and the warning says
+    so. Repeated header lines and rows of separators only are not counted.
+    """
+    from analysis.clicks import repeated_header_rows
+
+    cols = [c for c in clicks.columns if c not in ("line", "row_error", SOURCE)]
+    if not cols or len(clicks) < 2:
+        return ""
+    dup = clicks[cols].duplicated().to_numpy() & ~repeated_header_rows(clicks)
+    rows = np.flatnonzero(dup)
+    if len(rows):  # rows of separators only are equal too, and no clicks (empty_row)
+        text = clicks.iloc[rows][cols].astype(str)
+        dup[rows] = ~(text.apply(lambda c: c.str.strip()) == "").all(axis=1).to_numpy()
+    k = int(dup.sum())
+    if k == 0:
+        return ""
+    first = clicks.loc[dup].iloc[0]
+    where = (f"{Path(first[SOURCE]).name}:" if SOURCE in clicks.columns else "line ") + str(int(first["line"]))
+    return (f"{k} row(s) repeat an earlier row in every column (first at {where}): a file or part of one added "
+            f"twice? They are analysed as clicks; remove them if they are copies")

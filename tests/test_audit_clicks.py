@@ -184,3 +184,17 @@ def test_rows_of_separators_only_are_no_clicks(tmp_path, stimset, capsys):
     only.write_text(";".join(COLUMNS) + "\n" + "\n".join([blank] * 3) + "\n")
     rc, cap = _analyze([only], stimset, tmp_path / "out2", capsys)
     assert rc == 1 and "no row is a click: empty_row 3" in cap.err
+
+
+def test_rows_repeated_in_every_column_are_named(tmp_path, stimset, capsys):
+    # the same file joined to itself (or a copy pasted twice): each click's timestamp makes real clicks
+    # differ, so rows equal in every column are copies; they are analysed, and the warning says so
+    one = _file("P01", BROWSER)
+    f = tmp_path / "twice.csv"
+    f.write_text(one + one)
+    rc, cap = _analyze([f], stimset, tmp_path / "out", capsys)
+    assert rc == 0 and "6 row(s) repeat an earlier row in every column (first at line 9)" in cap.err
+    g = tmp_path / "once.csv"
+    g.write_text(one)
+    rc, cap = _analyze([g], stimset, tmp_path / "out2", capsys)
+    assert rc == 0 and "repeat an earlier row" not in cap.err

@@ -79,7 +79,7 @@ def run(args):
     import sys
 
     from analysis.analyze import analyze
-    from analysis.click_files import participants_in_several_files, read_click_files
+    from analysis.click_files import participants_in_several_files, read_click_files, repeated_rows
     from analysis.clicks import WINDOW_UNITS, parse_window_size, window_units_to_pixels
     from analysis.exclusions import exclusion_report, resolve_stimulus_ids
     from analysis.report import check_output_dir, write_analysis
@@ -108,7 +108,7 @@ def run(args):
         print(f"attneave analyze: error: no usable click, nothing analysed or written: {why}", file=sys.stderr)
         return 1
     res.summary["params"].update(coords=args.coords, window_size=list(window) if window else None)
-    for warning in (exclusion_report(res.clicks), participants_in_several_files(clicks)):
+    for warning in (exclusion_report(res.clicks), participants_in_several_files(clicks), repeated_rows(clicks)):
         if warning:
             res.summary["warnings"].append(warning)
     click_files = args.clicks[0] if len(args.clicks) == 1 else list(args.clicks)
