@@ -59,8 +59,17 @@ def add_parser(sub):
     return p
 
 
+def _row_lines(path):
+    """The CSV line number (header = line 1) of every point row of `path`, as the reader counts
+    them: blank lines are skipped and a quoted field may span lines, so row i is not always on
+    line i + 2. The file is read again (with pandas) only for a message."""
+    from stimuli.tables import read_text_csv
+
+    return read_text_csv(path)[1]
+
+
 def _check_points(P, path, closed):
-    """One-line errors that name the file and CSV line (header = line 1)."""
+    """One-line errors that name the file and the CSV lines of the rows at fault."""
     import numpy as np
 
     from stimuli.errors import InputError
@@ -75,7 +84,8 @@ def _check_points(P, path, closed):
     if same.any():
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % len(P)
-        raise InputError(f"{path}: lines {i + 2} and {j + 2} are the same point; consecutive points must differ")
+        lines = _row_lines(path)
+        raise InputError(f"{path}: lines {lines[i]} and {lines[j]} are the same point; consecutive points must differ")
     # a polygon that turns back on itself (edges in and out antiparallel) makes every smooth
     # curve through it stop and reverse there: a cusp, where curvature is undefined (a closed
     # curve through collinear points always does this)
@@ -94,7 +104,7 @@ def _check_points(P, path, closed):
             i = int(inner[np.flatnonzero(back)[0]])
             what = " (all the points lie on one line)" if closed and _collinear(P) else ""
             raise InputError(
-                f"{path}: line {i + 2}: the points double back here (the polygon turns by 180 degrees)"
+                f"{path}: line {_row_lines(path)[i]}: the points double back here (the polygon turns by 180 degrees)"
                 f"{what}; a smooth curve through them has a cusp, where curvature is undefined"
             )
 
@@ -115,7 +125,8 @@ def _drop_closing_repeat(P, path, closed):
     import sys
 
     if closed and len(P) > 1 and (P[-1] == P[0]).all():
-        print(f"attneave spline: note: {path}: line {len(P) + 1} repeats the first point (line 2); "
+        lines = _row_lines(path)
+        print(f"attneave spline: note: {path}: line {lines[-1]} repeats the first point (line {lines[0]}); "
               "dropped it (a closed curve joins its last point to its first)", file=sys.stderr)
         return P[:-1]
     return P
@@ -124,9 +135,9 @@ def _drop_closing_repeat(P, path, closed):
 def _frame(P, path):
     """Centre and scale of the frame the fit runs in. Points of ordinary size
     are fitted as they are (centre 0, scale 1); points spanning less than
-    1e-150 or more than 1e150 px, or lying that far out, are moved to the
-    origin and scaled by a power of two to a span of about 1, so that neither
-    curvature nor arc length overflows."""
+    1e-4 or more than 1e150 px, or lying more than 1e8 spans from the origin,
+    are moved to the origin and scaled by a power of two to a span of about 1,
+    so that neither curvature nor arc length overflows (the curve is the same)."""
     import numpy as np
 
     from stimuli.errors import InputError
@@ -139,7 +150,10 @@ def _frame(P, path):
         raise InputError(f"{path}: the points span {span:.3g} px; at most 1e306 can be fitted without overflow")
     if span < 1e-300:
         raise InputError(f"{path}: the points span {span:.3g} px; at least 1e-300 is needed to fit a curve")
-    if 1e-150 <= span <= 1e150 and float(np.max(np.abs(P))) <= 1e150:
+    # (the crossing test's Contour refuses a span below 1e-6 px or below 1e-10 of the distance
+    # from the origin: such points, e.g. a triangle of side 1e-7, or of side 1e-5 at (1e6, 1e6),
+    # ended in an error naming no file although they fit in the moved frame)
+    if 1e-4 <= span <= 1e150 and float(np.max(np.abs(P))) <= 1e8 * span:
         return np.zeros(2), 1.0
     return centre, float(2.0 ** np.round(np.log2(span)))
 
@@ -250,12 +264,23 @@ def run(args):
         except InputError as exc:
             raise InputError(f"{args.points}: {exc}") from None
         unit = sp.sample(args.samples)
+        # every segment's samples start AND end on its input points exactly: the polynomial
+        # splines reach them to round-off only and the G1 log-aesthetic segments to ~1e-10 of the
+        # size, and a join that is off by that is a tiny zig-zag that crossing tests count (the
+        # summary said 1 self-intersection with no warning; snapping only the first sample made
+        # the written curve cross itself at the nodes)
+        sl = unit.segment
+        first = np.r_[True, sl[1:] != sl[:-1]]
+        last = np.r_[sl[1:] != sl[:-1], True]
+        node0, node1 = sl[first], (sl[last] + 1) % len(P)
+        Pu = (P - centre) / span
+        unit.x[first], unit.y[first] = Pu[node0, 0], Pu[node0, 1]
+        unit.x[last], unit.y[last] = Pu[node1, 0], Pu[node1, 1]
         curve = replace(unit, s=unit.s * span, x=centre[0] + unit.x * span, y=centre[1] + unit.y * span,
                         curvature=unit.curvature / span)
         # the nodes exactly as given, not to round-off of the change of frame
-        sl = curve.segment
-        first = np.r_[True, sl[1:] != sl[:-1]]
-        curve.x[first], curve.y[first] = P[sl[first], 0], P[sl[first], 1]
+        curve.x[first], curve.y[first] = P[node0, 0], P[node0, 1]
+        curve.x[last], curve.y[last] = P[node1, 0], P[node1, 1]
     table = curve.table()
     if np.any(np.isnan(table["curvature"])):
         # zero speed (a cusp) somewhere: never write blank cells silently

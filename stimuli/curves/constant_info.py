@@ -107,7 +107,9 @@ def constant_info_curvature(s, C, n):
     if np.any(bad):
         first = float(s[bad].flat[0])
         raise InputError(f"constant-info: s={first:g} is outside the domain of eq. 7; {_domain_text(C, n)}")
-    w = np.clip(C * n * n / (s * s), -1.0, 1.0)
+    # C n^2 / s^2 as sign(C) (s_min / s)^2, which lies in [-1, 1] on the domain: n^2 and s^2
+    # themselves under- or overflow at extreme n or s (0/0 = NaN, with a RuntimeWarning on stderr)
+    w = np.clip(np.sign(C) * (s_min / s) ** 2, -1.0, 1.0)
     return (n * np.arccos(w) + 2 * np.pi) / s
 
 

@@ -45,6 +45,7 @@ from stimuli.curves.lac_gamma import lac_position, lac_theta
 from stimuli.curves.metrics import SampledCurve, curve_metrics
 from stimuli.curves.points import circle_tangents, end_angles, geometric_sign, spline_points
 from stimuli.errors import InputError
+from stimuli.validate import as_number
 
 __all__ = [
     "LACNotDrawable",
@@ -330,12 +331,14 @@ def lac_g1_spline(points, closed=True, alpha=0.0, tangents=None, y_down=True):
     """
     t0 = time.perf_counter()
     P = spline_points(points, closed)
-    if not np.isfinite(alpha):
-        raise InputError(f"alpha: expected a finite number, got {alpha!r}")
+    alpha = as_number(alpha, "alpha")  # a string or list raised a bare TypeError
     if tangents is None:
         theta = circle_tangents(P, closed)
     else:
-        theta = np.asarray(tangents, dtype=float)
+        try:
+            theta = np.asarray(tangents, dtype=float)
+        except (TypeError, ValueError):  # strings, dicts: name the parameter, not float()
+            theta = np.full(1, np.nan)
         if theta.shape != (len(P),) or not np.all(np.isfinite(theta)):
             raise InputError(f"tangents: expected {len(P)} finite angles")
     n = len(P)

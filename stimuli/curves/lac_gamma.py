@@ -89,7 +89,15 @@ def lac_theta(s, alpha, lam):
     # theta = expm1((alpha - 1) * Q) / (lam (alpha - 1)) with Q = log1p(lam alpha s) / alpha
     # = lam s * log1p(x)/x: stable for every alpha, however small (no 1/alpha times a
     # rounded log1p of an underflowing product)
-    return np.expm1((alpha - 1.0) * log_rho(s, alpha, lam)) / (lam * (alpha - 1.0))
+    den = lam * (alpha - 1.0)
+    if abs(den) < np.finfo(float).tiny:
+        # lam (alpha - 1) underflows (lam subnormal): 0/0 gave NaN. With y = (alpha - 1) Q,
+        # theta = Q/lam * expm1(y)/y = s * log1p(x)/x * expm1(y)/y, with no division by it
+        y = (alpha - 1.0) * log_rho(s, alpha, lam)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            e = np.where(np.abs(y) < 1e-10, 1.0 + 0.5 * y, np.expm1(y) / y)
+        return s * _log1p_ratio(lam * alpha * s) * e
+    return np.expm1((alpha - 1.0) * log_rho(s, alpha, lam)) / den
 
 
 def _log1p_ratio(x):
@@ -167,7 +175,12 @@ def lac_position(s, alpha, lam):
     if not (np.isfinite(alpha) and np.isfinite(lam)):
         raise InputError(f"lac: alpha and lam must be finite, got alpha={alpha!r}, lam={lam!r}")
     s = np.asarray(s, dtype=float)
-    if lam == 0:
+    smax = float(np.max(np.abs(s))) if s.size else 0.0
+    if lam == 0 or abs(lam) * smax * smax <= 2.0**-60:
+        # theta(s) = s - lam s^2/2 + ..., so the curve leaves the unit circle by at most
+        # |lam| |s|^3 / 6 <= |s| 2**-60 / 6, below the rounding of z: the circle is exact. (The
+        # closed form's digits grow as log(1/|lam|): at a subnormal lam, lam (alpha - 1)
+        # underflowed to 0 and it raised OverflowError.)
         return 1j * -np.expm1(1j * s)
     if alpha == 0 and abs(lam) >= _NIELSEN_MP_BELOW:
         return _nielsen(s, lam)
@@ -267,10 +280,10 @@ def _gamma_form_mp(s, alpha, lam):
     """
     import mpmath
 
-    c_f = lam * (alpha - 1.0)
     out = np.empty(s.shape, dtype=complex)
     # the two gammas are of size about |c|**-b and cancel: carry extra digits
-    dps = _DPS + int(max(0.0, -np.log10(abs(c_f)))) * 2
+    # (from the logarithms of the factors: their product may underflow to 0)
+    dps = _DPS + int(max(0.0, -(np.log10(abs(lam)) + np.log10(abs(alpha - 1.0))))) * 2
     # and they can be far larger than that (about Gamma(b) for alpha near 1: 1e158 at
     # alpha = 1.01), while z is at most the arc length: measure the terms' size (their
     # magnitudes are right at any precision) and carry as many more digits as they exceed

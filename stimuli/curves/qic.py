@@ -85,7 +85,12 @@ class ConvergenceError(InputError):
 
 
 def _unit_angle(vec, what):
-    v = np.asarray(vec, dtype=float).reshape(-1)
+    if isinstance(vec, (str, bytes)):
+        raise InputError(f"{what}: expected a direction vector (dx, dy), got {vec!r}")
+    try:
+        v = np.asarray(vec, dtype=float).reshape(-1)
+    except (TypeError, ValueError):  # ('1', 'x'), a dict, ...: name the parameter, not float()
+        raise InputError(f"{what}: expected a direction vector (dx, dy) of numbers, got {vec!r}") from None
     if v.size == 1:
         raise InputError(f"{what}: expected a direction vector (dx, dy), got a single number")
     if v.size != 2 or not np.all(np.isfinite(v)) or np.hypot(*v) == 0:
@@ -380,7 +385,12 @@ def qic_spline(points, closed=True, *, robust=True, corner_turn=None, max_tangen
             raise InputError(f"corners: index {c} out of range 0..{N - 1}")
         if closed or 0 < c < N - 1:
             g0.add(c)
-    ts, te = end_tangents if end_tangents is not None else (None, None)
+    if end_tangents is None:
+        end_tangents = (None, None)
+    if isinstance(end_tangents, (str, bytes)) or not np.iterable(end_tangents) or len(end_tangents) != 2:
+        raise InputError(f"end_tangents: expected a pair (start, end) of direction vectors or None, got "
+                         f"{end_tangents!r}")
+    ts, te = end_tangents
     if closed and (ts is not None or te is not None):
         raise InputError("end_tangents: only for open curves")
     ts = None if ts is None else _unit_angle(ts, "end_tangents[0]")
