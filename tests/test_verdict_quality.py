@@ -81,6 +81,36 @@ def test_colour_error_of_a_leaked_outline_is_the_share_of_background_inside():
     assert colour_error(img, leaked) == pytest.approx(17 / 108, abs=2 / 108)
 
 
+def test_several_outlines_of_one_photo_measure_its_fields_once(monkeypatch):
+    import stimuli.extraction.quality as quality
+    import stimuli.extraction.verdict as verdict
+    from stimuli.extraction.outlines import Extraction
+
+    calls = {"edge": 0, "contrast": 0}
+    edge, contrast = quality.edge_distance, verdict.contrast_field
+
+    def count(name, f):
+        def wrapped(*a, **k):
+            calls[name] += 1
+            return f(*a, **k)
+        return wrapped
+
+    monkeypatch.setattr(quality, "edge_distance", count("edge", edge))
+    monkeypatch.setattr(verdict, "contrast_field", count("contrast", contrast))
+    img = _two_colour()
+    mask = np.zeros(img.shape[:2], bool)
+    mask[20:60, 20:60] = True
+    contours = [_square(20, 20, 60, 60).resample(spacing=0.5), _square(22, 22, 40, 40).resample(spacing=0.5),
+                _square(42, 42, 58, 58).resample(spacing=0.5)]
+    params = dict(method="auto", resolved="photo", objects="all", boxes=[None] * 3, mode="auto")
+    v = judge(img, Extraction(contours, [[], [], []], mask, params))
+    assert calls == {"edge": 1, "contrast": 1}
+    # the lowest support and contrast of the three outlines, as each alone gives them
+    alone = [judge(img, Extraction([c], [[]], mask, {**params, "boxes": [None]})) for c in contours]
+    assert v.measures["edge_support"] == min(a.measures["edge_support"] for a in alone)
+    assert v.measures["contrast"] == min(a.measures["contrast"] for a in alone)
+
+
 def test_edge_support_on_and_off_a_rendered_edge():
     rng = np.random.default_rng(1)
     cov = coverage(_circle(60.3, 50.2, 30).points, (100, 120))

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["box_contact", "box_gap", "edge_support", "colour_error", "lab_image", "gradient_magnitude"]
+__all__ = ["box_contact", "box_gap", "edge_distance", "edge_support", "colour_error", "lab_image", "gradient_magnitude"]
 
 #: Quantisation of each Lab channel for the colour models (levels).
 COLOUR_BINS = 16
@@ -155,7 +155,27 @@ def gradient_magnitude(lab):
     return np.sqrt((gx * gx + gy * gy).reshape(lab.shape[0], lab.shape[1], -1).sum(axis=2))
 
 
-def edge_support(image, contour, tolerance=1.0):
+def edge_distance(image):
+    """Distance (px) of every pixel to the nearest of the photo's stronger edges.
+
+    The edges are those of :func:`edge_support`: Canny [1]_ on the photo in
+    CIE Lab (smoothed at 1 px), the upper threshold at the 90th percentile
+    of the colour-gradient magnitude, the lower at half of it.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+    """
+    import cv2
+
+    lab = lab_image(image)
+    mag = gradient_magnitude(lab)
+    high = max(float(np.percentile(mag, 90)), 1e-6)
+    edges = cv2.Canny(lab, 0.5 * high, high, L2gradient=True)
+    return cv2.distanceTransform(np.where(edges > 0, 0, 255).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+
+
+def edge_support(image, contour, tolerance=1.0, *, distance=None):
     """Share of an outline that lies on an image edge.
 
     Edges are Canny's [1]_ on the photo in CIE Lab (smoothed at 1 px), with
@@ -171,6 +191,9 @@ def edge_support(image, contour, tolerance=1.0):
         ``(x, y)`` image pixels (y down, pixel centres at integers).
     tolerance : float
         Distance (px) from an edge pixel that counts as on the edge.
+    distance : (H, W) ndarray, optional
+        :func:`edge_distance` of `image`, when several outlines of one
+        photo are measured (it is the costly part).
 
     Returns
     -------
@@ -190,13 +213,7 @@ def edge_support(image, contour, tolerance=1.0):
     >>> bool(edge_support(img, on) > 0.95), edge_support(img, off)  # Canny rounds the corners a little
     (True, 0.0)
     """
-    import cv2
-
-    lab = lab_image(image)
-    mag = gradient_magnitude(lab)
-    high = max(float(np.percentile(mag, 90)), 1e-6)
-    edges = cv2.Canny(lab, 0.5 * high, high, L2gradient=True)
-    dist = cv2.distanceTransform(np.where(edges > 0, 0, 255).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    dist = edge_distance(image) if distance is None else distance
     h, w = dist.shape
     p = np.round(contour.points).astype(int)
     p = p[(p[:, 0] >= 1) & (p[:, 0] < w - 1) & (p[:, 1] >= 1) & (p[:, 1] < h - 1)]
@@ -208,8 +225,9 @@ def colour_error(image, mask, gap=3, width=None):
 
     A colour histogram (CIE Lab, :data:`COLOUR_BINS` levels per channel)
     is taken of the object's pixels at least `gap` px inside the outline
-    and one of the background's in a ring from `gap` to `width` px
-    outside it; every one of those pixels is then classed by which
+    (erosion by a disk) and one of the background's in a ring from `gap`
+    (dilation by a disk) to `width` px (Euclidean distance) outside it;
+    every one of those pixels is then classed by which
     histogram gives its colour the higher probability, as GrabCut's colour
     models would [2]_. The result is the balanced error: the mean of the
     share of object pixels classed background and the share of ring pixels
@@ -258,7 +276,10 @@ def colour_error(image, mask, gap=3, width=None):
         return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
 
     core = cv2.erode(m8, disk(gap)).astype(bool)
-    ring = cv2.dilate(m8, disk(width)).astype(bool) & ~cv2.dilate(m8, disk(gap)).astype(bool)
+    # the ring's outer edge by the exact Euclidean distance, not a dilation by a disk of
+    # `width` px: that costs the disk's size per pixel (19 s on a 12 Mpx photo, 0.8 s now)
+    outside = cv2.distanceTransform(1 - m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    ring = (outside <= width) & ~cv2.dilate(m8, disk(gap)).astype(bool)
     if not core.any() or not ring.any():
         return float("nan")
     lab = lab_image(image)

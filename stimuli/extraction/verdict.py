@@ -97,8 +97,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "boundary_contrast", "photo_measures",
-           "box_verified"]
+__all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "boundary_contrast", "contrast_field",
+           "photo_measures", "box_verified"]
 
 #: Methods whose outlines are ``ok`` only by the box rule (see the module notes).
 UNVERIFIABLE = ("photo", "grabcut", "model")
@@ -163,7 +163,7 @@ def frame_contact(contour, shape):
     return box_contact(contour, (0, 0, w, h))
 
 
-def boundary_contrast(image, contour, sigma=1.5):
+def boundary_contrast(image, contour, sigma=1.5, *, field=None):
     """How much stronger the image's edges are along an outline than elsewhere.
 
     Parameters
@@ -174,6 +174,9 @@ def boundary_contrast(image, contour, sigma=1.5):
         ``(x, y)`` image pixels (y down).
     sigma : float
         Scale (px) of the Gaussian-derivative gradient.
+    field : (H, W) ndarray, optional
+        :func:`contrast_field` of `image` at `sigma`, when several outlines
+        of one image are measured (it is the costly part).
 
     Returns
     -------
@@ -192,6 +195,21 @@ def boundary_contrast(image, contour, sigma=1.5):
     >>> bool(boundary_contrast(img, sq) > 10)
     True
     """
+    rel = contrast_field(image, sigma) if field is None else field
+    h, w = rel.shape
+    p = np.round(contour.points).astype(int)
+    return float(rel[np.clip(p[:, 1], 0, h - 1), np.clip(p[:, 0], 0, w - 1)].mean())
+
+
+def contrast_field(image, sigma=1.5):
+    """The colour-gradient magnitude (CIE Lab, Gaussian derivatives at
+    `sigma` px) over its median over the image: the field whose mean along
+    an outline is :func:`boundary_contrast`.
+
+    Returns
+    -------
+    (H, W) float32 ndarray
+    """
     import cv2
 
     from stimuli.extraction.grabcut import to_bgr8
@@ -200,11 +218,8 @@ def boundary_contrast(image, contour, sigma=1.5):
     lab = cv2.cvtColor(to_bgr8(image), cv2.COLOR_BGR2Lab).astype(np.float32)
     lab = cv2.GaussianBlur(lab, (0, 0), sigma)
     mag = gradient_magnitude(lab)
-    h, w = mag.shape
-    p = np.round(contour.points).astype(int)
-    along = mag[np.clip(p[:, 1], 0, h - 1), np.clip(p[:, 0], 0, w - 1)]
     floor = 1e-3 * max(float(mag.max()), 1e-6)  # a flat image (a render) has a zero median
-    return float(along.mean() / max(float(np.median(mag)), floor))
+    return mag / np.float32(max(float(np.median(mag)), floor))
 
 
 def judge(image, extraction, decoder=(), thresholds=None):
@@ -231,7 +246,8 @@ def judge(image, extraction, decoder=(), thresholds=None):
     method = p.get("resolved", p.get("method"))
     frame = max(frame_contact(k, (h, w)) for k in extraction.contours)
     fill = float(c.area / (h * w))
-    contrast = min(boundary_contrast(_contrast_source(image, method), k) for k in extraction.contours)
+    field = contrast_field(_contrast_source(image, method))  # once: each object's outline reads it
+    contrast = min(boundary_contrast(None, k, field=field) for k in extraction.contours)
     areas = p.get("candidate_areas") or []
     competing = areas[1] / areas[0] if p.get("objects") == "largest" and len(areas) > 1 and areas[0] else None
     if p.get("competing") is not None and p.get("objects") == "largest":  # the photo method's own parts
@@ -332,13 +348,14 @@ def photo_measures(image, extraction):
         over the contours and their boxes; None without a box). Floats are
         rounded to 4 decimals: they are reported, not computed with.
     """
-    from stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_support
+    from stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_distance, edge_support
 
     p = extraction.params
     boxes = p.get("boxes") or ([p["box"]] if p.get("box") else [])
     boxed = [(c, b) for c, b in zip(extraction.contours, boxes) if b is not None]
+    distance = edge_distance(image)  # once: each object's outline reads it
     values = dict(colour_error=colour_error(image, extraction.mask),
-                  edge_support=min(edge_support(image, c) for c in extraction.contours),
+                  edge_support=min(edge_support(image, c, distance=distance) for c in extraction.contours),
                   box_contact=max(box_contact(c, b) for c, b in boxed) if boxed else None,
                   box_gap=max(box_gap(c, b) for c, b in boxed) if boxed else None)
     return {k: None if v is None or not np.isfinite(v) else round(float(v), 4) for k, v in values.items()}
