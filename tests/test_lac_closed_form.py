@@ -9,7 +9,7 @@ import pytest
 from stimuli.curves import glac, log_aesthetic
 from stimuli.curves.aesthetic import glac_curvature
 from stimuli.curves.lac import lac_length, lac_standard_end
-from stimuli.curves.lac_gamma import lac_position
+from stimuli.curves.lac_gamma import _gamma_form, lac_position
 from stimuli.errors import InputError
 
 ALPHAS = [-2, -1, -0.5, 0, 0.5, 1, 1.5, 2, 3]
@@ -39,9 +39,11 @@ def test_closed_form_agrees_with_quadrature(alpha, lam):
     s = np.array([0.05, 0.6, 1.4])
     if alpha * lam < 0:
         s = s[lam * alpha * s + 1 > 0.05]
-    z = lac_position(s, alpha, lam)
-    for u, zu in zip(s, z):
-        assert abs(zu - quad_position(float(u), alpha, lam)) <= 1e-12
+    z = lac_position(s, alpha, lam)  # panel quadrature of the closed-form angle
+    closed = _gamma_form(s.copy(), alpha, lam) if alpha not in (0, 1) else z  # the incomplete gammas
+    for u, zu, zc in zip(s, z, closed):
+        q = quad_position(float(u), alpha, lam)
+        assert abs(zu - q) <= 1e-12 and abs(zc - q) <= 1e-12
 
 
 @pytest.mark.parametrize("alpha", [-1.0, 0.5, 2.0])
@@ -135,6 +137,17 @@ def test_alpha_near_one_tends_to_the_logarithmic_spiral_near_its_pole():
     for eps in (1e-6, -1e-6):
         near = lac_position(s / (1 + eps) if eps > 0 else s, 1 + eps, lam)
         assert np.max(np.abs(near - spiral)) < 1e-4
+
+
+def test_a_curve_that_straightens_out_is_fast():
+    # large lam, small alpha: rho grows by e^(1e8) and the curve is a straight line after a
+    # turn of 1e-8 rad; the incomplete gammas ran for minutes
+    import time
+
+    t = time.perf_counter()
+    z = lac_position(np.linspace(2.0, 100.0, 201), 1e-8, 1e8)
+    assert time.perf_counter() - t < 1.0
+    assert np.allclose(np.abs(z - z[0]), np.linspace(0.0, 98.0, 201), rtol=0, atol=1e-9)
 
 
 def test_alpha_near_one_is_fast():

@@ -149,12 +149,11 @@ def log_aesthetic(alpha=0.0, lam=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None
 
     Notes
     -----
-    Positions from :func:`stimuli.curves.lac_gamma.lac_position` (the
-    incomplete-gamma closed form of Ziatdinov, Yoshida & Kim 2012; within
-    :data:`~stimuli.curves.lac_gamma.NEAR_ONE` of alpha = 1, where that
-    form cancels to thousands of digits, Gauss-Legendre quadrature of the
-    closed-form tangent angle, exact to rounding), tangent angle and
-    curvature in closed form.
+    Positions from :func:`stimuli.curves.lac_gamma.lac_position`:
+    Gauss-Legendre quadrature of the closed-form tangent angle, exact to
+    rounding and checked against the incomplete-gamma closed form of
+    Ziatdinov, Yoshida & Kim 2012 (which it falls back to for curves that
+    wind thousands of times); tangent angle and curvature in closed form.
 
     Examples
     --------
