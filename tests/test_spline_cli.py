@@ -272,3 +272,24 @@ def test_overflowing_span_is_one_line(tmp_path, capsys):
     assert main(["spline", str(src), "-o", str(tmp_path / "o.csv")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "at most 1e306" in err[0] and str(src) in err[0]
+
+
+def test_corners_are_named_on_stderr_without_a_summary(tmp_path, capsys):
+    # the robust fit relaxes G2 at a few nodes of this looping polygon; without --summary the user
+    # learned nothing of it
+    path = tmp_path / "j.csv"
+    _write_points(path, LOOPING)
+    out, summ = tmp_path / "o.csv", tmp_path / "s.json"
+    assert main(["spline", str(path), "-o", str(out), "--summary", str(summ)]) == 0
+    capsys.readouterr()
+    corners = json.loads(summ.read_text())["corners"]
+    assert main(["spline", str(path), "-o", str(tmp_path / "o2.csv")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("attneave spline: note:")
+    assert f"except at {len(corners)} of {len(LOOPING)} points" in err[0]
+    assert f"point(s) {corners[0]} (" in err[0]
+    # a curve that needed no corner says nothing
+    th = np.linspace(0, 2 * np.pi, 12, endpoint=False)
+    _write_points(path, np.c_[50 + 30 * np.cos(th), 50 + 20 * np.sin(th)])
+    assert main(["spline", str(path), "-o", str(tmp_path / "o3.csv")]) == 0
+    assert capsys.readouterr().err == ""

@@ -306,6 +306,16 @@ def run(args):
               + (" ; nothing written (--strict)" if args.strict else ""), file=sys.stderr)
         if args.strict:
             return 1
+    corners = list(getattr(sp, "corners", ()) or ())
+    if corners and args.summary is None:
+        # the robust fit gave up curvature continuity at these nodes; the summary lists them, and
+        # without one the user would not know (the curve is right, but not G2 there)
+        kinds = list(getattr(sp, "corner_kinds", ()) or ())
+        named = ", ".join(f"{c}" + (f" ({kinds[i]})" if i < len(kinds) else "") for i, c in enumerate(corners[:8]))
+        more = f" and {len(corners) - 8} more" if len(corners) > 8 else ""
+        print(f"attneave spline: note: {args.points}: curvature is continuous except at {len(corners)} of "
+              f"{len(P)} points, where the robust fit relaxed it (G1: tangent kept; G0: a corner): point(s) "
+              f"{named}{more}, numbered from 0; --summary lists them", file=sys.stderr)
     summary = _summary(args, P, sp, unit, span, closed, crossings) if args.summary else None
     with contextlib.ExitStack() as stack:
         # open the summary's temporary file first: an unwritable --summary must fail
