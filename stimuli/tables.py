@@ -283,10 +283,13 @@ def read_table(path, required=(), numeric=()):
     return df
 
 
-def read_points(path, columns=("x", "y")):
+def read_points(path, columns=("x", "y"), with_lines=False):
     """Read an (N, 2) array of points from a CSV file with columns `x`, `y`.
 
     Points are ``(x, y)`` in image pixels (x = column, y = row, y down).
+    With `with_lines`, also the file line of each point (header = line 1;
+    blank lines are no points and a quoted field may span lines, so point i
+    is not always on line i + 2): messages name the lines a person sees.
 
     Raises
     ------
@@ -313,6 +316,6 @@ def read_points(path, columns=("x", "y")):
                 raise InputError(f"{path}: line {lines[i]}: column {name!r} must be a finite number, "
                                  f"got {shorten(row[c])}")
             out[i, j] = v
-    return out
+    return (out, np.asarray(lines, dtype=np.int64)) if with_lines else out
 
 

@@ -185,3 +185,15 @@ def test_tiny_triangle_is_the_scaled_unit_curve(tmp_path, capsys, scale, offset)
     # written at `offset`, a position carries the rounding of offset (2**-52 of it), not of scale
     atol = max(1e-9, 8 * 2.0**-52 * offset / scale)
     np.testing.assert_allclose((small[:, 1:3] - offset) / scale, unit[:, 1:3], atol=atol)
+
+
+def test_surprisal_notes_name_the_true_lines(tmp_path, capsys):
+    # blank lines are no points: the repeated point below is on line 6 and the closing repeat on
+    # line 9 (the note counted rows as if every line held one: lines 4 and 7)
+    from analysis.cli import main
+
+    f = tmp_path / "c.csv"
+    f.write_text("x,y\n\n0,0\n\n10,0\n10,0\n10,10\n0,10\n0,0\n")
+    assert main(["surprisal", str(f), "-o", str(tmp_path / "s.csv"), "-n", "40"]) == 0
+    err = capsys.readouterr().err
+    assert "(line(s) 6)" in err and "the last point (line 9)" in err, err

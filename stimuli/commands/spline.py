@@ -59,20 +59,12 @@ def add_parser(sub):
     return p
 
 
-def _row_lines(path):
-    """The CSV line number (header = line 1) of every point row of `path`, as the reader counts
-    them: blank lines are skipped and a quoted field may span lines, so row i is not always on
-    line i + 2. The file is read again (with pandas) only for a message."""
-    from stimuli.tables import read_text_csv
-
-    return read_text_csv(path)[1]
-
-
 def _check_points(P, path, closed):
     """One-line errors that name the file and the CSV lines of the rows at fault."""
     import numpy as np
 
     from stimuli.errors import InputError
+    from stimuli.tables import read_points  # again, for the lines of a message
 
     need = 3 if closed else 2
     if len(P) < need:
@@ -84,7 +76,7 @@ def _check_points(P, path, closed):
     if same.any():
         i = int(np.flatnonzero(same)[0])
         j = (i + 1) % len(P)
-        lines = _row_lines(path)
+        lines = read_points(path, with_lines=True)[1]
         raise InputError(f"{path}: lines {lines[i]} and {lines[j]} are the same point; consecutive points must differ")
     # a polygon that turns back on itself (edges in and out antiparallel) makes every smooth
     # curve through it stop and reverse there: a cusp, where curvature is undefined (a closed
@@ -103,8 +95,9 @@ def _check_points(P, path, closed):
         if back.any():
             i = int(inner[np.flatnonzero(back)[0]])
             what = " (all the points lie on one line)" if closed and _collinear(P) else ""
+            line = read_points(path, with_lines=True)[1][i]
             raise InputError(
-                f"{path}: line {_row_lines(path)[i]}: the points double back here (the polygon turns by 180 degrees)"
+                f"{path}: line {line}: the points double back here (the polygon turns by 180 degrees)"
                 f"{what}; a smooth curve through them has a cusp, where curvature is undefined"
             )
 
@@ -124,8 +117,10 @@ def _drop_closing_repeat(P, path, closed):
     last point and say so in one line (the segment indices of the others are unchanged)."""
     import sys
 
+    from stimuli.tables import read_points  # again, for the lines of the note
+
     if closed and len(P) > 1 and (P[-1] == P[0]).all():
-        lines = _row_lines(path)
+        lines = read_points(path, with_lines=True)[1]
         print(f"attneave spline: note: {path}: line {lines[-1]} repeats the first point (line {lines[0]}); "
               "dropped it (a closed curve joins its last point to its first)", file=sys.stderr)
         return P[:-1]

@@ -109,18 +109,21 @@ def _note_dropped(pts, path, closed):
 
     import numpy as np
 
+    from stimuli.tables import read_points  # again, for the lines of the note
+
     if len(pts) < 2:
         return
     same = np.flatnonzero((pts[1:] == pts[:-1]).all(axis=1))
     parts = []
     if len(same):
-        lines = ", ".join(str(int(i) + 3) for i in same[:5]) + (", ..." if len(same) > 5 else "")
+        rows = read_points(path, with_lines=True)[1]
+        lines = ", ".join(str(int(rows[i + 1])) for i in same[:5]) + (", ..." if len(same) > 5 else "")
         parts.append(f"{len(same)} point(s) repeating the one before (line(s) {lines})")
     keep = np.ones(len(pts), bool)
     keep[same + 1] = False
     q = pts[keep]
     if closed and len(q) > 1 and (q[-1] == q[0]).all():
-        last = int(np.flatnonzero(keep)[-1]) + 2
+        last = int(read_points(path, with_lines=True)[1][np.flatnonzero(keep)[-1]])
         parts.append(f"the last point (line {last}), which repeats the first (a closed contour joins "
                      "its last point to its first)")
     if parts:
