@@ -447,5 +447,22 @@ def test_integrator_has_a_bounded_budget(monkeypatch):
     import stimuli.curves.natural as curves
 
     monkeypatch.setattr(curves, "_MAX_NFEV", 20_000, raising=False)
+    # the estimate before integrating refuses this one at once (1e5 rad)...
+    with pytest.raises(InputError, match=r"turns by about 1e\+05 rad"):
+        integrate_natural(lambda s: 2000.0 * s, 0.0, 10.0, num=11)
+    # ...and the budget still stops a curve the estimate misses
+    monkeypatch.setattr(curves, "_check_turning", lambda *a: None)
     with pytest.raises(InputError, match="turns too often"):
         integrate_natural(lambda s: 2000.0 * s, 0.0, 10.0, num=11)
+
+
+def test_a_curve_turning_beyond_the_budget_is_refused_at_once():
+    # eq. 7 with n = 1e300 turns by about 1e301 rad on [0.001, 1]: 13 s of integration before
+    import time
+
+    from stimuli.curves import constant_info
+
+    t = time.perf_counter()
+    with pytest.raises(InputError, match="turns by about 1.09e\\+301 rad"):
+        constant_info(C=0.0, n=1e300, s_end=1.0, num=3)
+    assert time.perf_counter() - t < 2.0
