@@ -18,8 +18,8 @@ def add_parser(sub):
         help="contours, curvature and surprisal of objects in photos and silhouettes",
         description=(
             "Extract the sub-pixel outer contour of the object in each image (PNG, JPEG, TIFF, BMP; "
-            "grey, RGB, RGBA; 8 or 16 bit) and write, per input STEM: STEM.contour.csv (x, y in image "
-            "pixels, y down), STEM.surprisal.csv (the columns of 'attneave surprisal'), "
+            "grey, RGB, RGBA; 8 or 16 bit; turned as its EXIF orientation says, as viewers show it) and write, "
+            "per input STEM: STEM.contour.csv (x, y in image pixels, y down), STEM.surprisal.csv (the columns of 'attneave surprisal'), "
             "STEM.overlay.png (the image with the contour coloured by surprisal, peaks circled), "
             "STEM.silhouette.png (black on white, exact coverage, the image's size); and "
             "summary.csv (image, status, reason, n_points, perimeter, area, ...). With --objects all "
@@ -140,6 +140,13 @@ def run(args):
         print(f"attneave extract: warning: left {shown} in {args.output}: per-object outputs of an earlier run "
               "that this run did not write and cannot tell from another image's (an input named STEM.K.png); "
               "remove them if they are stale", file=sys.stderr)
+    # a file that failed is named on stderr, one line each (a few; all are in summary.csv), so that
+    # "1 failed" does not send the user hunting through the table for which one and why
+    failed = summary[summary["status"] == "failed"]
+    for image, reason in list(zip(failed["image"], failed["reason"]))[:10]:
+        print(f"attneave extract: {image}: failed: {reason}", file=sys.stderr)
+    if len(failed) > 10:
+        print(f"attneave extract: ... and {len(failed) - 10} more failed", file=sys.stderr)
     counts = summary["status"].value_counts()
     n_ok, n_suspect, n_failed = (int(counts.get(k, 0)) for k in ("ok", "suspect", "failed"))
     print(f"attneave extract: {len(summary)} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "

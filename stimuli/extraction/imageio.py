@@ -35,17 +35,21 @@ class ImageFile:
     Attributes
     ----------
     image : ndarray
-        As returned by :func:`read_image`.
+        As returned by :func:`read_image` (EXIF orientation applied).
     warnings : list of str
         The decoder's complaints, one line each (e.g. ``Corrupt JPEG data:
         premature end of data segment``, ``image file is truncated``);
         empty for a clean file.
     path : str
+    orientation : int
+        The file's EXIF orientation tag (1-8; 1 = as stored, also when the
+        file has none), already applied to `image`.
     """
 
     image: np.ndarray
     warnings: list = field(default_factory=list)
     path: str = ""
+    orientation: int = 1
 
 
 def open_image(path, max_pixels=MAX_PIXELS):
@@ -84,6 +88,7 @@ def open_image(path, max_pixels=MAX_PIXELS):
     max_pixels = _max_pixels(max_pixels)
     _require_regular_file(path)
     size = _header_size(path, max_pixels)
+    orientation = _pil_header(path)[1]
     try:
         data = np.fromfile(path, dtype=np.uint8)
     except (IsADirectoryError, PermissionError, OSError) as exc:
@@ -108,11 +113,15 @@ def open_image(path, max_pixels=MAX_PIXELS):
             img = cv2.cvtColor(img, cv2.COLOR_BGRA2RGBA)
         elif img.shape[2] == 1:
             img = img[:, :, 0]
-    return ImageFile(img, messages, str(path))
+    if orientation != 1:
+        # a phone's photo is stored sideways with a tag that every viewer and browser obeys: the outline
+        # must be in the image people see (and click on), not in the stored pixel grid
+        img = np.ascontiguousarray(_ORIENT[orientation](img))
+    return ImageFile(img, messages, str(path), orientation)
 
 
 def read_image(path, max_pixels=MAX_PIXELS):
-    """Read an image file as it is stored (no colour management, no EXIF rotation).
+    """Read an image file as a viewer shows it (EXIF orientation applied; no colour management).
 
     Parameters
     ----------
@@ -129,7 +138,10 @@ def read_image(path, max_pixels=MAX_PIXELS):
         ``(H, W)`` for grey, ``(H, W, 3)`` RGB or ``(H, W, 4)`` RGBA
         (channels in RGB order, not OpenCV's BGR), in the file's own dtype
         (uint8, uint16 or float32). Row ``i``, column ``j`` is the pixel
-        centred at ``(x, y) = (j, i)``.
+        centred at ``(x, y) = (j, i)`` of the image as image viewers and
+        browsers show it: a file with an EXIF orientation tag (a phone's
+        JPEG stored sideways) is turned and flipped as the tag says, so
+        its width and height may be the stored ones swapped.
 
     Raises
     ------
@@ -195,7 +207,31 @@ def _require_regular_file(path):
 
 
 def header_size(path):
-    """``(width, height)`` of an image file read from its header only, or None if Pillow cannot parse it."""
+    """``(width, height)`` of an image file read from its header only, or None if Pillow cannot parse it.
+
+    The size of the image as shown, as :func:`read_image` returns it: swapped
+    when the file's EXIF orientation turns it by a quarter turn.
+    """
+    size, orientation = _pil_header(path)
+    if size is not None and orientation in (5, 6, 7, 8):
+        return size[1], size[0]
+    return size
+
+
+#: EXIF orientation (2-8) -> the steps that turn the stored pixel array (rows, columns, ...) into the
+#: image a viewer shows (as PIL.ImageOps.exif_transpose; 1 = as stored).
+_ORIENT = {2: lambda a: a[:, ::-1], 3: lambda a: a[::-1, ::-1], 4: lambda a: a[::-1],
+           5: lambda a: a.swapaxes(0, 1), 6: lambda a: np.rot90(a, -1),
+           7: lambda a: a[::-1, ::-1].swapaxes(0, 1), 8: lambda a: np.rot90(a, 1)}
+#: Formats whose EXIF orientation OpenCV's decoder ignores (IMREAD_UNCHANGED) and :func:`open_image`
+#: applies; OpenCV's TIFF decoder applies a TIFF's orientation tag itself (and Pillow reports the
+#: turned size), so TIFF is not among them.
+_ORIENTED_FORMATS = ("JPEG", "MPO", "PNG", "WEBP")
+
+
+def _pil_header(path):
+    """``((width, height) as stored, EXIF orientation to apply)`` from the file's header; (None, 1) if
+    Pillow cannot parse it. Decodes no pixels."""
     import warnings
 
     from PIL import Image
@@ -206,9 +242,18 @@ def header_size(path):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             with Image.open(path) as im:  # reads the header, decodes nothing
-                return tuple(im.size)
+                size = tuple(im.size)
+                orientation = 1
+                # a PNG's getexif() decodes the whole image to look for an eXIf chunk after the
+                # pixels; one before them (where the PNG specification puts it) is in info already
+                if im.format in _ORIENTED_FORMATS and (im.format != "PNG" or "exif" in im.info):
+                    try:
+                        orientation = int(im.getexif().get(0x0112, 1))
+                    except Exception:  # noqa: BLE001 - an unreadable EXIF block: shown as stored
+                        orientation = 1
+                return size, (orientation if orientation in _ORIENT else 1)
     except Exception:  # noqa: BLE001 - not a format Pillow knows: OpenCV decides
-        return None
+        return None, 1
     finally:
         Image.MAX_IMAGE_PIXELS = bomb
 

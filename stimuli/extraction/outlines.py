@@ -8,7 +8,8 @@ point is not repeated), stored counter-clockwise as seen on the screen.
 The pipeline
 ------------
 1. **Read** (:func:`read_image`): PNG, JPEG, TIFF, BMP; grey, RGB or RGBA;
-   8 or 16 bit (or float TIFF). Colour is reduced to luminance
+   8 or 16 bit (or float TIFF), turned and flipped as the file's EXIF
+   orientation says (as viewers show it). Colour is reduced to luminance
    ``0.299 R + 0.587 G + 0.114 B`` in the image's own units; the alpha
    channel is used only by ``method='alpha'``.
 2. **Segment** (``method``), giving a boolean object mask and, where the
@@ -134,7 +135,9 @@ class Extraction:
         anything inside them, cleared).
     params : dict
         Every resolved parameter: method, polarity, threshold (Otsu's split
-        or the value given), class_medians (Otsu), level (the global
+        or the value given), class_medians (Otsu), frame_line (the width
+        in px of a frame line drawn along the image's edge that was set
+        aside, 0 for none; 'otsu', 'threshold', 'mask'), level (the global
         contour level, in image units), subpixel ('grey': traced on grey
         levels, or 'mask': a two-valued image), presmooth and local_level
         (per object, whether each refinement was used), objects, min_area,

@@ -117,6 +117,46 @@ def _histogram_stats(grey):
     return t, float(np.median(low)), float(np.median(high)), lo, hi, n_values
 
 
+#: Widest line (px) along the whole image edge that is taken for a drawn frame, not an object.
+MAX_FRAME_LINE = 3
+
+
+def _frame_line(light):
+    """Width (px) of a drawn frame line along the image's edge in the two-class image `light`, or 0.
+
+    A frame is ``d`` outermost rings of pixels (1 <= d <= :data:`MAX_FRAME_LINE`)
+    that are all of one class, with the ring just inside them mostly of
+    the other class (the page or screen the figure is drawn on). Such a
+    line encloses everything: taken as an object, its filled outline is
+    the whole image and the figure inside it is never found.
+    """
+    h, w = light.shape
+    v = light[0, 0]
+    for d in range(MAX_FRAME_LINE + 1):  # ring d = MAX_FRAME_LINE must be page
+        if h < 2 * d + 4 or w < 2 * d + 4:
+            return 0
+        ring = np.concatenate([light[d, d : w - d], light[h - 1 - d, d : w - d],
+                               light[d + 1 : h - 1 - d, d], light[d + 1 : h - 1 - d, w - 1 - d]])
+        if np.all(ring == v):
+            continue
+        # ring d is the first that is not all frame: the frame is d rings wide if ring d is mostly page
+        return d if d > 0 and np.count_nonzero(ring == v) < 0.5 * ring.size else 0
+    return 0
+
+
+def _without_frame(light, polarity):
+    """(object mask, polarity, frame width): `light` split into object and background, a drawn frame
+    line along the image's edge (:func:`_frame_line`) ignored for the polarity and taken as background."""
+    d = _frame_line(light)
+    inner = light[d : light.shape[0] - d, d : light.shape[1] - d] if d else light
+    pol = _polarity_from_border(inner) if polarity == "auto" else polarity
+    on = light if pol == "light" else ~light
+    if d and on[0, 0]:
+        on = on.copy()
+        on[:d], on[-d:], on[:, :d], on[:, -d:] = False, False, False, False
+    return on, pol, d
+
+
 def _polarity_from_border(on):
     """'light' if the 'on' pixels touch the image border less than the others."""
     border = np.concatenate([on[0], on[-1], on[1:-1, 0], on[1:-1, -1]])
@@ -290,10 +330,9 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
             on = np.full(grey.shape, (lo > 0) if pol == "light" else (lo == 0))
             params["polarity"] = pol
             return Segmentation(on, params)
-        light = grey > level
-        pol = _polarity_from_border(light) if polarity == "auto" else polarity
-        params["polarity"] = pol
-        return Segmentation(light if pol == "light" else ~light, params)
+        on, pol, frame = _without_frame(grey > level, polarity)
+        params.update(polarity=pol, frame_line=frame)
+        return Segmentation(on, params)
 
     if lo == hi:
         hint = ""
@@ -320,10 +359,10 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
             raise NoObject(f"threshold {level:g} is outside the image's range [{lo:g}, {hi:g}]: {what}")
     else:
         raise InputError(f"unknown method {method!r}; expected one of {', '.join(METHODS)}")
-    light = grey > level
-    pol = _polarity_from_border(light) if polarity == "auto" else polarity
-    params.update(polarity=pol, level=level)
-    on = light if pol == "light" else ~light
+    # a frame drawn around a figure (a scanned page, an exported silhouette) is neither the figure nor
+    # the border's class: it is set aside, or it would be taken for an object enclosing everything
+    on, pol, frame = _without_frame(grey > level, polarity)
+    params.update(polarity=pol, level=level, frame_line=frame)
     if n_values <= 2:
         return Segmentation(on, params)
     return Segmentation(on, params, source, 1.0 if pol == "light" else -1.0, level)

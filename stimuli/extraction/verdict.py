@@ -244,7 +244,9 @@ def judge(image, extraction, decoder=(), thresholds=None):
     h, w = extraction.mask.shape
     p = extraction.params
     method = p.get("resolved", p.get("method"))
-    frame = max(frame_contact(k, (h, w)) for k in extraction.contours)
+    d = p.get("frame_line") or 0  # a frame line drawn along the image's edge is the frame an object meets
+    frame = max(frame_contact(k.transformed(offset=(-d, -d)) if d else k, (h - 2 * d, w - 2 * d))
+                for k in extraction.contours)
     fill = float(c.area / (h * w))
     field = contrast_field(_contrast_source(image, method))  # once: each object's outline reads it
     contrast = min(boundary_contrast(None, k, field=field) for k in extraction.contours)

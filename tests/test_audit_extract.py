@@ -1,0 +1,140 @@
+"""Audit of ``attneave extract`` on the kinds of files people have (EXIF-rotated
+phone JPEGs, framed silhouettes, ...): the outline must lie on the object as
+the user sees it, and the verdict must be honest. Every image is built here."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+
+def _l_shape(h=90, w=130):
+    """Black L-shaped object on white (asymmetric: any turn or flip moves it); its true mask."""
+    obj = np.zeros((h, w), bool)
+    obj[15:75, 20:45] = True  # the stem, on the left
+    obj[55:75, 20:100] = True  # the foot, along the bottom
+    return np.where(obj, 0, 255).astype(np.uint8), obj
+
+
+def _save_with_orientation(path, stored, orientation):
+    from PIL import Image
+
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    Image.fromarray(stored).save(path, exif=exif.tobytes(), **({"quality": 95} if path.suffix == ".jpg" else {}))
+
+
+@pytest.mark.parametrize("orientation, to_stored", [
+    (6, lambda a: np.rot90(a, 1)),   # shown turned 90 degrees clockwise: stored turned counter-clockwise
+    (8, lambda a: np.rot90(a, -1)),
+    (3, lambda a: a[::-1, ::-1]),
+    (2, lambda a: a[:, ::-1]),
+])
+@pytest.mark.parametrize("suffix", [".jpg", ".png"])
+def test_exif_oriented_file_is_outlined_as_shown(tmp_path, orientation, to_stored, suffix):
+    # what viewers and browsers show (EXIF 2.3: orientation 6 = "rotate 90 CW to display") is the
+    # L shape; the file stores it turned or flipped. The outline must fit the shape as shown.
+    from stimuli.extraction import extract
+    from stimuli.extraction.imageio import header_size, open_image
+
+    shown, truth = _l_shape()
+    path = tmp_path / f"phone{suffix}"
+    _save_with_orientation(path, np.ascontiguousarray(to_stored(shown)), orientation)
+    f = open_image(path)
+    assert f.image.shape[:2] == shown.shape and f.orientation == orientation
+    assert header_size(path) == (shown.shape[1], shown.shape[0])
+    c = extract(f.image).contour
+    ys, xs = np.nonzero(truth)
+    # the mask's pixel edges are half a pixel outside its pixel centres
+    np.testing.assert_allclose(c.bbox, [xs.min() - 0.5, ys.min() - 0.5, xs.max() + 0.5, ys.max() + 0.5], atol=0.6)
+    assert abs(c.area - truth.sum()) < 0.03 * truth.sum()
+
+
+def test_exif_orientation_reaches_the_outputs_of_the_command(tmp_path, capsys):
+    import pandas as pd
+    from PIL import Image
+
+    from analysis.cli import main
+
+    shown, truth = _l_shape()
+    _save_with_orientation(tmp_path / "p.jpg", np.ascontiguousarray(np.rot90(shown, 1)), 6)
+    assert main(["extract", str(tmp_path / "p.jpg"), "-o", str(tmp_path / "out")]) == 0
+    xy = pd.read_csv(tmp_path / "out" / "p.contour.csv")
+    ys, xs = np.nonzero(truth)
+    assert xy.x.min() == pytest.approx(xs.min() - 0.5, abs=0.6) and xy.x.max() == pytest.approx(xs.max() + 0.5, abs=0.6)
+    assert xy.y.min() == pytest.approx(ys.min() - 0.5, abs=0.6) and xy.y.max() == pytest.approx(ys.max() + 0.5, abs=0.6)
+    with Image.open(tmp_path / "out" / "p.silhouette.png") as im:
+        sil = np.asarray(im.convert("L")) < 128
+    assert sil.shape == truth.shape and (sil & truth).sum() / (sil | truth).sum() > 0.97
+
+
+def _framed(width=1, polarity="dark"):
+    """An ellipse on a page with a drawn frame line `width` px wide along the image's edge; its true mask."""
+    yy, xx = np.mgrid[:120, :160]
+    obj = ((xx - 70.0) / 40.0) ** 2 + ((yy - 60.0) / 28.0) ** 2 <= 1.0
+    ink = obj.copy()
+    ink[:width], ink[-width:], ink[:, :width], ink[:, -width:] = True, True, True, True
+    img = np.where(ink, 0, 255).astype(np.uint8)
+    return (img if polarity == "dark" else 255 - img), obj
+
+
+@pytest.mark.parametrize("width", [1, 3])
+@pytest.mark.parametrize("ink", ["dark", "light"])
+@pytest.mark.parametrize("method", ["otsu", "mask"])
+def test_frame_line_around_a_silhouette_is_not_the_object(width, ink, method):
+    # a frame drawn around the figure used to be taken for the object (auto polarity: the object is the
+    # class inside the frame, so the page was outlined; either polarity gave the whole image)
+    from stimuli.extraction import extract
+    from stimuli.extraction.verdict import judge
+
+    img, obj = _framed(width, ink)
+    ex = extract(img, method=method)
+    assert ex.params["polarity"] == ink
+    assert abs(ex.contour.area - obj.sum()) < 0.02 * obj.sum()
+    x0, y0, x1, y1 = ex.contour.bbox
+    assert 29 < x0 < 31 and 109 < x1 < 111 and 31 < y0 < 33 and 87 < y1 < 89
+    v = judge(img, ex)
+    assert v.status == "ok", v.reason
+
+
+def test_object_cut_by_a_frame_line_is_suspect():
+    # the frame line is the image's frame for the verdict: an object running along it is cut
+    from stimuli.extraction import extract
+    from stimuli.extraction.verdict import judge
+
+    img = np.full((100, 140), 255, np.uint8)
+    img[30:70, 1:80] = 0  # a bar from the frame line inwards
+    img[0], img[-1], img[:, 0], img[:, -1] = 0, 0, 0, 0
+    ex = extract(img)
+    assert abs(ex.contour.area - 40 * 79) < 0.02 * 40 * 79
+    v = judge(img, ex)
+    assert v.status == "suspect" and "frame" in v.reason
+
+
+def test_silhouette_touching_the_edge_is_not_taken_for_a_frame():
+    # an object that runs off one side is no frame line: the image's edge ring is not of one class
+    from stimuli.extraction import extract
+
+    img = np.full((100, 140), 255, np.uint8)
+    img[20:80, :60] = 0
+    ex = extract(img)
+    assert ex.params["frame_line"] == 0 and ex.params["polarity"] == "dark"
+    assert abs(ex.contour.area - 60 * 60) < 0.02 * 3600
+
+
+def test_a_failed_file_is_named_on_stderr_one_line_each(tmp_path, capsys):
+    from PIL import Image
+
+    from analysis.cli import main
+
+    img, _ = _l_shape()
+    Image.fromarray(img).save(tmp_path / "good one.png")
+    (tmp_path / "notes.png").write_text("not an image")
+    (tmp_path / "sub").mkdir()
+    files = [str(tmp_path / "good one.png"), str(tmp_path / "notes.png"), str(tmp_path / "sub")]
+    assert main(["extract", *files, "-o", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 3
+    assert err[0].startswith(f"attneave extract: {files[1]}: failed: ") and "not a readable image" in err[0]
+    assert err[1].startswith(f"attneave extract: {files[2]}: failed: ") and "directory" in err[1]
+    assert "1 ok, 0 suspect, 2 failed" in err[2]
