@@ -13,11 +13,26 @@ import numpy as np
 from stimuli.batch.params import Style
 from stimuli.errors import InputError
 
-__all__ = ["draw_item", "item_svg"]
+__all__ = ["draw_item", "drawn_bbox", "item_svg", "render_item"]
 
 
-def _render(item, style, canvas):
-    """The :mod:`stimuli.render` result dict of an item."""
+def render_item(item, style, canvas):
+    """The :mod:`stimuli.render` result dict of an item: its image and the geometry drawn.
+
+    Parameters
+    ----------
+    item : Item
+    style : Style (or a mapping of its fields)
+    canvas : Canvas
+
+    Returns
+    -------
+    dict
+        What the ``render_*`` function returned (``img``, ``kind``, the
+        rings, strokes or dot centres in image pixels, ...); its image is
+        :func:`draw_item`'s and its SVG (:func:`stimuli.render.svg_text`)
+        :func:`item_svg`'s.
+    """
     from stimuli import render
 
     if not isinstance(style, Style):
@@ -60,12 +75,46 @@ def draw_item(item, style, canvas):
         ``(height, width)`` for grey colours, ``(height, width, 3)`` for RGB;
         pixel ``(i, j)`` is the square centred on ``(x, y) = (j, i)``.
     """
-    return _render(item, style, canvas)["img"]
+    return render_item(item, style, canvas)["img"]
 
 
 def item_svg(item, style, canvas):
     """The item as a complete, deterministic SVG document (same pixel coordinates)."""
     from stimuli.render import svg_text
 
-    return svg_text(_render(item, style, canvas))
+    return svg_text(render_item(item, style, canvas))
+
+
+def drawn_bbox(result):
+    """Bounding box ``(x0, y0, x1, y1)`` of what a render result paints, in image pixels.
+
+    The painted region, not the contour: a stroke reaches half its width
+    (and its joins and caps) beyond the line, a dot its radius beyond its
+    centre. Pixel centres are at integers, so the image itself spans
+    ``[-0.5, width - 0.5] x [-0.5, height - 0.5]``.
+
+    Parameters
+    ----------
+    result : dict
+        What :func:`render_item` returned.
+
+    Returns
+    -------
+    tuple of float, or None
+        None when nothing is painted.
+    """
+    kind = result["kind"]
+    if kind == "dots":
+        c = np.asarray(result["centers"], float).reshape(-1, 2)
+        if not len(c):
+            return None
+        r = float(result["radius"])
+        lo, hi = c.min(axis=0) - r, c.max(axis=0) + r
+    else:
+        rings = result["rings"] if kind == "silhouette" else result["stroke_rings"]
+        if not len(rings):
+            return None
+        pts = np.vstack([np.asarray(q, float).reshape(-1, 2) for q in rings])
+        lo, hi = pts.min(axis=0), pts.max(axis=0)
+    return float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1])
 

@@ -116,9 +116,9 @@ class JobError(RuntimeError):
 def _run_job(job, out_dir):
     import numpy as np
 
-    from stimuli.batch.drawing import draw_item, item_svg
+    from stimuli.batch.drawing import render_item
     from stimuli.batch.recipes import RECIPES
-    from stimuli.render import write_png
+    from stimuli.render import svg_text, write_png
 
     out = Path(out_dir)
     fn = RECIPES[job["recipe"]][1]
@@ -140,14 +140,20 @@ def _run_job(job, out_dir):
         stim = sid(it.suffix)
         image = f"images/{stim}.png"
         contour = f"contours/{stim}.csv"
-        img = draw_item(it, style, canvas)
-        _check_visible(f"item {it.suffix!r}" if it.suffix else "", it, img, canvas)
+        # one rendering gives the PNG, the SVG and the painted extent checked here
+        drawn = render_item(it, style, canvas)
+        img = drawn["img"]
+        label = f"item {it.suffix!r}" if it.suffix else ""
+        _check_visible(label, it, img, canvas)
+        cut = _cut_off(drawn, canvas)
+        if cut:
+            it.warnings = list(it.warnings) + [cut]
         write_png(out / image, img, job["output"]["png_bit_depth"])
         row = {"stimulus_id": stim, "image": image, "contour": contour}
         if svg:
             row["svg"] = f"images/{stim}.svg"
             with atomic_write(out / row["svg"], "w", encoding="utf-8", newline="\n") as fh:
-                fh.write(item_svg(it, style, canvas))
+                fh.write(svg_text(drawn))
         it.contour.to_csv(out / contour)
         if it.parent_suffix is not None and it.parent_suffix not in suffixes:
             raise RuntimeError(f"recipe {job['recipe']!r}: item {it.suffix!r} names a parent "
@@ -157,7 +163,8 @@ def _run_job(job, out_dir):
             "height": str(canvas.height),
             "generator": job["recipe"],
             "seed": str(job["seed"]),
-            "params": encode_json(record_paths(to_jsonable(it.params), job["path_map"])),
+            # what the image shows (silhouette, outline, fragments, ...): the row alone must say it
+            "params": encode_json(record_paths(to_jsonable({"draw": it.draw["mode"], **it.params}), job["path_map"])),
             "condition": it.condition or job["condition"],
             "parent_id": sid(it.parent_suffix) if it.parent_suffix is not None else "",
             "batch_condition": job["condition"],
@@ -198,6 +205,36 @@ def _check_visible(label, item, img, canvas):
     if img.min() == img.max():
         raise InputError(f"{label}the image is blank (one colour everywhere): the figure lies outside the "
                          f"{canvas.width}x{canvas.height} canvas or is drawn in the ground's colour")
+
+
+#: Slack (px) allowed beyond the image edge: round-off of a figure placed exactly at the edge (margin 0).
+EDGE_TOLERANCE = 1e-6
+
+
+def _cut_off(drawn, canvas):
+    """Why the image cuts off part of what it paints (a warning), or "" when it does not.
+
+    ``placement: fit`` puts the contour's bounding box inside the margins,
+    but what is painted can reach beyond it: half a stroke's width (and its
+    joins) around an outline, a dot's radius, a convex deformation made
+    after placement. A cut-off figure is not the stimulus its contour file
+    describes (its area, its outline), so it is flagged like any other poor
+    stimulus: one line on stderr and the manifest's ``warning`` column.
+    """
+    from stimuli.batch.drawing import drawn_bbox
+
+    box = drawn_bbox(drawn)
+    if box is None:
+        return ""
+    x0, y0, x1, y1 = box
+    w, h = canvas.width, canvas.height
+    over = max(-0.5 - x0, -0.5 - y0, x1 - (w - 0.5), y1 - (h - 0.5))
+    if not over > EDGE_TOLERANCE:
+        return ""
+    return (f"cut off by the canvas edge: the figure as drawn spans x {x0:.1f}..{x1:.1f}, y {y0:.1f}..{y1:.1f} px, "
+            f"{over:.2f} px beyond the edge of the {w}x{h} image, so the image does not show the whole contour; "
+            f"raise canvas.margin by more than {over:.2f} px (strokes, dots and deformations reach beyond the "
+            f"contour's bounding box) or make the figure smaller")
 
 
 def journal_path(out):

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_validator, model_validator
+from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_serializer, field_validator,
+                      model_validator)
 
 __all__ = [
     "Style", "RecipeParams", "ShapeParams", "AttneavePolygonParams", "AttneaveCurvedParams",
@@ -202,6 +203,18 @@ class SuperformulaParams(ShapeParams):
     @model_validator(mode="after")
     def _check(self):
         _check_sampling(self.n, self.m, "superformula m", "m")
+        # the generator's closure rule, here so that the config is refused with its file and line
+        # rather than when the recipe runs
+        import numpy as np
+
+        from stimuli.shapes.generators import superformula_radius
+
+        probe = np.array([0.0, 1e-3, 2 * np.pi, 2 * np.pi + 1e-3])
+        with np.errstate(all="ignore"):
+            rp = superformula_radius(probe, self.m, self.n1, self.n2, self.n3, self.a, self.b)
+        if np.isfinite(rp).all() and not np.allclose(rp[[0, 1]], rp[[2, 3]], rtol=1e-9, atol=0):
+            raise ValueError(f"m: the superformula with m={self.m:g} does not close after one turn; use an even "
+                             "integer m, or an odd integer with a == b and n2 == n3")
         return self
 
 
@@ -276,6 +289,30 @@ class BaseShape(RecipeParams):
             raise ValueError("version 'both' makes two shapes; a base shape needs 'polygon' or 'curved'")
         return v
 
+    @field_serializer("params")
+    def _dump_params(self, v, info):
+        # a base shape's own `draw` is never used (the recipe's draw / base_draw is), so the
+        # resolved config does not write it: read back, it would contradict the recipe's
+        if isinstance(v, BaseModel):
+            return v.model_dump(mode=info.mode, by_alias=info.by_alias, exclude={"draw"})
+        return v
+
+
+def check_base_draw(base, used, key):
+    """Refuse a base shape's ``draw`` that differs from how the recipe draws it.
+
+    The deformation and guided recipes draw their base with their own
+    ``draw`` / ``base_draw``; a ``draw`` given inside ``base.params`` would
+    otherwise be accepted and silently ignored.
+    """
+    p = base.params
+    # 'silhouette', the default, is let through: resolved configs written before this check hold it
+    # beside base_draw: outline, and must run again as they are
+    default = ShapeParams.model_fields["draw"].default
+    if isinstance(p, ShapeParams) and "draw" in p.model_fields_set and p.draw != used and p.draw != default:
+        raise ValueError(f"base.params.draw: {p.draw!r} is not used here: this recipe draws its base as "
+                         f"{key} says ({used!r}); set {key}: {p.draw} instead")
+
 
 class DeformationParams(RecipeParams):
     """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`stimuli.shapes.deformations`."""
@@ -289,4 +326,9 @@ class DeformationParams(RecipeParams):
     resample: Optional[int] = Field(None, ge=8, le=1_000_000, description="resample the placed base first (bump mode)")
     draw: Literal["silhouette", "outline"] = "silhouette"
     max_tries: int = Field(100, ge=1, le=100_000, description="base shapes drawn before giving up")
+
+    @model_validator(mode="after")
+    def _check_draw(self):
+        check_base_draw(self.base, self.draw, "draw")
+        return self
 

@@ -43,10 +43,10 @@ from dataclasses import dataclass, field
 from typing import Callable, Literal, Optional
 
 import numpy as np
-from pydantic import BaseModel, Field, field_validator
+from pydantic import BaseModel, Field, field_validator, model_validator
 
 from stimuli.batch.drawing import draw_item, item_svg
-from stimuli.batch.params import SHAPES, BaseShape, DeformationParams, Style
+from stimuli.batch.params import SHAPES, BaseShape, DeformationParams, Style, check_base_draw
 from stimuli.batch.params import RecipeParams as _Params
 from stimuli.batch.placement import Canvas, place
 from stimuli.errors import InputError
@@ -132,6 +132,11 @@ class GuidedParams(_Params):
         if len(set(v)) != len(v):
             raise ValueError("each kind at most once")
         return v
+
+    @model_validator(mode="after")
+    def _check_draw(self):
+        check_base_draw(self.base, self.base_draw, "base_draw")
+        return self
 
 
 # --------------------------------------------------------------------------- shapes and placement
