@@ -138,3 +138,26 @@ def test_a_failed_file_is_named_on_stderr_one_line_each(tmp_path, capsys):
     assert err[0].startswith(f"attneave extract: {files[1]}: failed: ") and "not a readable image" in err[0]
     assert err[1].startswith(f"attneave extract: {files[2]}: failed: ") and "directory" in err[1]
     assert "1 ok, 0 suspect, 2 failed" in err[2]
+
+
+def test_a_line_drawing_is_suspect_not_ok(tmp_path):
+    # a drawn circle with a gap in its stroke: the outline runs around the 3-px ink (a thin C),
+    # not along the figure, and was 'ok'. Twice area over perimeter is the stroke's width.
+    import cv2
+
+    from stimuli.extraction import extract
+    from stimuli.extraction.verdict import judge
+
+    img = np.full((160, 160), 255, np.uint8)
+    cv2.ellipse(img, (80, 80), (50, 50), 0, 20, 340, 0, 2)  # a stroke open over 40 degrees
+    width = np.count_nonzero(img < 128) / (2 * np.pi * 50 * 320 / 360)  # ink per length: about 3 px
+    ex = extract(img)
+    v = judge(img, ex)
+    assert v.status == "suspect" and "the object is a thin line (about " in v.reason
+    assert v.measures["thickness"] == pytest.approx(width, rel=0.15)
+    # the same circle filled is a figure, ok; its thickness is its radius
+    filled = np.full((160, 160), 255, np.uint8)
+    cv2.circle(filled, (80, 80), 50, 0, -1)
+    ex = extract(filled)
+    v = judge(filled, ex)
+    assert v.status == "ok" and v.measures["thickness"] == pytest.approx(50, rel=0.03)

@@ -67,7 +67,7 @@ OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "sil
 SUMMARY_COLUMNS = (
     "image", "status", "reason", "n_points", "perimeter", "area",
     "n_objects", "method", "polarity", "level", "sigma", "n",
-    "resolved", "frame", "fill", "contrast", "agreement", *PHOTO_MEASURES,
+    "resolved", "frame", "fill", "contrast", "agreement", "thickness", *PHOTO_MEASURES,
 )
 #: Options of :func:`extract_images` and their defaults.
 DEFAULTS = dict(
@@ -307,7 +307,7 @@ def _summary_frame(rows):
 
     df = pd.DataFrame([{c: r[c] for c in SUMMARY_COLUMNS} for r in rows], columns=list(SUMMARY_COLUMNS))
     for c in ("n_points", "perimeter", "area", "n_objects", "level", "sigma", "n", "frame", "fill", "contrast",
-              "agreement", *PHOTO_MEASURES):
+              "agreement", "thickness", *PHOTO_MEASURES):
         df[c] = pd.to_numeric(df[c].replace("", np.nan), errors="coerce")
         if c in ("n_points", "n_objects", "n"):
             df[c] = df[c].astype("Int64")
@@ -444,7 +444,7 @@ def _analyse(image, stem, opts):
         status=verdict.status, reason=verdict.reason, n_points=c0.n, perimeter=c0.perimeter, area=c0.area,
         n_objects=len(ex.contours), polarity=ex.params["polarity"], level=ex.params.get("level"), sigma=i0.sigma,
         n=i0.params["n"], resolved=ex.params.get("resolved", ex.params["method"]), frame=m["frame"],
-        fill=m["fill"], contrast=m["contrast"], agreement=m["agreement"],
+        fill=m["fill"], contrast=m["contrast"], agreement=m["agreement"], thickness=m["thickness"],
         **{k: "" if m[k] is None else m[k] for k in PHOTO_MEASURES},
     )
     return files, summary
