@@ -130,13 +130,13 @@ def test_a_failed_file_is_named_on_stderr_one_line_each(tmp_path, capsys):
     img, _ = _l_shape()
     Image.fromarray(img).save(tmp_path / "good one.png")
     (tmp_path / "notes.png").write_text("not an image")
-    (tmp_path / "sub").mkdir()
-    files = [str(tmp_path / "good one.png"), str(tmp_path / "notes.png"), str(tmp_path / "sub")]
+    (tmp_path / "empty.jpg").write_bytes(b"")  # (a directory is its image files: see below)
+    files = [str(tmp_path / "good one.png"), str(tmp_path / "notes.png"), str(tmp_path / "empty.jpg")]
     assert main(["extract", *files, "-o", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 3
     assert err[0].startswith(f"attneave extract: {files[1]}: failed: ") and "not a readable image" in err[0]
-    assert err[1].startswith(f"attneave extract: {files[2]}: failed: ") and "directory" in err[1]
+    assert err[1].startswith(f"attneave extract: {files[2]}: failed: ")
     assert "1 ok, 0 suspect, 2 failed" in err[2]
 
 
@@ -161,3 +161,30 @@ def test_a_line_drawing_is_suspect_not_ok(tmp_path):
     ex = extract(filled)
     v = judge(filled, ex)
     assert v.status == "ok" and v.measures["thickness"] == pytest.approx(50, rel=0.03)
+
+
+def test_a_directory_is_its_image_files(tmp_path, capsys):
+    import cv2
+
+    from analysis.cli import main
+
+    d = tmp_path / "silhouettes"
+    d.mkdir()
+    for k, r in enumerate((20, 30)):
+        img = np.full((100, 100), 255, np.uint8)
+        cv2.circle(img, (50, 50), r, 0, -1)
+        cv2.imwrite(str(d / f"disk{k}.PNG"), img)
+    (d / "notes.txt").write_text("not an image")
+    (d / "sub").mkdir()
+    assert main(["extract", str(d), "-o", str(tmp_path / "out")]) == 0
+    import pandas as pd
+
+    summary = pd.read_csv(tmp_path / "out" / "summary.csv")
+    assert [p.split("/")[-1] for p in summary["image"]] == ["disk0.PNG", "disk1.PNG"]
+    assert (summary["status"] == "ok").all()
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    capsys.readouterr()
+    assert main(["extract", str(empty), "-o", str(tmp_path / "out2")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "a directory without image files" in err[0]

@@ -29,7 +29,8 @@ def add_parser(sub):
             "any image is read (one line, exit status 2)."
         ),
     )
-    p.add_argument("images", nargs="+", metavar="IMAGE", help="image files (PNG, JPEG, TIFF, BMP)")
+    p.add_argument("images", nargs="+", metavar="IMAGE",
+                   help="image files (PNG, JPEG, TIFF, BMP), or directories: their image files, by name")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory (created if needed)")
     p.add_argument(
         "--method", choices=("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model"),
@@ -120,12 +121,35 @@ def _check_args(args):
         raise InputError(f"--b must be >= 0, got {args.b}")
 
 
+def _expand_directories(paths):
+    """Each directory among `paths` replaced by its image files (by suffix, sorted by name; not its
+    subdirectories); an InputError for a directory without any."""
+    from pathlib import Path
+
+    from stimuli.errors import InputError
+    from stimuli.extraction.imageio import IMAGE_SUFFIXES
+
+    out = []
+    for p in paths:
+        if not Path(p).is_dir():
+            out.append(p)
+            continue
+        found = sorted(str(f) for f in Path(p).iterdir() if f.is_file() and f.suffix.lower() in IMAGE_SUFFIXES)
+        if not found:
+            raise InputError(f"{p}: a directory without image files ({', '.join(IMAGE_SUFFIXES)})")
+        out.extend(found)
+    return out
+
+
 def run(args):
     import sys
 
     from stimuli.extraction.pipeline import extract_images
 
     _check_args(args)
+    # `attneave extract photos/ -o out`: a folder of images, as people keep them (a directory was
+    # one failed input before)
+    args.images = _expand_directories(args.images)
     summary = extract_images(
         args.images, args.output, workers=args.workers,
         method=args.method, threshold=args.threshold, polarity=args.polarity, objects=args.objects,
