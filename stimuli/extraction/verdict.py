@@ -29,10 +29,12 @@ the measure and its value:
 ``thickness``
     Twice the object's area over its perimeter: about the width of a
     band, the radius of a disk. Below :data:`THRESHOLDS` ``thin`` (5 px)
-    the object is a line, most often the ink of a line drawing, whose
-    outline runs around the stroke rather than along the figure (the 350
-    MPEG-7 silhouettes are at least 6.9 px thick). Not for photo methods,
-    whose verdict is calibrated without it.
+    and below 0.2 times the square root of its area, the object is a line,
+    most often the ink of a line drawing, whose outline runs around the
+    stroke rather than along the figure (the 350 MPEG-7 silhouettes are at
+    least 6.9 px thick; a small silhouette with narrow parts is thin in
+    pixels but not for its size). Not for photo methods, whose verdict is
+    calibrated without it.
 ``decoder``
     The image decoder reported corrupt or truncated data.
 ``model_found_nothing``
@@ -276,7 +278,9 @@ def judge(image, extraction, decoder=(), thresholds=None):
         reasons.append(f"competing region of {100 * competing:.0f}% of the object's size")
     if agreement is not None and agreement < th["agreement"]:
         reasons.append(f"the method's hypotheses disagree (IoU {agreement:.2f})")
-    if method not in UNVERIFIABLE and thickness < th["thin"]:
+    # thin in pixels and for its size: a small silhouette with narrow parts (a 32-px star) is not a
+    # line drawing (a stroke of width w and length L has w / sqrt(area) = sqrt(w / L))
+    if method not in UNVERIFIABLE and thickness < th["thin"] and thickness < 0.2 * np.sqrt(max(float(c.area), 0.0)):
         reasons.append(f"the object is a thin line (about {thickness:.1f} px wide): a line drawing? its outline "
                        "runs around the ink, not along the figure")
     photo = photo_measures(image, extraction) if method in UNVERIFIABLE else dict.fromkeys(PHOTO_MEASURES)
