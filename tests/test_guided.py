@@ -7,7 +7,6 @@ contrast is right and never below its minimum, and the cat never crosses
 itself, also on shapes with deep narrow notches.
 """
 
-import warnings
 
 import numpy as np
 import pytest
@@ -310,24 +309,29 @@ def test_guided_recipe_redraws_low_contrast_shapes_and_records_the_contrast():
     assert max(tries) > 1  # some base shapes were refused and drawn again
 
 
-def test_deterministic_base_warns_once_and_is_not_redrawn(tmp_path):
+def test_deterministic_base_is_not_redrawn_and_its_repeats_are_named(tmp_path):
     src = tmp_path / "shape.csv"
     c = polygon(3)
     c.to_csv(src)
     base = {"generator": "from_csv", "params": {"path": str(src)}}
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("default")
-        runs = [recipes.make("guided", seed, base=base, kinds=["base", "peaks", "troughs"]) for seed in (1, 2, 3)]
-    msgs = [str(w.message) for w in caught if "identical" in str(w.message)]
-    assert len(msgs) == 1 and "from_csv" in msgs[0]
+    runs = [recipes.make("guided", seed, base=base, kinds=["base", "peaks", "troughs"]) for seed in (1, 2, 3)]
     assert all(r[1].params["base_random"] is False for r in runs)
-    for a in runs[1:]:  # different seeds, identical stimuli: what the warning is about
+    for a in runs[1:]:  # different seeds, identical stimuli
         assert a[1].params == runs[0][1].params
-    # a random base gives no such warning
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
-        items = recipes.make("guided", 1, kinds=["peaks", "troughs"])
-    assert not [w for w in caught if "identical" in str(w.message)] and items[0].params["base_random"] is True
+    items = recipes.make("guided", 1, kinds=["peaks", "troughs"])
+    assert items[0].params["base_random"] is True
+    # the batch names such copies once per condition, and only when there are repeats
+    from stimuli.batch.runner import run_batch
+
+    for repeats, named in ((3, True), (1, False)):
+        cfg = tmp_path / f"g{repeats}.yaml"
+        cfg.write_text(f"seed: 1\nconditions:\n  - name: g\n    recipe: guided\n    repeats: {repeats}\n"
+                       f"    params:\n      base: {{generator: from_csv, params: {{path: {src}}}}}\n"
+                       f"      kinds: [base, peaks, troughs]\n")
+        res = run_batch(cfg, tmp_path / f"out{repeats}")
+        assert bool(res.notes) is named
+        if named:
+            assert len(res.notes) == 1 and "condition 'g': its 3 repeats are identical" in res.notes[0]
     # a fixed base that fails fails at once (drawing it again could not help)
     with pytest.raises(InputError, match="from_csv base: n_fragments"):
         recipes.make("guided", 1, base=base, kinds=["peaks"], n_fragments=40, fraction=0.5, min_gap=0)

@@ -285,7 +285,6 @@ def deformation_recipe(params, rng, canvas):
     raise InputError(f"deformation: no valid {p.mode} change on {p.max_tries} base shapes; last: {last}")
 
 
-_WARNED: set = set()  # messages of guided_recipe's repeat warning already shown
 
 
 def guided_recipe(params, rng, canvas):
@@ -301,10 +300,9 @@ def guided_recipe(params, rng, canvas):
     ``max_tries``; ``base_tries`` and ``base_rejected`` (the reasons) are
     recorded. A base that draws no random numbers (``from_csv``,
     ``from_image``) is the same on every call (``base_random`` false): it is
-    not drawn again, and a ``UserWarning`` says once per process that
-    repeats of these parameters give identical files.
+    not drawn again (:func:`stimuli.batch.runner.identical_repeats` warns
+    when repeats of it are copies).
     """
-    import warnings
 
     p = _validated(GuidedParams, params)
     kinds = list(p.kinds)
@@ -332,13 +330,8 @@ def guided_recipe(params, rng, canvas):
         break
     else:
         raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {rejected[-1]}")
-    if fixed:
-        where = getattr(p.base.params, "path", "")
-        msg = (f"guided: base {p.base.generator} {where} draws no random numbers: every repeat of these "
-               f"parameters gives identical files (use repeats: 1)")
-        if msg not in _WARNED:  # once per distinct base in a process, whatever the warnings filters
-            _WARNED.add(msg)
-            warnings.warn(msg, UserWarning, stacklevel=2)
+    # (a base without randomness makes identical repeats: the runner says so once per condition,
+    # and only when there are repeats; see stimuli.batch.runner.identical_repeats)
     parent = "base" if "base" in kinds else None
     common = dict(bparams, base_tries=tries, base_rejected=rejected, base_random=not fixed)
     items = []

@@ -57,7 +57,7 @@ from stimuli.errors import InputError
 from stimuli.io import DISK_ERRORS, atomic_write, check_output_spares_inputs, make_output_dir
 from stimuli.stimulus_set import write_manifest
 
-__all__ = ["BatchError", "BatchResult", "run_batch", "DISK_ERRORS"]
+__all__ = ["BatchError", "BatchResult", "run_batch", "identical_repeats", "DISK_ERRORS"]
 
 # errors of the disk rather than of the input: the batch stops, keeps what is complete, exit 1
 
@@ -80,6 +80,9 @@ class BatchResult:
     warnings : list of (str, str)
         ``(stimulus_id, warning)`` of every stimulus that may be poor (its
         manifest ``warning`` column), in manifest order.
+    notes : list of str
+        Warnings about whole conditions: repeats that came out identical
+        (:func:`identical_repeats`).
     """
 
     directory: Path
@@ -88,6 +91,50 @@ class BatchResult:
     n_run: int
     seconds: float
     warnings: list = field(default_factory=list)
+    notes: list = field(default_factory=list)
+
+
+def identical_repeats(out, rows):
+    """One warning per condition whose repeats all gave the same contours.
+
+    A generator that draws no random numbers with the given parameters (a
+    superformula, ``from_csv``, ``from_image``, a radial-frequency pattern
+    of amplitude 0, a guided set on such a base) makes every repeat of a
+    cell the same stimulus: the set holds copies that an analysis would
+    count as different stimuli. Repeats are compared by their contour files'
+    bytes (the same shape is written byte for byte the same).
+
+    Parameters
+    ----------
+    out : Path
+        The set's directory.
+    rows : list of dict
+        Its manifest rows (``batch_condition``, ``cell``, ``rep``,
+        ``stimulus_id``, ``contour``).
+
+    Returns
+    -------
+    list of str
+    """
+    import hashlib
+    from collections import defaultdict
+
+    cells = defaultdict(lambda: defaultdict(list))
+    for row in rows:
+        cells[(row["batch_condition"], row["cell"])][row["rep"]].append(row)
+    alike = defaultdict(list)  # condition -> (cells whose repeats are identical, repeats)
+    for (cond, cell), reps in cells.items():
+        if len(reps) < 2:
+            continue
+        made = set()
+        for rs in reps.values():
+            files = sorted(rs, key=lambda r: r["stimulus_id"])
+            made.add(tuple(hashlib.sha256((Path(out) / r["contour"]).read_bytes()).hexdigest() for r in files))
+        if len(made) == 1:
+            alike[cond].append(len(reps))
+    return [f"condition {cond!r}: its {n[0]} repeats are identical in {len(n)} of its cells (the generator draws no "
+            f"random numbers with these parameters): copies, not new stimuli; use repeats: 1"
+            for cond, n in alike.items()]
 
 
 def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=False, progress=None):
@@ -166,7 +213,7 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
         raise BatchError(f"{exc}; {fate}") from exc
     warnings = [(row["stimulus_id"], row["warning"]) for row in rows if row.get("warning")]
     return BatchResult(directory=out, n_stimuli=len(rows), n_jobs=n_jobs, n_run=n_run,
-                       seconds=time.perf_counter() - t0, warnings=warnings)
+                       seconds=time.perf_counter() - t0, warnings=warnings, notes=identical_repeats(out, rows))
 
 
 class BatchError(RuntimeError):

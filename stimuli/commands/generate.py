@@ -76,6 +76,8 @@ def run(args):
         return 1
     for sid, warning in res.warnings:
         print(f"attneave generate: warning: {sid}: {warning}", file=sys.stderr)
+    for note in res.notes:
+        print(f"attneave generate: warning: {note}", file=sys.stderr)
     skipped = res.n_jobs - res.n_run
     note = f" ({skipped} already complete)" if skipped else ""
     flagged = (f"; {len(res.warnings)} flagged as possibly poor (manifest column 'warning')"
