@@ -34,8 +34,11 @@
  *     kept in the browser's localStorage (key attneave:<hash of the page's settings>:<id>).
  *     Opening the page again with the same participant id (a reload, a closed tab) shows the
  *     screen "resume" and goes on with the next trial, or, once finished, the end screen
- *     with the download again. They are removed once a --submit-url POST succeeded. While
- *     trials are under way, leaving the page asks the browser's "leave site?" question.
+ *     with the download again. Once a --submit-url POST succeeded the rows are removed and only
+ *     a note that the participant is done stays: opening the page again shows the end screen
+ *     with #submit-status ok and no #download (?fresh=1 starts again). While trials are under
+ *     way, leaving the page asks the browser's "leave site?" question. The same participant in
+ *     two tabs: the tab that keeps a trial first goes on, the other shows the screen "error".
  *   Trial order: mulberry32 seeded with FNV-1a(seed + ":" + participant), Fisher-Yates;
  *     the same code is in analysis/experiment/order.py (and the PsychoPy script).
  */
@@ -219,9 +222,15 @@
     screenEl.hidden = true;
     screenEl.removeAttribute('data-screen');  // data-screen names the screen shown, and only that
   }
+  var halted = false;  // an error screen is final: no timer still pending may show a trial over it
   function fail(message) {
+    halted = true;
+    underway = false;
+    trial = null;
+    img.removeAttribute('data-stimulus-id');  // no stimulus is shown any more
     showScreen([el('p', { 'class': 'error', text: message })], 'error');
     nextBtn.hidden = true;
+    onNext = null;
   }
   function positiveParam(name) {
     if (!params.has(name)) return null;
@@ -272,6 +281,7 @@
   }
 
   function message(text, label, done) {
+    if (halted) return;
     showScreen(paragraphs(text), label);
     waitNext(done);
   }
@@ -283,12 +293,19 @@
   // (a page built with other settings never resumes another's progress).
   var storeKey = null;
   var underway = false;  // trials begun and not finished: leaving the page asks first
+  var savedDone = 0;     // the trials this tab last kept (or resumed from)
   function saveProgress(done, finished) {
+    // The same participant open in two tabs (a link opened twice) would show stimuli twice and each
+    // tab would keep its own trials over the other's: the tab that keeps a trial first goes on, the
+    // other stops (its view of the kept progress is out of date).
+    var kept = savedProgress();
+    if (kept && kept.done !== savedDone) { openElsewhere(); return; }
     try {
       root.localStorage.setItem(storeKey, JSON.stringify({
         version: 1, list: session.list, order: session.order, done: done, finished: finished,
         pxPerMm: session.pxPerMm, pxPerDeg: session.pxPerDeg, distanceCm: session.distanceCm, rows: data
       }));
+      savedDone = done;
     } catch (err) { /* storage full or disabled (private mode): the page still works, without resuming */ }
   }
   function savedProgress() {
@@ -299,6 +316,13 @@
       return same ? s : null;
     } catch (err) { return null; }
   }
+  function openElsewhere() {
+    fail('This experiment is open in another tab or window, and goes on there. Please close this one.');
+  }
+  // another tab of this page changed this participant's progress: it is running them, so this one stops
+  root.addEventListener('storage', function (e) {
+    if (underway && !halted && storeKey !== null && e.key === storeKey) openElsewhere();
+  });
   function forgetProgress() {
     try { root.localStorage.removeItem(storeKey); } catch (err) { /* nothing kept */ }
   }
@@ -324,6 +348,21 @@
     return size / cfg.scale.max_side;
   }
 
+  /** Size the stimulus: its size in degrees (or px), shrunk to fit the stage if larger (shown_w/shown_h). */
+  function fit(stim) {
+    var scale = cssScale();
+    var w = stim.width * scale, h = stim.height * scale;
+    var room = Math.min((stage.clientWidth - 8) / w, (stage.clientHeight - 8) / h, 1);
+    img.style.width = (w * room) + 'px';
+    img.style.height = (h * room) + 'px';
+  }
+  // A window resized or a phone turned mid-trial: fit the stimulus again, or part of it would be cut
+  // off out of reach. Clicks are mapped with the image's rect at the moment of the click and the
+  // marks sit in % of the image, so both stay on the points chosen.
+  function refit() { if (trial && !frame.hidden) fit(trial.stim); }
+  root.addEventListener('resize', refit);
+  if (root.ResizeObserver) new root.ResizeObserver(refit).observe(stage);
+
   function needClicks() { return cfg.min_clicks; }
   function maxClicks() { return cfg.max_clicks === null ? Infinity : cfg.max_clicks; }
 
@@ -341,6 +380,7 @@
   }
 
   function runTrial(stim, label, done) {
+    if (halted) return;
     hideScreen();
     stage.hidden = false;
     frame.hidden = true;
@@ -350,17 +390,11 @@
     nextBtn.disabled = true;
     onNext = null;
     function show() {
+      if (halted) return;
       fixation.hidden = true;
       img.onload = null;
-      var scale = cssScale();
-      var w = stim.width * scale, h = stim.height * scale;
-      // a stimulus larger than the window is shrunk to fit (recorded in shown_w/shown_h)
-      var room = Math.min((stage.clientWidth - 8) / w, (stage.clientHeight - 8) / h, 1);
-      img.style.width = (w * room) + 'px';
-      img.style.height = (h * room) + 'px';
       img.setAttribute('data-stimulus-id', stim.id);
       marks.innerHTML = '';
-      frame.hidden = false;
       undoBtn.hidden = !cfg.undo;
       var t = trial = { stim: stim, clicks: [], onset: null };
       waitNext(function () {
@@ -370,6 +404,9 @@
         done(t);
       });
       updateControls();  // #next stays disabled until the clicks are in
+      // sized once the controls below hold their final text (on a phone the prompt takes a line)
+      fit(stim);
+      frame.hidden = false;
       // onset = the first frame on which the image is painted
       root.requestAnimationFrame(function () { t.onset = root.performance.now(); });
     }
@@ -390,6 +427,9 @@
 
   img.addEventListener('pointerdown', function (e) {
     if (!trial || !e.isPrimary || frame.hidden) return;
+    // only the main button (or a touch / pen contact) selects a point: a right-click opens a menu,
+    // a middle-click scrolls; neither is a choice
+    if (e.button !== 0) return;
     e.preventDefault();  // no image drag, no text selection, no emulated mouse events
     if (trial.clicks.length >= maxClicks()) return;
     var now = root.performance.now();
@@ -400,11 +440,14 @@
       shown_w: rect.width, shown_h: rect.height, time: new Date().toISOString()
     });
     var m = el('div', { 'class': 'mark' });
-    m.style.left = (e.clientX - rect.left) + 'px';
-    m.style.top = (e.clientY - rect.top) + 'px';
+    m.style.left = (100 * (e.clientX - rect.left) / rect.width) + '%';  // in % of the image: stays put
+    m.style.top = (100 * (e.clientY - rect.top) / rect.height) + '%';   // when the image is resized
     marks.appendChild(m);
     updateControls();
   });
+
+  // no context menu on the stimulus (right-click, a long press on Android): it hides the shape
+  img.addEventListener('contextmenu', function (e) { e.preventDefault(); });
 
   function undo() {
     if (!trial || !trial.clicks.length || !cfg.undo) return;
@@ -436,6 +479,7 @@
   }
 
   function pause(ms, then) {
+    if (halted) return;
     if (!(ms > 0)) { then(); return; }
     stage.hidden = false;
     hideScreen();
@@ -491,7 +535,14 @@
         });
     }
     function ok() {
-      forgetProgress();  // the experimenter has the data: nothing of it stays in this browser
+      // the experimenter has the data: none of it stays in this browser, only a note that this
+      // participant is done, so that opening the page again shows the end instead of starting over
+      try {
+        root.localStorage.setItem(storeKey, JSON.stringify({
+          version: 1, list: session.list, order: session.order, done: session.order.length, finished: true,
+          submitted: true, rows: []
+        }));
+      } catch (err) { forgetProgress(); }
       status.setAttribute('data-state', 'ok');
       status.textContent = 'Your data were sent. Thank you.';
     }
@@ -499,8 +550,10 @@
   }
 
   function finish() {
+    if (halted) return;
     underway = false;
     saveProgress(session.order.length, true);
+    if (halted) return;
     var text = csv();
     var name = 'attneave_' + String(session.participant).replace(/[^A-Za-z0-9_.-]/g, '_') + '.csv';
     var link = el('a', { id: 'download', href: 'data:text/csv;charset=utf-8,' + encodeURIComponent(text), download: name, text: 'Download your data (' + name + ')' });
@@ -546,7 +599,15 @@
     session.order = ids;
     var trials = ids.map(function (s) { return byId[s]; });
     storeKey = 'attneave:' + fnv1a32(JSON.stringify(cfg)).toString(16) + ':' + id;
-    if (params.get('fresh') === '1') forgetProgress();
+    if (params.get('fresh') === '1') {
+      forgetProgress();
+      // ?fresh=1 forgets once: a reload of the same address (mid-experiment) must resume, not forget again
+      try {
+        var u = new URL(root.location.href);
+        u.searchParams.delete('fresh');
+        root.history.replaceState(root.history.state, '', u.href);
+      } catch (err) { /* an address that cannot be rewritten: a reload starts again, as before */ }
+    }
     var saved = savedProgress();
     if (saved) { resume(saved, trials); return; }
     underway = true;
@@ -570,12 +631,24 @@
     } else go();
   }
 
+  /** A participant whose data were sent opens the page again: the end screen, without the data. */
+  function sentAlready() {
+    underway = false;
+    var status = el('p', { id: 'submit-status', 'data-state': 'ok', text: 'Your data were sent. Thank you.' });
+    showScreen(paragraphs(cfg.end_text).concat([status]), 'end');
+    progress.textContent = '';
+    nextBtn.hidden = true;
+    onNext = null;
+  }
+
   /** Go on from saved progress: its rows and calibration back, practice and instructions skipped. */
   function resume(saved, trials) {
     Array.prototype.push.apply(data, saved.rows);
     session.pxPerMm = saved.pxPerMm;
     session.pxPerDeg = saved.pxPerDeg;
     session.distanceCm = saved.distanceCm;
+    savedDone = saved.done;
+    if (saved.submitted) { sentAlready(); return; }
     if (saved.finished || saved.done >= trials.length) { finish(); return; }
     underway = true;
     preload(trials.slice(saved.done));
