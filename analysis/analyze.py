@@ -398,6 +398,7 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
             summary["warnings"].append("the mixed model's optimiser did not report convergence: treat its "
                                        "estimates as doubtful")
     summary["warnings"] += list(getattr(stimset, "warnings", ())) + degenerate_warnings(d, main, tests)
+    summary["warnings"] += joint_warnings(joint, main)
     bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)
@@ -441,6 +442,36 @@ def degenerate_warnings(d, main, tests):
             out.append(f"the {test} needs at least 2 {unit} with usable clicks and has {n}: its t and p are "
                        "not computed")
     return out
+
+
+def joint_warnings(joint, main):
+    """A warning when the joint fit cannot tell some of its predictors apart.
+
+    Predictors whose standardised values are constant or collinear on the
+    clicked stimuli (``concavity`` on convex shapes; ``abs_curvature`` and
+    ``convexity`` on shapes without concavities)
+    have a singular information matrix: their coefficients are not identified
+    and come without SE or interval, which the table alone does not explain.
+
+    Parameters
+    ----------
+    joint : dict
+        From :func:`joint_fit`.
+    main : dict
+        The pooled fit of surprisal alone (no warning when it has no information at all).
+
+    Returns
+    -------
+    list of str
+    """
+    if len(joint) < 2 or not np.isfinite(main.get("beta", np.nan)):
+        return []
+    bad = [k for k, v in joint.items() if not v["at_bound"] and not np.isfinite(v["se"])]
+    if not bad:
+        return []
+    return [f"the joint fit cannot tell {', '.join(bad)} apart from the other predictors: their standardised "
+            "values are constant or collinear on the clicked stimuli, so their coefficients are not identified (no "
+            "SE or interval); fit them one at a time (models.csv) or drop one"]
 
 
 def _stimulus_set(stimset):

@@ -99,7 +99,10 @@ def fit_beta_blurred(Z, C, sd_points, bound=BETA_BOUND, level=0.95):
     -------
     dict
         ``beta, se, ci_low, ci_high, loglik, loglik0, lr_stat, lr_p,
-        n_clicks, at_bound, converged``.
+        n_clicks, at_bound, converged``. ``at_bound`` is True when the
+        likelihood at a bound is as high as at the optimiser's point (it
+        still rises there: near-separation); ``beta`` is then the bound and
+        ``se`` and the interval are NaN.
     """
     Z = np.asarray(Z, dtype=float)
     C = np.asarray(C, dtype=float)
@@ -126,14 +129,24 @@ def fit_beta_blurred(Z, C, sd_points, bound=BETA_BOUND, level=0.95):
 
     res = scipy.optimize.minimize(nll, x0=[0.0], jac=True, method="L-BFGS-B", bounds=[(-bound, bound)],
                                   options=dict(ftol=1e-14, gtol=1e-10, maxiter=200))
-    b = float(res.x[0])
+    b, fun = float(res.x[0]), float(res.fun)
+    # Near-separation (clicks only on each contour's top point): the likelihood keeps rising
+    # towards the bound, but so slowly that L-BFGS-B stops at beta ~ 10-13 with a vanishing
+    # gradient, which would pass for an estimate. If the likelihood at a bound is as high as at
+    # that point, its supremum lies at or beyond the bound: report the bound, flagged.
+    for edge in (bound, -bound):
+        f_edge = nll([edge])[0]
+        if f_edge <= fun + 1e-9 * max(1.0, abs(fun)):
+            b, fun = edge, f_edge
     h = 1e-4
     info = (nll([b + h])[1][0] - nll([b - h])[1][0]) / (2 * h)
-    se = 1 / np.sqrt(info) if info > 0 else np.nan
+    at_bound = abs(b) >= bound - 1e-9
+    # at the bound beta is no estimate and has no interval (as in analysis.choice.fit_beta)
+    se = 1 / np.sqrt(info) if info > 0 and not at_bound else np.nan
     zc = scipy.stats.norm.ppf(0.5 + level / 2)
-    ll = -float(res.fun) + const
+    ll = -fun + const
     lr = max(2 * (ll - ll0), 0.0)
     out.update(beta=b, se=se, ci_low=b - zc * se, ci_high=b + zc * se, loglik=ll, lr_stat=lr,
-               lr_p=float(scipy.stats.chi2.sf(lr, 1)), at_bound=bool(abs(b) >= bound - 1e-9),
+               lr_p=float(scipy.stats.chi2.sf(lr, 1)), at_bound=bool(at_bound),
                converged=bool(res.success))
     return out

@@ -165,7 +165,7 @@ def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
     -------
     dict of ndarray (scalars when `A` is a scalar)
         ``beta``, ``se`` (from the Fisher information at beta), ``ci_low``,
-        ``ci_high`` (Wald), ``loglik``, ``loglik0`` (beta = 0, the uniform
+        ``ci_high`` (Wald; NaN, as ``se``, for a fit at the bound), ``loglik``, ``loglik0`` (beta = 0, the uniform
         observer), ``lr_stat`` (2*(loglik - loglik0)), ``lr_p`` (chi-square,
         1 df), ``n_clicks``, ``at_bound``, ``converged``, ``iterations``.
         Groups without clicks or without information (all z = 0) get NaN.
@@ -236,7 +236,9 @@ def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
     _, info = score_info(np.nan_to_num(beta))
     with np.errstate(divide="ignore", invalid="ignore"):
         se = 1.0 / np.sqrt(info)
-    se[uninformative] = np.nan
+    # at the bound beta is no estimate, so neither is a Wald interval around it (it would even
+    # reach past the bound, e.g. [12.6, 27.4]); no SE or interval, as in fit_choice
+    se[uninformative | above | below] = np.nan
     zc = scipy.stats.norm.ppf(0.5 + level / 2)
     ll = loglik(np.nan_to_num(beta), Z, A, M)
     ll0 = loglik(np.zeros(G), Z, A, M)

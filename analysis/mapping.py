@@ -343,7 +343,11 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
         cols["curvature"][rows] = pr.result.curvature[j]
         cols["surprisal"][rows] = u[j]
         cols["z"][rows] = pr.z["surprisal"][j]
-        cols["surprisal_percentile"][rows] = midrank_percentile(u[j], u)
+        # ranked by z, not by the raw surprisal: z is exactly 0 where the prediction is constant
+        # (a circle), whose raw values differ only by rounding and would be ranked as if they
+        # differed; elsewhere z is an increasing function of u, so the ranks are the same
+        zs = pr.z["surprisal"]
+        cols["surprisal_percentile"][rows] = midrank_percentile(zs[j], zs)
         cols["concave"][rows] = (pr.sign[j] < 0).astype(np.int64)
         r = reason[rows]
         r[(r == "") & outside] = "outside_image"

@@ -249,7 +249,7 @@ def group_figure(analysis):
 
 
 GROUP_CAPTION = ("Left: each participant's mean standardised surprisal z at their used clicks (dots, sorted; 0 under "
-                 "uniform clicking), with the group mean (red line) and its 95% t interval (band). Middle: the "
+                 "uniform clicking), with the group mean (red line) and its {level:g}% t interval (band). Middle: the "
                  "click rate in bins of z relative to uniform clicking (log scale): observed (dots) and predicted by "
                  "the pooled choice model (squares). Right: log-likelihood gain over uniform clicking of the choice "
                  "model with each predictor alone (red: surprisal, the model under test).")
@@ -268,7 +268,9 @@ def all_figures(analysis, per_page=6):
     list of (stem, caption, PNG bytes, SVG bytes)
     """
     fig = group_figure(analysis)
-    out = [("group", GROUP_CAPTION, to_png(fig), to_svg(fig))]
+    # the band is the group test's interval, at the analysis's confidence level
+    level = 100 * analysis.summary.get("params", {}).get("level", 0.95)
+    out = [("group", GROUP_CAPTION.format(level=level), to_png(fig), to_svg(fig))]
     ids = list(analysis.profiles["ids"])
     groups = _click_groups(analysis)
     for k in range(0, len(ids), per_page):

@@ -53,6 +53,9 @@ RIVALS = ("abs_curvature", "concavity", "convexity", "extremum_proximity", "medi
 # the rasterised silhouette's longer side, in pixels: enough for the skeleton's branches,
 # small enough that 100 stimuli take well under a second
 _SKELETON_SIZE = 128
+#: Curvature whose range is at most this fraction of its largest magnitude is constant (a circle):
+#: see :func:`rival_values`.
+CONSTANT_CURVATURE_RTOL = 1e-4
 
 
 def extremum_proximity(curvature, min_prominence=0.05):
@@ -147,8 +150,22 @@ def rival_values(result, contour):
     Returns
     -------
     dict of str -> (n,) ndarray
+
+    Notes
+    -----
+    A curvature whose range is at most :data:`CONSTANT_CURVATURE_RTOL` of its
+    largest magnitude is taken as constant (a circle, up to the rounding of
+    its contour file): the curvature rivals are then constant, as surprisal is.
     """
     k = np.asarray(result.curvature, dtype=float)
+    # A circle read from a contour file (coordinates to ~10 significant digits) has a curvature
+    # that varies by ~1e-6 of its size at n = 100 (second differences amplify the rounding).
+    # Standardised, that noise would become a predictor with sd 1 and random peaks, which
+    # penalises every rival on circle clicks while surprisal (flat there) is constant: treat a
+    # relative spread below CONSTANT_CURVATURE_RTOL as constant curvature. Real shapes differ far
+    # more (a radial-frequency contour of amplitude 1e-4 varies by ~5e-3).
+    if len(k) and np.ptp(k) <= CONSTANT_CURVATURE_RTOL * np.abs(k).max():
+        k = np.full_like(k, k.mean())
     return {
         "abs_curvature": np.abs(k),
         "concavity": np.maximum(-k, 0.0),

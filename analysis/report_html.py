@@ -114,9 +114,21 @@ def _stimulus_rows(a):
             if pts.nunique() == 1:
                 rho += " *"
                 notes.append(r.stimulus_id)
-        rows.append([r.stimulus_id, r.n_used, _flagged_beta(r.beta_hat, r.beta_se, r.beta_at_bound), num(r.mean_z),
+        # a stimulus nobody clicked has no estimate at all, not one with an infinite SE
+        beta = "n/a (no used clicks)" if r.n_used == 0 else _flagged_beta(r.beta_hat, r.beta_se, r.beta_at_bound)
+        rows.append([r.stimulus_id, r.n_used, beta, num(r.mean_z),
                      _pct(r.top_share) if math.isfinite(r.top_share) else "n/a", rho])
     return rows, notes
+
+
+def _ci(s):
+    """'95% CI', at the confidence level the analysis used (``params.level``)."""
+    return f"{100 * s['params'].get('level', 0.95):g}% CI"
+
+
+def _p(v):
+    """:func:`pval` for HTML text: its '<' escaped."""
+    return html.escape(pval(v))
 
 
 def _results(s):
@@ -132,25 +144,25 @@ def _results(s):
     if m.get("beta") is not None:
         out.append(
             f"In the mixed conditional logit with crossed random slopes, the mean weight of standardised surprisal "
-            f"was &beta; = {num(m['beta'])}, 95% CI [{num(m['ci_low'])}, {num(m['ci_high'])}] (t quantiles, df = "
+            f"was &beta; = {num(m['beta'])}, {_ci(s)} [{num(m['ci_low'])}, {num(m['ci_high'])}] (t quantiles, df = "
             f"{m['df']}), with SD = {num(m['sd_participant'])} across participants and SD = {num(m['sd_stimulus'])} "
             f"across stimuli.")
     out.append(
-        f"The group test across participants gave {_t_df(g)} = {t_text(g)}, {pval(g['p_value'])} "
+        f"The group test across participants gave {_t_df(g)} = {t_text(g)}, {_p(g['p_value'])} "
         f"(one-sided, Monte Carlo null of uniform clicking, R = {g['simulations']}), d<sub>z</sub> = "
         f"{num(g['effect_size'])}; the items test across stimuli {_t_df(it)} = {t_text(it)}, "
-        f"{pval(it['p_value'])}.")
+        f"{_p(it['p_value'])}.")
     if s["beta_at_bound"]:  # the bound and an interval around it are no estimate: flagged, not printed
         out.append(f"The pooled fit (clicks treated as independent) reached the "
                    f"{'upper' if s['beta_hat'] > 0 else 'lower'} bound of its search: &beta; is not estimable "
                    f"(near-separation).")
     else:
         out.append(
-            f"The pooled fit (clicks treated as independent) gave &beta; = {num(s['beta_hat'])}, 95% CI "
+            f"The pooled fit (clicks treated as independent) gave &beta; = {num(s['beta_hat'])}, {_ci(s)} "
             f"[{num(s['beta_ci'][0])}, {num(s['beta_ci'][1])}].")
     sp = s["spearman"]
     out.append(f"Click density correlated with surprisal along the contours with mean Spearman rho = "
-               f"{num(sp['mean_rho'])}, {pval(sp['p_value'])} (circular shifts), over {sp['n_stimuli']} stimuli.")
+               f"{num(sp['mean_rho'])}, {_p(sp['p_value'])} (circular shifts), over {sp['n_stimuli']} stimuli.")
     return " ".join(out)
 
 
@@ -213,7 +225,7 @@ stimuli: <code>{esc(str((s.get('inputs') or {}).get('stimuli', 'n/a')))}</code>.
 <h2>Results</h2>
 <p>{_results(s)}</p>
 <h3>Predictors fitted jointly</h3>
-{_table(["predictor", "coefficient", "95% CI", "LR test p (without it)"], pred_rows)}
+{_table(["predictor", "coefficient", _ci(s), "LR test p (without it)"], pred_rows)}
 <h3>Each predictor alone (models.csv)</h3>
 {_table(["model", "beta", "log-likelihood", "delta AIC"], models)}
 <h2>Figures</h2>
