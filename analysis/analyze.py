@@ -399,6 +399,11 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
                                        "estimates as doubtful")
     summary["warnings"] += list(getattr(stimset, "warnings", ())) + degenerate_warnings(d, main, tests)
     summary["warnings"] += joint_warnings(joint, main)
+    from analysis.exclusions import exclusion_report
+
+    excluded = exclusion_report(out)  # here, not only in the command: a library call is told as well
+    if excluded:
+        summary["warnings"].append(excluded)
     bar.close()
     profiles = dict(t=corr["t"], density=corr["density"], z=corr["z"], ids=ids)
     return Analysis(out, per_s, per_p, models, jsonable(summary), predictions, profiles, stimset)

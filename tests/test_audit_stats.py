@@ -127,3 +127,18 @@ def test_joint_fit_of_collinear_predictors_is_warned(circle_ellipse):
     assert any("not identified" in w and "convexity" in w for w in a.summary["warnings"])
     b = analyze(clicks, ss, predictors=("surprisal", "extremum_proximity"), **kw)
     assert not any("not identified" in w for w in b.summary["warnings"])
+
+
+def test_a_library_call_is_told_when_most_clicks_are_excluded():
+    # the ">20% excluded" warning was added by the command only: analyze() called from Python said
+    # nothing about 3 of 4 clicks falling outside the image
+    import tempfile
+
+    th = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    d = tempfile.mkdtemp()
+    write_stimulus_set(d, {"e": np.c_[50 + 30 * np.cos(th), 50 + 15 * np.sin(th)]}, size=(100, 100))
+    clicks = pd.DataFrame(dict(participant=["p"] * 4, stimulus_id=["e"] * 4, x=["80", "500", "600", "700"],
+                               y=["50", "50", "50", "50"]))
+    res = analyze(clicks, read_stimulus_set(d), n=40, permutations=9, group_simulations=0)
+    assert any(w.startswith("75% of the clicks (3 of 4) were excluded: outside_image 3")
+               for w in res.summary["warnings"])

@@ -108,7 +108,7 @@ def run(args):
         print(f"attneave analyze: error: no usable click, nothing analysed or written: {why}", file=sys.stderr)
         return 1
     res.summary["params"].update(coords=args.coords, window_size=list(window) if window else None)
-    for warning in (exclusion_report(res.clicks), participants_in_several_files(clicks), repeated_rows(clicks)):
+    for warning in (participants_in_several_files(clicks), repeated_rows(clicks)):  # analyze() adds the exclusions
         if warning:
             res.summary["warnings"].append(warning)
     click_files = args.clicks[0] if len(args.clicks) == 1 else list(args.clicks)
