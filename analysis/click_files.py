@@ -18,12 +18,10 @@ from pathlib import Path
 
 import numpy as np
 
+from analysis.clicks import SOURCE, blank_rows, read_clicks, repeated_header_rows
 from stimuli.errors import InputError
 
 __all__ = ["SOURCE", "read_click_files", "participants_in_several_files", "repeated_rows"]
-
-#: The column naming the file a row came from (only when several files are read).
-SOURCE = "source_file"
 
 
 def _digest(path):
@@ -79,8 +77,6 @@ def read_click_files(paths, columns=None, sep=None, decimal=None):
     """
     import pandas as pd
 
-    from analysis.clicks import read_clicks
-
     if isinstance(paths, (str, Path)):
         paths = [paths]
     paths = list(paths)
@@ -125,8 +121,6 @@ def participants_in_several_files(clicks):
         :func:`read_click_files`'s table (without a :data:`SOURCE` column
         there is one file and nothing to report).
     """
-    from analysis.clicks import repeated_header_rows
-
     if SOURCE not in clicks.columns or "participant" not in clicks.columns:
         return ""
     part = clicks["participant"].astype(str).str.strip()
@@ -149,16 +143,13 @@ def repeated_rows(clicks):
     are still analysed (nothing is dropped on a guess), and the warning says
     so. Repeated header lines and rows of separators only are not counted.
     """
-    from analysis.clicks import repeated_header_rows
-
     cols = [c for c in clicks.columns if c not in ("line", "row_error", SOURCE)]
     if not cols or len(clicks) < 2:
         return ""
     dup = clicks[cols].duplicated().to_numpy() & ~repeated_header_rows(clicks)
     rows = np.flatnonzero(dup)
     if len(rows):  # rows of separators only are equal too, and no clicks (empty_row)
-        text = clicks.iloc[rows][cols].astype(str)
-        dup[rows] = ~(text.apply(lambda c: c.str.strip()) == "").all(axis=1).to_numpy()
+        dup[rows] = ~blank_rows(clicks, rows)
     k = int(dup.sum())
     if k == 0:
         return ""

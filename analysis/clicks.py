@@ -69,7 +69,10 @@ __all__ = [
     "read_clicks",
     "malformed_rows",
     "repeated_header_rows",
+    "blank_rows",
     "REPEATED_HEADER",
+    "SOURCE",
+    "READER_COLUMNS",
     "parse_coordinates",
     "to_image_coords",
     "from_image_coords",
@@ -256,6 +259,17 @@ def _suggest(missing, columns):
 
 # columns read_clicks adds; a file's own columns of these names are kept as input_<name>
 _ADDED = ("line", "row_error", "list_index")
+#: The column naming each row's file when several files are read (:mod:`analysis.click_files`).
+SOURCE = "source_file"
+#: Every column the readers add to a file's own.
+READER_COLUMNS = _ADDED + (SOURCE,)
+
+
+def blank_rows(table, rows):
+    """Which of the rows at indices `rows` have every field of the file empty (a row of separators
+    only, ``;;;;``), as a bool array over `rows`; the columns the readers add are not the file's."""
+    data = table.iloc[rows][[c for c in table.columns if c not in READER_COLUMNS]].astype(str)
+    return (data.apply(lambda c: c.str.strip()) == "").all(axis=1).to_numpy()
 
 
 def _list_items(value):

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from analysis.clicks import SOURCE
 from stimuli.tables import shorten
 
 __all__ = ["WARN_FRACTION", "match_stimulus_ids", "resolve_stimulus_ids", "exclusion_report"]
@@ -207,8 +208,8 @@ def exclusion_report(table, threshold=WARN_FRACTION, examples=3):
             detail.append("e.g. " + ", ".join(shorten(v) for v in vals))
         elif reason == "malformed_row":
             rows = table.loc[table["reason"] == reason].head(examples)
-            if "source_file" in rows.columns:  # several files: each line with its file's name
-                where = [f"{Path(f).name}:{int(v)}" for f, v in zip(rows["source_file"], rows["line"])]
+            if SOURCE in rows.columns:  # several files: each line with its file's name
+                where = [f"{Path(f).name}:{int(v)}" for f, v in zip(rows[SOURCE], rows["line"])]
             else:
                 where = [str(int(v)) for v in rows["line"]]
             detail.append("line(s) " + ", ".join(where))

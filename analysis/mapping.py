@@ -60,7 +60,7 @@ from stimuli.errors import InputError
 from stimuli.geometry.information import MODELS, surprisal
 
 from .argnames import arg
-from .clicks import malformed_rows, parse_coordinates, repeated_header_rows, to_image_coords
+from .clicks import blank_rows, malformed_rows, parse_coordinates, repeated_header_rows, to_image_coords
 from .choice import point_index, standardize
 from .circular import midrank_percentile
 from .predictors import RIVALS, rival_values
@@ -251,9 +251,7 @@ def _empty_rows(df, px, py):
     rows = np.flatnonzero((px == "missing_coordinate") & (py == "missing_coordinate"))
     out = np.zeros(len(df), bool)
     if len(rows):
-        added = ("line", "row_error", "list_index", "source_file")  # what the readers add
-        data = df.iloc[rows][[c for c in df.columns if c not in added]].astype(str)
-        out[rows] = (data.apply(lambda c: c.str.strip()) == "").all(axis=1).to_numpy()
+        out[rows] = blank_rows(df, rows)
     return out
 
 

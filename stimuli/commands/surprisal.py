@@ -109,25 +109,27 @@ def _note_dropped(pts, path, closed):
 
     import numpy as np
 
-    from stimuli.tables import read_points  # again, for the lines of the note
+    from stimuli.tables import read_points
 
     if len(pts) < 2:
         return
     same = np.flatnonzero((pts[1:] == pts[:-1]).all(axis=1))
-    parts = []
-    if len(same):
-        rows = read_points(path, with_lines=True)[1]
-        lines = ", ".join(str(int(rows[i + 1])) for i in same[:5]) + (", ..." if len(same) > 5 else "")
-        parts.append(f"{len(same)} point(s) repeating the one before (line(s) {lines})")
     keep = np.ones(len(pts), bool)
     keep[same + 1] = False
     q = pts[keep]
-    if closed and len(q) > 1 and (q[-1] == q[0]).all():
-        last = int(read_points(path, with_lines=True)[1][np.flatnonzero(keep)[-1]])
+    closing = closed and len(q) > 1 and (q[-1] == q[0]).all()
+    if not (len(same) or closing):
+        return
+    rows = read_points(path, with_lines=True)[1]  # the file again, once, for the lines of the note
+    parts = []
+    if len(same):
+        lines = ", ".join(str(int(rows[i + 1])) for i in same[:5]) + (", ..." if len(same) > 5 else "")
+        parts.append(f"{len(same)} point(s) repeating the one before (line(s) {lines})")
+    if closing:
+        last = int(rows[np.flatnonzero(keep)[-1]])
         parts.append(f"the last point (line {last}), which repeats the first (a closed contour joins "
                      "its last point to its first)")
-    if parts:
-        print(f"attneave surprisal: note: {path}: dropped " + " and ".join(parts), file=sys.stderr)
+    print(f"attneave surprisal: note: {path}: dropped " + " and ".join(parts), file=sys.stderr)
 
 
 def _check_closed_shape(contour, path):
