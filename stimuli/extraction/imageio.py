@@ -87,8 +87,7 @@ def open_image(path, max_pixels=MAX_PIXELS):
     path = _as_path(path)
     max_pixels = _max_pixels(max_pixels)
     _require_regular_file(path)
-    size = _header_size(path, max_pixels)
-    orientation = _pil_header(path)[1]
+    size, orientation = _header_size(path, max_pixels)
     try:
         data = np.fromfile(path, dtype=np.uint8)
     except (IsADirectoryError, PermissionError, OSError) as exc:
@@ -259,13 +258,14 @@ def _pil_header(path):
 
 
 def _header_size(path, max_pixels):
-    """:func:`header_size`, refusing more than `max_pixels`."""
-    size = header_size(path)
+    """``(size as stored or None, EXIF orientation)`` from one read of the header (:func:`_pil_header`),
+    refusing more than `max_pixels` (a quarter turn does not change the count)."""
+    size, orientation = _pil_header(path)
     if size is not None and size[0] * size[1] > max_pixels:
-        w, h = size
+        w, h = size if orientation not in (5, 6, 7, 8) else size[::-1]  # as shown, as header_size gives it
         raise InputError(f"{path}: {w}x{h} pixels ({w * h / 1e6:.4g} Mpx) exceeds the limit of "
                          f"{max_pixels} pixels (max_pixels, --max-pixels)")
-    return size
+    return size, orientation
 
 
 def _decode_truncated(path):
