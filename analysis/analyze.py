@@ -1,14 +1,14 @@
 """The analysis of a click file against a stimulus set.
 
-:func:`analyze` maps every click (:mod:`analysis.mapping`), indexes the used
-ones once (:func:`analysis.design.design`) and builds each result from a
+:func:`analyze` maps every click (:mod:`attneave.analysis.clicks.mapping`), indexes the used
+ones once (:func:`attneave.analysis.models.design.design`) and builds each result from a
 small function that returns one table or one block of the summary: the
 choice models (:func:`model_table`, :func:`joint_fit`), the effect size
 (:func:`effect_size`), the participants and stimuli
-(:mod:`analysis.tables`), the group tests (:func:`group_tests`), the mixed
-model (:func:`analysis.mixed.fit_mixed`) and the summary
-(:mod:`analysis.summary`). The outputs are written by
-:func:`analysis.report.write_analysis`.
+(:mod:`attneave.analysis.report.tables`), the group tests (:func:`group_tests`), the mixed
+model (:func:`attneave.analysis.models.mixed.fit_mixed`) and the summary
+(:mod:`attneave.analysis.report.summary`). The outputs are written by
+:func:`attneave.analysis.report.outputs.write_analysis`.
 """
 
 from __future__ import annotations
@@ -17,21 +17,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.validate import as_number
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_number
 
-from .argnames import arg
-from .blurred import fit_beta_blurred
-from .choice import fit_beta, fit_choice, profile_ci
-from .design import design, mean_by
-from .effect import TOP_FRACTION, top_share, top_weights
-from .group import group_test, mean_z_nulls, mean_z_test
-from .mapping import PREDICTORS, map_clicks, predict
-from .mixed import fit_mixed
-from .progress import Progress
-from .summary import build_summary, jsonable
-from .tables import (BANDWIDTH_FRACTION, PEAK_FRACTION, click_features, correlation, participant_table,
-                     stimulus_table)
+from attneave.analysis.argnames import arg
+from attneave.analysis.models.blurred import fit_beta_blurred
+from attneave.analysis.models.choice import fit_beta, fit_choice, profile_ci
+from attneave.analysis.models.design import design, mean_by
+from attneave.analysis.models.effect import TOP_FRACTION, top_share, top_weights
+from attneave.analysis.models.group import group_test, mean_z_nulls, mean_z_test
+from attneave.analysis.clicks.mapping import PREDICTORS, map_clicks, predict
+from attneave.analysis.models.mixed import fit_mixed
+from attneave.analysis.progress import Progress
+from attneave.analysis.report.summary import build_summary, jsonable
+from attneave.analysis.report.tables import BANDWIDTH_FRACTION, PEAK_FRACTION, click_features, correlation, participant_table, stimulus_table
 
 __all__ = ["Analysis", "analyze", "model_table", "joint_fit", "effect_size", "group_tests", "DEFAULTS"]
 
@@ -133,7 +132,7 @@ def model_table(d, level=0.95, click_sd=None):
         at_bound, aic, delta_aic``; one row per predictor whose z differs
         from the others' (see :func:`distinct_predictors`).
     main : dict
-        The fit of the tested prediction, surprisal (:func:`analysis.choice.fit_beta`).
+        The fit of the tested prediction, surprisal (:func:`attneave.analysis.models.choice.fit_beta`).
     profile : (low, high)
         Its profile-likelihood interval (NaN with `click_sd`).
     same : dict
@@ -164,7 +163,7 @@ def model_table(d, level=0.95, click_sd=None):
 
 
 def joint_fit(d, names, level=0.95):
-    """The choice model with the predictors `names` fitted jointly (:func:`analysis.choice.fit_choice`).
+    """The choice model with the predictors `names` fitted jointly (:func:`attneave.analysis.models.choice.fit_choice`).
 
     Returns a dict name -> ``coef, se, ci_low, ci_high, lr_stat, lr_p,
     at_bound``; the likelihood-ratio test of each predictor compares the
@@ -179,7 +178,7 @@ def joint_fit(d, names, level=0.95):
 
 
 def effect_size(d, fraction=TOP_FRACTION):
-    """Share of the used clicks on the top points by surprisal, chance and lift (:mod:`analysis.effect`).
+    """Share of the used clicks on the top points by surprisal, chance and lift (:mod:`attneave.analysis.models.effect`).
 
     Clicks on stimuli with a constant prediction are left out. Returns the
     summary's dict and the per-stimulus shares.
@@ -236,9 +235,9 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
     ----------
     clicks : pandas.DataFrame
         Columns ``participant, stimulus_id, x, y`` (text or numbers) and any
-        others (kept), e.g. from :func:`analysis.clicks.read_clicks`.
+        others (kept), e.g. from :func:`attneave.analysis.clicks.read.read_clicks`.
     stimset : StimulusSet, str or Path
-        From :func:`stimuli.stimulus_set.read_stimulus_set`, or the
+        From :func:`attneave.stimuli.stimulus_set.read_stimulus_set`, or the
         directory to read it from.
     n : int, optional
         Equally spaced points per contour for the prediction (default 100;
@@ -275,30 +274,30 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
     click_sd : float, optional
         Localisation error of clicks along the contour (sd in px). When
         given, the pooled fits use the choice model observed through that
-        error (:func:`analysis.blurred.fit_beta_blurred`); otherwise, and
+        error (:func:`attneave.analysis.models.blurred.fit_beta_blurred`); otherwise, and
         always for the per-participant and per-stimulus betas, the plain
         model, whose beta_hat is attenuated by click noise.
     predictions : dict, optional
-        Precomputed :func:`analysis.mapping.predict` output for `stimset`.
+        Precomputed :func:`attneave.analysis.clicks.mapping.predict` output for `stimset`.
         Its n, model, A, b and length unit are the analysis's: leave those
         arguments out (None), or give the same values; a different value
         is refused rather than ignored.
     group_simulations : int
         Monte Carlo replicates R of the null of the group test and the items
-        test (:func:`analysis.group.mean_z_test`). The smallest possible p is
+        test (:func:`attneave.analysis.models.group.mean_z_test`). The smallest possible p is
         ``1 / (1 + R)``; 0 skips the simulation (p-values None; the
         parametric ones remain).
     predictors : sequence of str
         Predictors fitted jointly (:func:`joint_fit`), among
-        :data:`analysis.mapping.PREDICTORS`; e.g. ``("surprisal",
+        :data:`attneave.analysis.clicks.mapping.PREDICTORS`; e.g. ``("surprisal",
         "concavity")`` asks whether concavity adds anything beyond surprisal.
     length_unit : str, optional
         Unit of arc length of the surprisal model, passed to
-        :func:`stimuli.geometry.information.surprisal` when given (its
+        :func:`attneave.stimuli.geometry.information.surprisal` when given (its
         default otherwise); recorded in the summary.
     mixed : bool
         Fit the mixed conditional logit with crossed random slopes
-        (:func:`analysis.mixed.fit_mixed`).
+        (:func:`attneave.analysis.models.mixed.fit_mixed`).
     progress : bool, optional
         A progress bar on stderr (default: when stderr is a terminal). Where
         there is no bar and there are 100,000 clicks or more, each stage is
@@ -313,14 +312,14 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
     InputError
         `clicks` that is no DataFrame with the four columns, a `stimset`
         that is no StimulusSet or stimulus-set directory, `predictions` that
-        are no :func:`~analysis.mapping.predict` output for `stimset` or
+        are no :func:`~attneave.analysis.clicks.mapping.predict` output for `stimset` or
         whose n, model, A, b or length unit differ from those given, any
         argument out of range; one line naming the parameter (the flag when
         ``attneave analyze`` called it).
     """
     import pandas as pd
 
-    from .mapping import check_clicks, check_predictions
+    from attneave.analysis.clicks.mapping import check_clicks, check_predictions
 
     tolerance = _positive("tolerance", tolerance)
     bandwidth = _positive("bandwidth", bandwidth)
@@ -399,7 +398,7 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
                                        "estimates as doubtful")
     summary["warnings"] += list(getattr(stimset, "warnings", ())) + degenerate_warnings(d, main, tests)
     summary["warnings"] += joint_warnings(joint, main)
-    from analysis.exclusions import exclusion_report
+    from attneave.analysis.clicks.exclusions import exclusion_report
 
     excluded = exclusion_report(out)  # here, not only in the command: a library call is told as well
     if excluded:
@@ -420,7 +419,7 @@ def degenerate_warnings(d, main, tests):
     ----------
     d : Design
     main : dict
-        The pooled fit (:func:`analysis.choice.fit_beta`).
+        The pooled fit (:func:`attneave.analysis.models.choice.fit_beta`).
     tests : dict
         From :func:`group_tests`.
 
@@ -483,7 +482,7 @@ def _stimulus_set(stimset):
     """A StimulusSet, read from its directory when `stimset` is a path."""
     import os
 
-    from stimuli.stimulus_set import StimulusSet, read_stimulus_set
+    from attneave.stimuli.stimulus_set import StimulusSet, read_stimulus_set
 
     if isinstance(stimset, (str, os.PathLike)) and not isinstance(stimset, bytes):
         return read_stimulus_set(stimset)

@@ -65,13 +65,13 @@ import numpy as np
 import scipy.stats
 
 from _machine import header, load
-from analysis.cli import main as cli_main
-from analysis.clicks import read_clicks
-from analysis.mapping import predict
-from analysis.observers import simulate
-from analysis.analyze import analyze
-from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
-from stimuli.tables import write_table
+from attneave.cli import main as cli_main
+from attneave.analysis.clicks.read import read_clicks
+from attneave.analysis.clicks.mapping import predict
+from attneave.analysis.simulate.observers import simulate
+from attneave.analysis.analyze import analyze
+from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+from attneave.stimuli.tables import write_table
 
 
 def make_shapes(count, rng):
@@ -211,7 +211,7 @@ def main(argv=None):
         t_an = statistics.median(times)
 
         # the Monte Carlo null of the group test alone (the items test costs the same)
-        from analysis.group import mean_z_test
+        from attneave.analysis.models.group import mean_z_test
 
         U = res.summary["n_used"]
         Zs = np.stack([pred[s].z["surprisal"] for s in stimset.ids])
@@ -233,7 +233,7 @@ def main(argv=None):
         contours = [stimset.contours[s].points for s in ids]
         Z = np.stack([pred[s].z["surprisal"] for s in ids])
         bw = np.full(len(ids), 0.02)
-        from analysis.circular import shift_indices
+        from attneave.analysis.models.circular import shift_indices
 
         shifts = shift_indices(grid, args.permutations)
         tb, tf, cpu_f = [], [], []
@@ -253,7 +253,7 @@ def main(argv=None):
         assert abs(res.summary["group"]["statistic"] - tstat) < 1e-6 * abs(tstat)
 
         # the permutation correlations alone: FFT (as analyze does) vs the matrix product
-        from analysis.circular import circular_spearman
+        from attneave.analysis.models.circular import circular_spearman
 
         dens, zg = res.profiles["density"], res.profiles["z"]
         t0 = time.perf_counter()
@@ -335,7 +335,7 @@ def million(args, participants=1000, stimuli=100, clicks=10):
         for r in range(args.repeats):
             loads.append(load())
             t0 = time.perf_counter()
-            proc = subprocess.run([sys.executable, "-m", "analysis.cli", "analyze", str(tmp / "clicks.csv"), "--stimuli",
+            proc = subprocess.run([sys.executable, "-m", "attneave.cli", "analyze", str(tmp / "clicks.csv"), "--stimuli",
                                    str(tmp / "set"), "-o", str(tmp / f"out{r}")], capture_output=True, text=True)
             times.append(time.perf_counter() - t0)
             if proc.returncode != 0:

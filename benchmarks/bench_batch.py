@@ -3,7 +3,7 @@
 The anchor is the same batch run in one process (``--workers 1``). The
 script writes its own config to a temporary directory (Attneave polygons,
 radial-frequency shapes and blobs, 256 x 256 px, 8-bit PNG + contour CSV),
-runs ``stimuli.batch.run_batch`` with 1 and with 2 workers (``--repeat``
+runs ``attneave.stimuli.batch.run_batch`` with 1 and with 2 workers (``--repeat``
 times each, interleaved so that a burst of load hits both), checks that
 every run wrote byte-identical files, and prints the median wall time of
 each and their ratio (target: speed-up >= 1.7 with 2 workers on 2 cores).
@@ -59,7 +59,7 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=3, help="interleaved runs of each; medians reported (default 3)")
     args = ap.parse_args(argv)
 
-    from stimuli.batch import run_batch
+    from attneave.stimuli.batch import run_batch
 
     r_poly = args.n // 12  # 4 cells
     r_rf = args.n // 12  # 4 cells

@@ -52,7 +52,7 @@ def photo_like(size=1000, seed=0, noise=6.0):
 
     Returns (uint8 RGB image, true outline as an (M, 2) ring in pixels).
     """
-    from stimuli.render import coverage
+    from attneave.stimuli.render import coverage
 
     rng = np.random.default_rng(seed)
     h = w = size
@@ -98,10 +98,10 @@ def main(argv=None):
     import cv2
     from skimage.measure import find_contours
 
-    from stimuli.extraction import describe, extract
+    from attneave.stimuli.extraction import describe, extract
 
-    from stimuli.geometry.contour import Contour
-    from stimuli.render import coverage
+    from attneave.stimuli.geometry.contour import Contour
+    from attneave.stimuli.render import coverage
 
     img, ring = photo_like(args.size, noise=args.noise)
     grey = img[:, :, :3].astype(np.float32) @ np.array([0.299, 0.587, 0.114], np.float32)
@@ -154,7 +154,7 @@ def main(argv=None):
     print(f"{'ratio fast / cv2.findContours':58s} {t_fast / t_cv:10.2f}")
 
     # photographs: the automatic photo method against plain GrabCut (5 iterations, inset box)
-    from stimuli.extraction.grabcut import inset_box
+    from attneave.stimuli.extraction.grabcut import inset_box
 
     bgr = np.ascontiguousarray(img[:, :, ::-1])
 

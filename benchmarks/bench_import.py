@@ -64,7 +64,7 @@ def main():
         src = os.path.join(d, "c.csv")
         np.savetxt(src, np.c_[100 + 50 * np.cos(th), 100 + 30 * np.sin(th)], delimiter=",",
                    header="x,y", comments="")
-        cli = ["-c", "import sys; from analysis.cli import main; sys.exit(main())"]
+        cli = ["-c", "import sys; from attneave.cli import main; sys.exit(main())"]
         cases = [
             ("python -c pass (anchor)", ["-c", "pass"]),
             ("import stimuli", ["-c", "import stimuli"]),

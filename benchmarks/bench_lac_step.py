@@ -1,6 +1,6 @@
 """Benchmark: the robust QIC spline's log-aesthetic step against the same step at an earlier commit.
 
-The step (:func:`stimuli.curves.qic_lac.prefer_log_aesthetic`: the cubic
+The step (:func:`attneave.stimuli.curves.qic.lac.prefer_log_aesthetic`: the cubic
 reference, the log-aesthetic form's Newton solve where the clothoid fit
 strays, and the comparison) is timed on real outlines (every K-th MPEG-7
 mask, reduced to N points, simple N-gons only) for the fits that pass its
@@ -55,8 +55,8 @@ import shapely
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import header  # noqa: E402
 
-from stimuli.curves import qic_lac  # noqa: E402
-from stimuli.curves.qic import qic_spline  # noqa: E402
+from attneave.stimuli.curves.qic import lac as qic_lac
+from attneave.stimuli.curves.qic.spline import qic_spline  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 MODULES = ("lac_quadrature", "lac_arc", "lac_newton", "lac_result", "qic_lac")
@@ -75,7 +75,7 @@ def load_before(ref, folder):
         except subprocess.CalledProcessError:
             continue  # not at that commit
         for other in MODULES:
-            text = text.replace(f"stimuli.curves.{other}", f"lacref.{other}")
+            text = text.replace(f"attneave.stimuli.curves.{other}", f"lacref.{other}")
         (pkg / f"{name}.py").write_text(text)
     sys.path.insert(0, str(folder))
     return importlib.import_module("lacref.qic_lac")

@@ -3,7 +3,7 @@
 Anchor: ``pandas.read_csv(path, dtype=str, keep_default_na=False)``, the
 strict reader the project used before (it refuses a file with one bad row
 and does not sniff separators or decimal commas). Project:
-``analysis.clicks.read_clicks`` on the same file (separator and decimal
+``attneave.analysis.clicks.read.read_clicks`` on the same file (separator and decimal
 sniffing, line numbers, per-row field-count check), once on a clean
 comma file and once on the same rows as a ';'-separated file with decimal
 commas and one malformed row.
@@ -54,7 +54,7 @@ def main():
 
     import pandas as pd
 
-    from analysis.clicks import read_clicks
+    from attneave.analysis.clicks.read import read_clicks
 
     header(f"read_clicks, {a.rows:,} rows, median of {a.repeats}")
     with tempfile.TemporaryDirectory() as d:

@@ -4,11 +4,11 @@ For each of ``--n`` random 500-vertex polygons (default 1000) a filled
 512 x 512 image is made and written as an 8-bit PNG, several ways,
 interleaved image by image so that machine load hits all alike:
 
-- project+imwrite: ``stimuli.render.render_silhouette(..., dtype='uint8')``
+- project+imwrite: ``attneave.stimuli.render.render_silhouette(..., dtype='uint8')``
   then ``cv2.imwrite`` (the target's numerator);
 - opencv: ``cv2.fillPoly(img, pts, 0, cv2.LINE_AA, shift=4)`` then
   ``cv2.imwrite`` (OpenCV's default PNG settings; the anchor);
-- project: the renderer with ``stimuli.render.write_png`` (atomic write:
+- project: the renderer with ``attneave.stimuli.render.write_png`` (atomic write:
   temporary file, then rename), and opencv+write_png, the anchor through the
   same writer;
 - matplotlib: a 512 x 512 px figure (made once, no axes) with a filled
@@ -33,7 +33,7 @@ per file with the other users' disk traffic: wall-clock ratios measured
 while the disk was slow (1.1-1.3 here) look far better than the CPU-time
 ratio, which is why ``cv2.imencode`` (the encoder in memory) is timed too
 and the CPU-time ratio is the one to judge by. The renderer's own path is
-printed (``stimuli.render.KERNEL``): the compiled kernel, or the numpy path
+printed (``attneave.stimuli.render.KERNEL``): the compiled kernel, or the numpy path
 (``ATTNEAVE_NUMPY_RENDER=1``, or no C compiler at install), whose hundred
 small numpy calls slow more than the encoder when other work has evicted
 the caches, which callgrind's counts do not see (numpy path: blob 11.8 M
@@ -115,7 +115,7 @@ def spiky(rng, n=500, size=SIZE):
 
 
 def _fit(pts, size):
-    from stimuli.render import fit_to_image
+    from attneave.stimuli.render import fit_to_image
 
     return fit_to_image(pts, size, margin=0.08 * size)["points"]
 
@@ -139,7 +139,7 @@ def steps():
     """The timed steps: name -> fn(points, path, image) returning an image or None."""
     import cv2
 
-    from stimuli.render import render_silhouette, write_png
+    from attneave.stimuli.render import render_silhouette, write_png
 
     def render(p):
         return render_silhouette(p, size=SIZE, dtype="uint8")["img"]
@@ -310,9 +310,9 @@ def main(argv=None):
         only(kinds[0], args.n, args.seed, args.only)
         return
     header("bench_render: exact-coverage rendering + PNG vs cv2.fillPoly(LINE_AA) + imwrite")
-    from stimuli.render import KERNEL
+    from attneave.stimuli.render import KERNEL
 
-    print(f"renderer: stimuli.render.KERNEL = {KERNEL!r} (ATTNEAVE_NUMPY_RENDER=1 forces 'numpy')")
+    print(f"renderer: attneave.stimuli.render.KERNEL = {KERNEL!r} (ATTNEAVE_NUMPY_RENDER=1 forces 'numpy')")
     tmp = tempfile.mkdtemp(prefix="bench_render_")
     try:
         for kind in kinds:

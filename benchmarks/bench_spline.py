@@ -53,7 +53,7 @@ half of the nodes relaxed; three runs each, alternating, same commits, load
 1.3-1.6) robust 4.32-4.39 -> 3.61-3.63 ms per curve, robust / pure
 21.4-21.5 -> 17.7-17.8 (the pure spline fails fast there; 0.2 ms); a third
 of what remains is the segment-by-segment crossing search
-(``stimuli.curves.metrics.self_crossing_segments``, shapely's STRtree),
+(``attneave.stimuli.curves.metrics.self_crossing_segments``, shapely's STRtree),
 another module's.
 
 How: the rule's samples are made once per fit by the kernel
@@ -98,9 +98,9 @@ import numpy as np
 import shapely
 from scipy.interpolate import CubicSpline
 
-from stimuli.curves import qic_kernel
-from stimuli.curves.qic import qic_spline
-from stimuli.errors import InputError
+from attneave.stimuli.curves.qic import kernel as qic_kernel
+from attneave.stimuli.curves.qic.spline import qic_spline
+from attneave.stimuli.errors import InputError
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import header  # noqa: E402
@@ -154,7 +154,7 @@ def lac_row(rng, shapes, repeat, n=30, alpha=-0.5):
     """One row: the G2 log-aesthetic spline (``lac_spline``, a genuine LAC
     solve at alpha = -0.5) against its anchor, the pure G2 QIC spline, on
     the same points, interleaved; medians of all repeats."""
-    from stimuli.curves.lac_spline import lac_spline
+    from attneave.stimuli.curves.lac.spline import lac_spline
 
     t_lac, t_qic, iters = [], [], []
     for _ in range(shapes):

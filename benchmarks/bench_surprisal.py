@@ -21,8 +21,8 @@ import argparse
 import numpy as np
 from _machine import header, median_time
 
-from stimuli import Contour, surprisal
-from stimuli.geometry.information import surprisal_from_points
+from attneave.stimuli import Contour, surprisal
+from attneave.stimuli.geometry.information import surprisal_from_points
 
 
 def bare_numpy(p, A=0.25, b=1.0):

@@ -18,7 +18,7 @@ measures and the half ``A``/``B`` the photo belongs to) and, per mode
 
 A rule that holds on the half it was not chosen on, in both directions, is
 a candidate for the verdict of that mode; otherwise its photographs stay
-``unverifiable`` (see :mod:`stimuli.extraction.verdict`). When both
+``unverifiable`` (see :mod:`attneave.stimuli.extraction.verdict`). When both
 halves chose the same measures, the rule of the stricter threshold of
 each (an outline ok by it is ok by both) is printed with its figures on
 each half: that is the rule the verdict uses for box mode.

@@ -54,11 +54,11 @@ from pathlib import Path
 import numpy as np
 import scipy.stats
 
-from analysis.mapping import predict
-from analysis.observers import simulate
-from analysis.analyze import analyze
-from stimuli.stimulus_set import StimulusSet, read_stimulus_set
-from stimuli import Contour
+from attneave.analysis.clicks.mapping import predict
+from attneave.analysis.simulate.observers import simulate
+from attneave.analysis.analyze import analyze
+from attneave.stimuli.stimulus_set import StimulusSet, read_stimulus_set
+from attneave.stimuli import Contour
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -84,7 +84,7 @@ def stimulus_set():
 
 def polygon_set(tmp):
     """The stimulus set of configs/attneave_polygons.yaml, generated into `tmp`."""
-    from analysis.cli import main as cli_main
+    from attneave.cli import main as cli_main
 
     with contextlib.redirect_stdout(io.StringIO()):
         rc = cli_main(["generate", str(ROOT / "configs" / "attneave_polygons.yaml"), "-o", str(tmp / "polygons")])

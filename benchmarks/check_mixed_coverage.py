@@ -5,10 +5,10 @@ shapes (n points each): every participant clicks every stimulus K times,
 by the choice model with slope ``beta + u_p + v_s`` (u_p ~ N(0, sd_p**2),
 v_s ~ N(0, sd_s**2), crossed). For each experiment:
 
-* the mixed conditional logit (:func:`analysis.mixed.fit_mixed`): does its
+* the mixed conditional logit (:func:`attneave.analysis.models.mixed.fit_mixed`): does its
   interval cover the true mean slope beta? (target: >= 93% of runs at 95%);
 * under a true mean slope of 0 with the same variances, the rejection rate of
-  the participant-only group test (:func:`analysis.group.mean_z_test`, Monte
+  the participant-only group test (:func:`attneave.analysis.models.group.mean_z_test`, Monte
   Carlo null of uniform clicking, one-sided, alpha = 0.05), which treats
   stimuli as fixed, and of the mixed model (its interval excludes 0, upper
   side, i.e. the same one-sided alpha of 0.025 + 0.025).
@@ -26,11 +26,11 @@ import numpy as np
 import scipy.stats
 
 from _machine import header
-from analysis.group import mean_z_test
-from analysis.mapping import predict
-from analysis.mixed import CumulantTable, fit_mixed
-from stimuli import Contour
-from stimuli.stimulus_set import StimulusSet
+from attneave.analysis.models.group import mean_z_test
+from attneave.analysis.clicks.mapping import predict
+from attneave.analysis.models.mixed import CumulantTable, fit_mixed
+from attneave.stimuli import Contour
+from attneave.stimuli.stimulus_set import StimulusSet
 
 
 def stimulus_z(count, n, seed):

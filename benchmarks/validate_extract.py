@@ -7,7 +7,7 @@ contour is the outer boundary):
 
 * area ratio: contour area / object pixel count;
 * IoU: the contour re-rendered with exact coverage
-  (``stimuli.render.coverage``) and thresholded at 0.5, against the object
+  (``attneave.stimuli.render.coverage``) and thresholded at 0.5, against the object
   mask; and the soft IoU ``sum(min(cov, mask)) / sum(max(cov, mask))``;
 * failures (with their reasons), contours that cross themselves, and time
   per image (extract alone, and
@@ -48,9 +48,9 @@ def main(argv=None):
     ap.add_argument("--limit", type=int, default=None, help="only the first K images (sorted by name)")
     args = ap.parse_args(argv)
 
-    from stimuli.errors import InputError
-    from stimuli.extraction import IMAGE_SUFFIXES, describe, extract, read_image
-    from stimuli.render import coverage
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.extraction import IMAGE_SUFFIXES, describe, extract, read_image
+    from attneave.stimuli.render import coverage
 
     data = Path(args.data)
     files = sorted(p for p in data.iterdir() if p.suffix.lower() in IMAGE_SUFFIXES) if data.is_dir() else []

@@ -21,9 +21,9 @@ Per photo and per mode:
   ``--model-std``), without and with the box.
 
 IoU: the extracted outline rendered with exact coverage
-(``stimuli.render.coverage``) and thresholded at 0.5, against the mask;
+(``attneave.stimuli.render.coverage``) and thresholded at 0.5, against the mask;
 the mean boundary distance (px) is the symmetric mean distance between the
-two masks' boundary pixels. The verdict (``stimuli.extraction.verdict``)
+two masks' boundary pixels. The verdict (``attneave.stimuli.extraction.verdict``)
 of every outline is recorded: the share of outlines marked ``ok`` with IoU
 >= 0.8 and the smallest IoU among them say whether ``ok`` can be trusted.
 
@@ -176,13 +176,13 @@ def measure_photo(path, modes, holes=False, model=None, seed=0):
 
     import importlib
 
-    importlib.import_module("stimuli.extraction.grabcut").SEED = seed
+    importlib.import_module("attneave.stimuli.extraction.grabcut").SEED = seed
 
-    from stimuli.errors import InputError
-    from stimuli.extraction import extract, read_image
-    from stimuli.extraction.photo import box_around
-    from stimuli.extraction.verdict import judge
-    from stimuli.render import coverage
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.extraction import extract, read_image
+    from attneave.stimuli.extraction.photo import box_around
+    from attneave.stimuli.extraction.verdict import judge
+    from attneave.stimuli.render import coverage
 
     p = Path(path)
     rgb = read_image(p)

@@ -1,7 +1,7 @@
 """Validation: splines through real outlines reduced to N points (issue 9).
 
 Every silhouette of a directory of PNG masks (default
-``../shared/data/mpeg7``) is traced with :func:`stimuli.extraction.extract`
+``../shared/data/mpeg7``) is traced with :func:`attneave.stimuli.extraction.extract`
 (method 'mask'), reduced to N points equally spaced by arc length
 (:meth:`Contour.resample`) and, where the N-gon is simple, passed to each
 spline method. Per N and method the script prints:
@@ -54,10 +54,10 @@ from scipy.spatial import cKDTree
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _machine import header, median_time  # noqa: E402
 
-from stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning  # noqa: E402
-from stimuli.curves.splines import fit_spline  # noqa: E402
-from stimuli.errors import InputError  # noqa: E402
-from stimuli.extraction import extract  # noqa: E402
+from attneave.stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning  # noqa: E402
+from attneave.stimuli.curves.splines import fit_spline  # noqa: E402
+from attneave.stimuli.errors import InputError  # noqa: E402
+from attneave.stimuli.extraction import extract  # noqa: E402
 
 SAMPLES = 32
 
@@ -109,7 +109,7 @@ def measure(P, outline_tree, perimeter, method):
 
 def curved_acceptance(k, seed):
     """attneave_curved's acceptance of 'qic' against 'cubic' on k polygons."""
-    from stimuli.shapes.generators import attneave_polygon, smooth_closed
+    from attneave.stimuli.shapes.generators import attneave_polygon, smooth_closed
 
     rng = np.random.default_rng(seed)
     cubic = both = crossing = 0
@@ -137,8 +137,8 @@ def jagged_speed(k, seed, repeats=7):
     """Time of the robust QIC spline on k seeded Attneave polygons (6-19
     points, the jagged input of attneave_curved) against the pure G2 spline
     on the same points (its anchor; it may raise there, which is timed too)."""
-    from stimuli.curves.qic import qic_spline
-    from stimuli.shapes.generators import attneave_polygon
+    from attneave.stimuli.curves.qic.spline import qic_spline
+    from attneave.stimuli.shapes.generators import attneave_polygon
 
     rng = np.random.default_rng(seed)
     polys = [attneave_polygon(rng, int(rng.integers(6, 20)))[0].points for _ in range(k)]

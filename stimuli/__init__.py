@@ -20,13 +20,13 @@ Sub-packages, each named after what it holds:
 ``batch``
     YAML batch configs, recipes and the batch runner.
 
-:mod:`stimuli.stimulus_set` owns the stimulus-set directory format.
+:mod:`attneave.stimuli.stimulus_set` owns the stimulus-set directory format.
 Names below are imported on first use, so ``import stimuli`` is cheap.
 """
 
 __version__ = "0.1.0"
 
-from stimuli._lazy import attach as _attach
+from attneave.stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "Contour": ".geometry.contour",

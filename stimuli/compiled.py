@@ -1,7 +1,7 @@
 """Loading the optional compiled kernels (plain C99 files built by
 ``setup.py`` as optional extensions, called through ctypes): the exact
-rasteriser's (:mod:`stimuli.render.kernel`) and the QIC spline's
-(:mod:`stimuli.curves.qic_kernel`).
+rasteriser's (:mod:`attneave.stimuli.render.kernel`) and the QIC spline's
+(:mod:`attneave.stimuli.curves.qic.kernel`).
 """
 
 from __future__ import annotations

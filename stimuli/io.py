@@ -19,7 +19,7 @@ import tempfile
 from pathlib import Path
 
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = [
     "MAX_TEXT_BYTES",
@@ -211,7 +211,7 @@ def check_regular_file(path, what="a file", max_bytes=None):
     >>> check_regular_file("/dev/null", "a CSV file")
     Traceback (most recent call last):
     ...
-    stimuli.errors.InputError: /dev/null: is a character device, not a regular file; expected a CSV file
+    attneave.stimuli.errors.InputError: /dev/null: is a character device, not a regular file; expected a CSV file
     """
     import stat
 
@@ -314,7 +314,7 @@ def check_output_spares_inputs(output, inputs, what="-o"):
     >>> check_output_spares_inputs("clicks.csv", ["clicks.csv"])
     Traceback (most recent call last):
     ...
-    stimuli.errors.InputError: -o clicks.csv: is an input of this command (clicks.csv); choose another output
+    attneave.stimuli.errors.InputError: -o clicks.csv: is an input of this command (clicks.csv); choose another output
     """
     if str(output) == "":
         raise InputError(f"{what}: empty output path; name a file or directory")

@@ -40,10 +40,10 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.geometry.contour import Contour
-from stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.errors import InputError
 
-from stimuli.tables import describe_columns, read_text_csv
+from attneave.stimuli.tables import describe_columns, read_text_csv
 
 __all__ = [
     "StimulusSet", "read_stimulus_set", "write_stimulus_set", "ID_PATTERN", "REQUIRED_COLUMNS",
@@ -116,7 +116,7 @@ def write_manifest(path, rows):
         those of `MANIFEST_COLUMNS` that some row has, in that order, then any
         other keys in order of appearance.
     """
-    from stimuli.io import atomic_write
+    from attneave.stimuli.io import atomic_write
 
     keys = dict.fromkeys(k for r in rows for k in r)
     cols = [c for c in MANIFEST_COLUMNS if c in keys] + [k for k in keys if k not in MANIFEST_COLUMNS]
@@ -207,7 +207,7 @@ class StimulusSet:
         """Every file of the set that exists: manifest, ``config.yaml`` and the files the manifest names.
 
         For commands that write a file: none of these may be an output
-        (:func:`stimuli.io.check_output_spares_inputs`).
+        (:func:`attneave.stimuli.io.check_output_spares_inputs`).
 
         Returns
         -------

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.io import MAX_TEXT_BYTES, atomic_write, check_regular_file
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import MAX_TEXT_BYTES, atomic_write, check_regular_file
 
 __all__ = [
     "write_table",

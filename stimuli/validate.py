@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["check_points", "as_points", "as_number", "as_int", "as_rng"]
 

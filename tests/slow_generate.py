@@ -10,8 +10,8 @@ so that production code carries no test hook.
 import sys
 import time
 
-import stimuli.batch.execution as execution
-from analysis.cli import main
+import attneave.stimuli.batch.execution as execution
+from attneave.cli import main
 
 _run_job = execution.run_job
 

@@ -12,8 +12,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
-from stimuli.stimulus_set import write_stimulus_set
+from attneave.cli import main
+from attneave.stimuli.stimulus_set import write_stimulus_set
 
 SIZE = 128
 FAST = ["--group-simulations", "19", "--permutations", "19", "--no-figures"]
@@ -108,7 +108,7 @@ def test_force_replaces_an_earlier_output_but_never_a_users_file(stimset, clicks
 def test_analyze_help_says_what_force_replaces():
     import argparse
 
-    from analysis.commands import analyze
+    from attneave.analysis.commands import analyze
 
     p = analyze.add_parser(argparse.ArgumentParser().add_subparsers())
     assert "earlier analysis output" in p.format_help().replace("\n", " ").replace("  ", " ")
@@ -155,8 +155,8 @@ def test_a_strong_effect_warns_that_the_mixed_model_is_not_estimable_and_writes_
 
 
 def test_fit_mixed_never_raises_on_separated_clicks():
-    from analysis.choice import standardize
-    from analysis.mixed import fit_mixed
+    from attneave.analysis.models.choice import standardize
+    from attneave.analysis.models.mixed import fit_mixed
 
     rng = np.random.default_rng(0)
     Z = standardize(rng.gamma(1.0, size=(3, 30)))
@@ -252,8 +252,8 @@ def test_power_refuses_an_alpha_below_the_smallest_monte_carlo_p(stimset, capsys
 
 
 def test_power_needs_enough_simulations(stimset, capsys):
-    from analysis.commands.power import MIN_SIMULATIONS
-    from analysis.observers import MIN_SIMULATIONS as LIBRARY_MIN
+    from attneave.analysis.commands.power import MIN_SIMULATIONS
+    from attneave.analysis.simulate.observers import MIN_SIMULATIONS as LIBRARY_MIN
 
     assert MIN_SIMULATIONS == LIBRARY_MIN == 20
     err = _one_line(capsys, main(["power", "--stimuli", str(stimset), "--lift", "3", "--participants", "4,8",
@@ -265,9 +265,9 @@ def test_power_needs_enough_simulations(stimset, capsys):
 def test_calibration_bins_spread_over_z_when_polygon_z_is_tied(stimset, clicks):
     # a polygon's z is one low value at most points and high at a few corners: quantile bins collapsed
     # into one or two (the report's middle panel showed every bin at one z); equal widths spread them
-    from analysis.analyze import analyze
-    from analysis.plots import _calibration
-    from stimuli.stimulus_set import read_stimulus_set
+    from attneave.analysis.analyze import analyze
+    from attneave.analysis.report.plots import _calibration
+    from attneave.stimuli.stimulus_set import read_stimulus_set
 
     res = analyze(pd.read_csv(clicks), read_stimulus_set(stimset), n=100, group_simulations=19, permutations=19)
     Zs = [res.predictions[s].z["surprisal"] for s in res.profiles["ids"]]

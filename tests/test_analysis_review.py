@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from analysis.clicks import read_clicks
-from stimuli.errors import InputError
+from attneave.analysis.clicks.read import read_clicks
+from attneave.stimuli.errors import InputError
 
 
 # ---------------------------------------------------------------- reading click files
@@ -48,7 +48,7 @@ def test_line_numbers_count_blank_lines_and_multiline_fields(tmp_path):
 
 
 def test_manifest_with_trailing_delimiters_and_blank_lines(tmp_path):
-    from stimuli.stimulus_set import read_stimulus_set
+    from attneave.stimuli.stimulus_set import read_stimulus_set
 
     (tmp_path / "contours").mkdir()
     (tmp_path / "contours" / "sq.csv").write_text("x,y\n10,10\n10,50\n50,50\n50,10\n")
@@ -64,7 +64,7 @@ def test_manifest_with_trailing_delimiters_and_blank_lines(tmp_path):
 
 # ------------------------------------------------------------------ writing outputs
 def _tiny_set(d):
-    from stimuli.stimulus_set import write_stimulus_set
+    from attneave.stimuli.stimulus_set import write_stimulus_set
 
     th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
     write_stimulus_set(d, {"ell": np.c_[100 + 60 * np.cos(th), 100 + 30 * np.sin(th)],
@@ -73,7 +73,7 @@ def _tiny_set(d):
 
 
 def test_unwritable_output_location_is_one_line_exit_2(tmp_path, capsys):
-    from analysis.cli import main
+    from attneave.cli import main
 
     s = _tiny_set(tmp_path / "set")
     f = tmp_path / "c.csv"
@@ -92,8 +92,8 @@ def test_participant_without_informative_clicks_has_no_effect(tmp_path):
     # clicks on a circle (constant surprisal, z = 0 everywhere) say nothing about
     # the prediction: a participant who clicked only there has no measured effect,
     # not an effect of exactly 0 that would enter the group t-test as data
-    from analysis.analyze import analyze
-    from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+    from attneave.analysis.analyze import analyze
+    from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
     th = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     d = tmp_path / "set"
@@ -116,15 +116,15 @@ def test_participant_without_informative_clicks_has_no_effect(tmp_path):
 
 
 def test_power_checks_its_output_before_simulating(tmp_path, monkeypatch, capsys):
-    import analysis.observers
-    from analysis.cli import main
+    import attneave.analysis.simulate.observers
+    from attneave.cli import main
 
     s = _tiny_set(tmp_path / "set")
 
     def boom(*a, **k):  # the simulation must not start
         raise AssertionError("power() ran before the output was checked")
 
-    monkeypatch.setattr(analysis.observers, "power", boom)
+    monkeypatch.setattr(attneave.analysis.simulate.observers, "power", boom)
     rc = main(["power", "--stimuli", str(s), "--beta", "0.5", "--participants", "2,4", "--simulations", "2",
                "-o", str(tmp_path / "no_such_dir" / "p.csv")])
     assert rc == 2 and "no_such_dir" in capsys.readouterr().err

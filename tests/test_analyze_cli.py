@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
-from stimuli.stimulus_set import write_stimulus_set
+from attneave.cli import main
+from attneave.stimuli.stimulus_set import write_stimulus_set
 
 W, H = 480, 400
 
@@ -82,7 +82,7 @@ def test_analyze_writes_every_output(stimset, clicks, tmp_path, capsys):
     assert s["group"]["statistic"] == pytest.approx(scipy.stats.ttest_1samp(mz, 0.0).statistic, rel=1e-9)
     assert s["n_clicks"] == 8 * 8 * 5 and s["n_used"] + s["n_excluded"] == s["n_clicks"]
     assert s["group"]["p_value"] < 0.05 and s["beta_hat"] > 0
-    from analysis.predictors import RIVALS
+    from attneave.analysis.models.predictors import RIVALS
 
     assert set(s["models"]) == {"surprisal", "uniform", *RIVALS} - set(s["models_left_out"])
     assert s["models"]["surprisal"]["tested"] and "vonmises" not in s["models"]
@@ -239,7 +239,7 @@ def test_unusable_click_file_exits_2_with_one_line_and_writes_nothing(stimset, t
     f = tmp_path / "clicks.csv"
     f.write_text("participant,stimulus_id,x\nP1,rf_0,3\n")
     out = tmp_path / "out"
-    p = subprocess.run([sys.executable, "-m", "analysis.cli", "analyze", str(f), "--stimuli", str(stimset),
+    p = subprocess.run([sys.executable, "-m", "attneave.cli", "analyze", str(f), "--stimuli", str(stimset),
                         "-o", str(out)], capture_output=True, text=True, timeout=60)
     assert p.returncode == 2
     lines = p.stderr.strip().splitlines()
@@ -274,7 +274,7 @@ def test_existing_output_is_kept_unless_forced(stimset, clicks, tmp_path, capsys
 
 
 def test_a_failure_while_writing_leaves_no_output(stimset, clicks, tmp_path, monkeypatch):
-    from analysis import plots
+    from attneave.analysis.report import plots
 
     def boom(analysis):
         raise RuntimeError("disk full")

@@ -7,16 +7,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 KW = dict(permutations=19, group_simulations=19, mixed=False, progress=False, grid=128)
 
 
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
-    from analysis.mapping import predict
-    from analysis.observers import simulate
-    from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+    from attneave.analysis.clicks.mapping import predict
+    from attneave.analysis.simulate.observers import simulate
+    from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
     th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
     d = tmp_path_factory.mktemp("set") / "set"
@@ -37,7 +37,7 @@ def _square_image(dtype=np.uint8, value=200):
 
 # ------------------------------------------------------------- 1. analyze: n and model of predictions
 def test_analyze_refuses_n_or_model_other_than_the_predictions(small):
-    from analysis.analyze import analyze
+    from attneave.analysis.analyze import analyze
 
     _, s, pr, df = small
     with pytest.raises(InputError, match=r"^n is 60 but the predictions were made with n = 50"):
@@ -53,18 +53,18 @@ def test_analyze_refuses_n_or_model_other_than_the_predictions(small):
 
 
 def test_analyze_refuses_predictions_of_another_set(small):
-    from analysis.analyze import analyze
+    from attneave.analysis.analyze import analyze
 
     _, s, pr, df = small
     with pytest.raises(InputError, match="predictions: they are not those of this stimulus set"):
         analyze(df, s, predictions={"e": pr["e"]}, **KW)
-    with pytest.raises(InputError, match="predictions: expected the dict of analysis.mapping.predict"):
+    with pytest.raises(InputError, match="predictions: expected the dict of attneave.analysis.clicks.mapping.predict"):
         analyze(df, s, predictions={"e": 1}, **KW)
 
 
 # ------------------------------------------------------------- 6. analyze: clicks, stimset, numbers
 def test_analyze_checks_clicks_and_takes_a_stimulus_set_directory(small):
-    from analysis.analyze import analyze
+    from attneave.analysis.analyze import analyze
 
     d, s, _, df = small
     with pytest.raises(InputError, match=r"clicks: missing column\(s\) x;"):
@@ -82,7 +82,7 @@ def test_analyze_checks_clicks_and_takes_a_stimulus_set_directory(small):
 
 
 def test_power_takes_one_number_of_participants_and_checks_target(small):
-    from analysis.observers import power
+    from attneave.analysis.simulate.observers import power
 
     _, _, pr, _ = small
     table, info = power(pr, 1.0, participants=5, simulations=20, group_simulations=19, alpha=0.05)
@@ -97,7 +97,7 @@ def test_power_takes_one_number_of_participants_and_checks_target(small):
 
 # ------------------------------------------------------------- 5. simulate: seeds and counts
 def test_simulate_seeds_int_generator_none_and_refuses_others(small):
-    from analysis.observers import simulate
+    from attneave.analysis.simulate.observers import simulate
 
     _, _, pr, _ = small
     df, p = simulate(pr, 2, 3, 1.0, None)  # fresh entropy, recorded so that it reproduces
@@ -124,7 +124,7 @@ def test_simulate_seeds_int_generator_none_and_refuses_others(small):
     (dict(beta_sd="x"), "beta_sd must be a finite number >= 0"),
 ])
 def test_simulate_names_the_python_parameter(small, kwargs, needle):
-    from analysis.observers import simulate
+    from attneave.analysis.simulate.observers import simulate
 
     _, _, pr, _ = small
     args = {**dict(participants=2, clicks=3, beta=1.0, seed=1), **kwargs}
@@ -135,9 +135,9 @@ def test_simulate_names_the_python_parameter(small, kwargs, needle):
 
 # ------------------------------------------------------------- 7. messages: parameters in Python, flags on the CLI
 def test_library_messages_name_parameters_and_the_cli_flags(small):
-    from analysis.analyze import analyze
-    from analysis.argnames import cli_names
-    from analysis.mapping import predict
+    from attneave.analysis.analyze import analyze
+    from attneave.analysis.argnames import cli_names
+    from attneave.analysis.clicks.mapping import predict
 
     _, s, _, df = small
     with pytest.raises(InputError, match="^n must be a whole number >= 3"):
@@ -154,7 +154,7 @@ def test_library_messages_name_parameters_and_the_cli_flags(small):
 
 
 def test_power_cli_still_names_its_flags(small, capsys):
-    from analysis.cli import main
+    from attneave.cli import main
 
     d, _, _, _ = small
     assert main(["power", "--stimuli", str(d), "--beta", "1", "--participants", "4", "--simulations", "20",
@@ -166,7 +166,7 @@ def test_power_cli_still_names_its_flags(small, capsys):
 # ------------------------------------------------------------- 2. GrabCut iterations
 @pytest.mark.parametrize("iterations", [0, -1, 2.5, True, "3"])
 def test_grabcut_iterations_must_be_a_positive_whole_number(iterations):
-    from stimuli.extraction import extract_contours
+    from attneave.stimuli.extraction import extract_contours
 
     with pytest.raises(InputError, match="^grabcut_iterations"):
         extract_contours(np.dstack([_square_image()] * 3), method="grabcut", rect=(2, 2, 30, 35),
@@ -182,7 +182,7 @@ def test_grabcut_iterations_must_be_a_positive_whole_number(iterations):
     (dict(method="mask", threshold=100), "threshold needs method 'threshold' or 'alpha', not 'mask'"),
 ])
 def test_extract_contours_refuses_options_of_another_method(kwargs, needle):
-    from stimuli.extraction import extract_contours
+    from attneave.stimuli.extraction import extract_contours
 
     with pytest.raises(InputError, match="^" + needle):
         extract_contours(_square_image(), **kwargs)
@@ -190,7 +190,7 @@ def test_extract_contours_refuses_options_of_another_method(kwargs, needle):
 
 # ------------------------------------------------------------- 4. images and numbers
 def test_integer_image_of_huge_range_is_traced_not_a_memory_error():
-    from stimuli.extraction import extract, extract_contours
+    from attneave.stimuli.extraction import extract, extract_contours
 
     [c] = extract_contours(_square_image(np.int64, 10**12))
     assert [round(float(v), 1) for v in c.bbox] == [4.5, 9.5, 24.5, 29.5]
@@ -208,15 +208,15 @@ def test_integer_image_of_huge_range_is_traced_not_a_memory_error():
     (dict(min_hole_area=-1), "min_hole_area: must be >= 0"),
 ])
 def test_extract_numbers_are_checked(kwargs, needle):
-    from stimuli.extraction import extract_contours
+    from attneave.stimuli.extraction import extract_contours
 
     with pytest.raises(InputError, match="^" + needle):
         extract_contours(_square_image(), **kwargs)
 
 
 def test_read_image_checks_its_arguments(tmp_path):
-    from stimuli.extraction import read_image
-    from stimuli.render import write_png
+    from attneave.stimuli.extraction import read_image
+    from attneave.stimuli.render import write_png
 
     for bad in (None, 5, np.zeros((3, 3))):
         with pytest.raises(InputError, match=r"^path: expected an image file name \(str or Path\)"):
@@ -232,7 +232,7 @@ def test_read_image_checks_its_arguments(tmp_path):
 
 
 def test_smooth_and_default_sigma_check_their_numbers():
-    from stimuli.extraction import default_sigma, smooth
+    from attneave.stimuli.extraction import default_sigma, smooth
 
     sq = [[0, 0], [100, 0], [100, 100], [0, 100]]
     for spacing in (0, -1, np.nan, "x"):
@@ -251,16 +251,16 @@ def test_smooth_and_default_sigma_check_their_numbers():
 
 # ------------------------------------------------------------- 8. docstrings
 def test_public_functions_document_their_parameters():
-    from stimuli.extraction import contour_curvature, default_sigma, extract_contours
-    from stimuli.stimulus_set import check_contour_in_image, check_image_size
+    from attneave.stimuli.extraction import contour_curvature, default_sigma, extract_contours
+    from attneave.stimuli.stimulus_set import check_contour_in_image, check_image_size
 
     for f in (extract_contours, contour_curvature, default_sigma, check_contour_in_image, check_image_size):
         assert "Parameters\n    ----------" in f.__doc__, f.__name__
 
 
 def test_curvature_peaks_refuses_a_string_flag():
-    from stimuli.errors import InputError
-    from stimuli.extraction.scalespace import curvature_peaks
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.extraction.scalespace import curvature_peaks
 
     th = np.linspace(0, 2 * np.pi, 200, endpoint=False)
     ellipse = np.c_[60 * np.cos(th), 30 * np.sin(th)]

@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from stimuli import curves
-from stimuli.curves.natural import MAX_POINTS
-from stimuli.curves.splines import fit_spline, qic_spline
-from stimuli.errors import InputError
+from attneave.stimuli import curves
+from attneave.stimuli.curves.natural import MAX_POINTS
+from attneave.stimuli.curves.splines import fit_spline, qic_spline
+from attneave.stimuli.errors import InputError
 
 _T = np.linspace(0, 2 * np.pi, 8, endpoint=False)
 P = np.c_[100 + 50 * np.cos(_T), 100 + 40 * np.sin(_T)]
@@ -37,7 +37,7 @@ def test_lac_alpha_near_one_is_right():
     # lost every digit there (x was 0.27 at s = 1)
     c = curves.log_aesthetic(alpha=1.01, lam=100, s_end=1, num=3)
     u = np.linspace(0, 1, 200_001)
-    from stimuli.curves.lac_gamma import lac_theta
+    from attneave.stimuli.curves.lac.gamma import lac_theta
 
     f = np.exp(1j * lac_theta(u, 1.01, 100.0))
     z = np.sum(0.5 * (f[1:] + f[:-1])) * (u[1] - u[0])

@@ -1,11 +1,11 @@
-"""Python-API robustness of stimuli.geometry: bad input gets an InputError naming the argument,
+"""Python-API robustness of attneave.stimuli.geometry: bad input gets an InputError naming the argument,
 never an obscure numpy error or a silently wrong (NaN, truncated, flag-inverted) result; a circle
 has no surprisal peaks."""
 
 import numpy as np
 import pytest
 
-from stimuli import (
+from attneave.stimuli import (
     Contour,
     find_peaks,
     surprisal,
@@ -13,8 +13,8 @@ from stimuli import (
     surprisal_vonmises,
     turning_angles,
 )
-from stimuli.errors import InputError
-from stimuli.geometry import gaussian_curvature, shoelace, surprisal_from_points
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry import gaussian_curvature, shoelace, surprisal_from_points
 
 SQ = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float)
 
@@ -68,7 +68,7 @@ def test_closed_contour_without_area_refused(pts):
 
 
 def test_zero_area_refused_through_curvature_paths():
-    from stimuli.extraction.scalespace import contour_curvature
+    from attneave.stimuli.extraction.scalespace import contour_curvature
 
     with pytest.raises(InputError, match="no area"):
         contour_curvature([[0, 0], [10, 0], [20, 0]])
@@ -151,8 +151,8 @@ def test_good_arguments_still_work():
 
 def test_numbers_beyond_the_float_range_are_input_errors():
     # float(10**400) and int(inf) raise OverflowError, which escaped as a traceback
-    from stimuli.geometry._checks import check_int, check_real
-    from stimuli.validate import as_int, as_number
+    from attneave.stimuli.geometry._checks import check_int, check_real
+    from attneave.stimuli.validate import as_int, as_number
 
     for f, v in ((check_real, 10**400), (as_number, 10**400), (check_int, float("inf")), (as_int, float("inf"))):
         with pytest.raises(InputError, match="^x: must be"):

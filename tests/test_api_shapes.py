@@ -5,11 +5,11 @@ argument, never a numpy/scipy exception or a silently wrong result."""
 import numpy as np
 import pytest
 
-from stimuli.errors import InputError
-from stimuli.geometry.contour import Contour
-from stimuli.shapes import deformations as d
-from stimuli.shapes import generators as g
-from stimuli.shapes import guided as gd
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.shapes import deformations as d
+from attneave.stimuli.shapes import generators as g
+from attneave.stimuli.shapes import guided as gd
 
 SQ = np.array([(10, 10), (90, 10), (90, 90), (10, 90)], float)
 SQC = Contour([[0, 0], [0, 100], [100, 100], [100, 0]])
@@ -63,7 +63,7 @@ def test_bad_seeds_are_refused_naming_rng(seed):
         g.blob(seed)
     with pytest.raises(InputError, match=r"^rng: "):
         d.deform(SQC, seed)
-    from stimuli.batch import recipes
+    from attneave.stimuli.batch import recipes
 
     with pytest.raises(InputError, match=r"^rng: "):
         recipes.make("radial_frequency", seed)
@@ -76,7 +76,7 @@ def test_deform_takes_an_int_seed():
 
 
 def test_make_refuses_a_canvas_that_is_not_one():
-    from stimuli.batch import recipes
+    from attneave.stimuli.batch import recipes
 
     with pytest.raises(InputError, match=r"^canvas: "):
         recipes.make("radial_frequency", 1, canvas=(100, 100, 10))
@@ -181,7 +181,7 @@ def test_generator_sizes_are_capped():
 
 
 def test_render_size_is_capped():
-    from stimuli.render import render_silhouette
+    from attneave.stimuli.render import render_silhouette
 
     for dtype in (None, "uint8"):
         with pytest.raises(InputError, match=r"^size: 1000000 x 1000000 is too large"):
@@ -192,7 +192,7 @@ def test_render_size_is_capped():
 
 
 def test_fit_to_image_refuses_a_vanishing_extent():
-    from stimuli.render import fit_to_image
+    from attneave.stimuli.render import fit_to_image
 
     with pytest.raises(InputError, match=r"^points: the bounding box spans only"):
         fit_to_image(SQ * 1e-310, size=100)
@@ -206,7 +206,7 @@ def test_fit_to_image_refuses_a_vanishing_extent():
 
 @pytest.mark.parametrize("dtype", [None, "uint8"])
 def test_crossing_rings_are_refused(dtype):
-    from stimuli.render import coverage, render_silhouette
+    from attneave.stimuli.render import coverage, render_silhouette
 
     with pytest.raises(InputError, match=r"^contour_or_points: rings 0 and 1 cross"):
         render_silhouette([SQ, SQ + 5], size=400, dtype=dtype)
@@ -219,7 +219,7 @@ def test_crossing_rings_are_refused(dtype):
 @pytest.mark.parametrize("dtype", [None, "uint8"])
 def test_a_hole_touching_its_outline_is_a_hole(dtype):
     # the hole's first point lies on the outer ring: its nesting must still be found
-    from stimuli.render import render_silhouette
+    from attneave.stimuli.render import render_silhouette
 
     tri = np.array([(10, 10), (50, 30), (30, 50)], float)
     r = render_silhouette([SQ, tri], size=100, dtype=dtype)
@@ -229,7 +229,7 @@ def test_a_hole_touching_its_outline_is_a_hole(dtype):
 
 
 def test_same_direction_rings_refused_with_orient_false():
-    from stimuli.render import render_silhouette
+    from attneave.stimuli.render import render_silhouette
 
     inner = (SQ - 50) * 0.5 + 50
     with pytest.raises(InputError, match=r"orient=False .*hole must run opposite"):
@@ -240,7 +240,7 @@ def test_same_direction_rings_refused_with_orient_false():
 
 @pytest.mark.parametrize("shape", [(10,), (2, 2, 2, 2), (4, 4, 2), (4, 4, 5), (0, 4)])
 def test_quantisation_refuses_what_is_not_an_image(shape):
-    from stimuli.render import to_uint8, to_uint16
+    from attneave.stimuli.render import to_uint8, to_uint16
 
     with pytest.raises(InputError, match=r"^image: expected a \(height, width\)"):
         to_uint8(np.zeros(shape))
@@ -249,14 +249,14 @@ def test_quantisation_refuses_what_is_not_an_image(shape):
 
 
 def test_quantisation_keeps_grey_rgb_and_rgba():
-    from stimuli.render import to_uint8
+    from attneave.stimuli.render import to_uint8
 
     for shape in [(3, 4), (3, 4, 3), (3, 4, 4)]:
         assert to_uint8(np.ones(shape)).shape == shape
 
 
 def test_svg_text_refuses_an_array():
-    from stimuli.render import svg_text
+    from attneave.stimuli.render import svg_text
 
     with pytest.raises(InputError, match=r"^result: "):
         svg_text(SQ)
@@ -266,7 +266,7 @@ def test_svg_text_refuses_an_array():
 
 
 def test_shapes_package_re_exports_lazily():
-    import stimuli.shapes as shapes
+    import attneave.stimuli.shapes as shapes
 
     assert {"radial_frequency", "superformula", "fourier_shape", "blob", "deform", "deform_at", "move_vertex",
             "attneave_cat", "fragments", "dots", "attneave_curved", "smooth_closed"} <= set(shapes.__all__)
@@ -278,8 +278,8 @@ def test_shapes_package_re_exports_lazily():
 def test_user_facing_docstrings_have_parameters():
     import inspect
 
-    import stimuli.render as render
-    import stimuli.shapes as shapes
+    import attneave.stimuli.render as render
+    import attneave.stimuli.shapes as shapes
 
     missing = []
     for pkg in (shapes, render):
@@ -293,7 +293,7 @@ def test_user_facing_docstrings_have_parameters():
 
 def test_guided_stimuli_find_no_extrema_on_a_circle_and_four_on_an_ellipse():
     # a densely drawn circle's surprisal ripples by 1e-10 of its value: noise, not 64 extrema
-    from stimuli.shapes import guided
+    from attneave.stimuli.shapes import guided
 
     th = np.linspace(0, 2 * np.pi, 4000, endpoint=False)
     circle = np.c_[200 + 50 * np.cos(th), 200 + 50 * np.sin(th)]

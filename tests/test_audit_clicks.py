@@ -6,11 +6,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
-from analysis.clicks import read_clicks
-from analysis.exclusions import match_stimulus_ids
-from analysis.mapping import map_clicks, predict
-from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+from attneave.cli import main
+from attneave.analysis.clicks.read import read_clicks
+from attneave.analysis.clicks.exclusions import match_stimulus_ids
+from attneave.analysis.clicks.mapping import map_clicks, predict
+from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
 W = H = 100
 # the columns the browser page and the PsychoPy script write (task.js COLUMNS, attneave_task.py.in)

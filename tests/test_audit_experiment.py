@@ -11,8 +11,8 @@ import urllib.parse
 import numpy as np
 import pandas as pd
 
-from analysis.cli import main
-from analysis.experiment import order
+from attneave.cli import main
+from attneave.analysis.experiment import order
 from test_experiment_browser import (  # noqa: F401  (browser, setup: fixtures)
     _analyze, _client, _csv, _expected_order, _one_trial, _run, _targets, _url, browser, setup,
 )

@@ -34,8 +34,8 @@ def _save_with_orientation(path, stored, orientation):
 def test_exif_oriented_file_is_outlined_as_shown(tmp_path, orientation, to_stored, suffix):
     # what viewers and browsers show (EXIF 2.3: orientation 6 = "rotate 90 CW to display") is the
     # L shape; the file stores it turned or flipped. The outline must fit the shape as shown.
-    from stimuli.extraction import extract
-    from stimuli.extraction.imageio import header_size, open_image
+    from attneave.stimuli.extraction import extract
+    from attneave.stimuli.extraction.imageio import header_size, open_image
 
     shown, truth = _l_shape()
     path = tmp_path / f"phone{suffix}"
@@ -54,7 +54,7 @@ def test_exif_orientation_reaches_the_outputs_of_the_command(tmp_path, capsys):
     import pandas as pd
     from PIL import Image
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     shown, truth = _l_shape()
     _save_with_orientation(tmp_path / "p.jpg", np.ascontiguousarray(np.rot90(shown, 1)), 6)
@@ -84,8 +84,8 @@ def _framed(width=1, polarity="dark"):
 def test_frame_line_around_a_silhouette_is_not_the_object(width, ink, method):
     # a frame drawn around the figure used to be taken for the object (auto polarity: the object is the
     # class inside the frame, so the page was outlined; either polarity gave the whole image)
-    from stimuli.extraction import extract
-    from stimuli.extraction.verdict import judge
+    from attneave.stimuli.extraction import extract
+    from attneave.stimuli.extraction.verdict import judge
 
     img, obj = _framed(width, ink)
     ex = extract(img, method=method)
@@ -99,8 +99,8 @@ def test_frame_line_around_a_silhouette_is_not_the_object(width, ink, method):
 
 def test_object_cut_by_a_frame_line_is_suspect():
     # the frame line is the image's frame for the verdict: an object running along it is cut
-    from stimuli.extraction import extract
-    from stimuli.extraction.verdict import judge
+    from attneave.stimuli.extraction import extract
+    from attneave.stimuli.extraction.verdict import judge
 
     img = np.full((100, 140), 255, np.uint8)
     img[30:70, 1:80] = 0  # a bar from the frame line inwards
@@ -113,7 +113,7 @@ def test_object_cut_by_a_frame_line_is_suspect():
 
 def test_silhouette_touching_the_edge_is_not_taken_for_a_frame():
     # an object that runs off one side is no frame line: the image's edge ring is not of one class
-    from stimuli.extraction import extract
+    from attneave.stimuli.extraction import extract
 
     img = np.full((100, 140), 255, np.uint8)
     img[20:80, :60] = 0
@@ -125,7 +125,7 @@ def test_silhouette_touching_the_edge_is_not_taken_for_a_frame():
 def test_a_failed_file_is_named_on_stderr_one_line_each(tmp_path, capsys):
     from PIL import Image
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     img, _ = _l_shape()
     Image.fromarray(img).save(tmp_path / "good one.png")
@@ -145,8 +145,8 @@ def test_a_line_drawing_is_suspect_not_ok(tmp_path):
     # not along the figure, and was 'ok'. Twice area over perimeter is the stroke's width.
     import cv2
 
-    from stimuli.extraction import extract
-    from stimuli.extraction.verdict import judge
+    from attneave.stimuli.extraction import extract
+    from attneave.stimuli.extraction.verdict import judge
 
     img = np.full((160, 160), 255, np.uint8)
     cv2.ellipse(img, (80, 80), (50, 50), 0, 20, 340, 0, 2)  # a stroke open over 40 degrees
@@ -166,7 +166,7 @@ def test_a_line_drawing_is_suspect_not_ok(tmp_path):
 def test_a_directory_is_its_image_files(tmp_path, capsys):
     import cv2
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     d = tmp_path / "silhouettes"
     d.mkdir()
@@ -195,10 +195,10 @@ def test_a_small_antialiased_silhouette_is_a_silhouette_not_a_photo(size):
     # the antialiased rim of a small render is a large share of its pixels, so Otsu's classes hold
     # under 97 % of the variance and `auto` took it for a photograph (never ok, GrabCut's outline);
     # off the rim it is two flat tones
-    from stimuli.extraction import extract
-    from stimuli.extraction.segment import image_kind
-    from stimuli.extraction.verdict import judge
-    from stimuli.render import coverage
+    from attneave.stimuli.extraction import extract
+    from attneave.stimuli.extraction.segment import image_kind
+    from attneave.stimuli.extraction.verdict import judge
+    from attneave.stimuli.render import coverage
 
     th = np.linspace(0, 2 * np.pi, 800, endpoint=False)
     r = 0.3 * size * (1 + 0.45 * np.cos(8 * th))  # an eight-armed star: a long rim for its area

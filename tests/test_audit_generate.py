@@ -14,9 +14,9 @@ import json
 import numpy as np
 import pytest
 
-from stimuli.batch.config import load_config
-from stimuli.batch.runner import run_batch
-from stimuli.errors import InputError
+from attneave.stimuli.batch.config import load_config
+from attneave.stimuli.batch.runner import run_batch
+from attneave.stimuli.errors import InputError
 
 
 def _rows(out):
@@ -129,7 +129,7 @@ def test_superformula_that_does_not_close_is_refused_with_file_and_line(tmp_path
 def test_repeats_that_come_out_identical_are_named(tmp_path, capsys):
     # a superformula draws no random numbers: its 3 repeats were 3 copies, without a word (and a
     # guided set on a fixed base warned even with repeats: 1)
-    from analysis.cli import main
+    from attneave.cli import main
 
     cfg = _config(tmp_path, "seed: 1\ncanvas: {width: 96, height: 96}\nconditions:\n"
                             "  - name: sf\n    recipe: superformula\n    params: {m: 6}\n    repeats: 3\n"

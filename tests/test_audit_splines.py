@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from analysis.cli import main
+from attneave.cli import main
 
 
 def _write(path, text):
@@ -91,7 +91,7 @@ def test_segments_end_exactly_on_the_next_point(tmp_path, capsys, method, closed
 @pytest.mark.parametrize("alpha", [0.5, 0.9999999999, -1.0, 3.0])
 @pytest.mark.parametrize("lam", [5e-324, -1e-310, 1e-300])
 def test_lac_with_vanishing_lambda_is_the_unit_circle(alpha, lam):
-    from stimuli.curves import log_aesthetic
+    from attneave.stimuli.curves import log_aesthetic
 
     cv = log_aesthetic(alpha, lam, -2.0, 3.0, num=41)
     u = cv.s + 2.0  # arc length from the start, where theta = 0
@@ -119,7 +119,7 @@ def test_curve_lac_subnormal_lambda_on_the_command_line(tmp_path, capsys):
 def test_constant_info_curvature_without_underflow(s, C, n):
     import warnings
 
-    from stimuli.curves.constant_info import constant_info_curvature
+    from attneave.stimuli.curves.constant_info import constant_info_curvature
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -138,8 +138,8 @@ def test_constant_info_curvature_without_underflow(s, C, n):
     (5, "end_tangents"), (((1, 0), [1, "x"]), "end_tangents[1]"), (({}, None), "end_tangents[0]"),
 ])
 def test_qic_bad_end_tangents_named(end_tangents, name):
-    from stimuli.curves.qic import qic_spline
-    from stimuli.errors import InputError
+    from attneave.stimuli.curves.qic.spline import qic_spline
+    from attneave.stimuli.errors import InputError
 
     P = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 5.0], [30.0, 0.0]])
     with pytest.raises(InputError, match=rf"^{re.escape(name)}: "):
@@ -151,8 +151,8 @@ def test_qic_bad_end_tangents_named(end_tangents, name):
     ({"tangents": {}}, "tangents"),
 ])
 def test_lac_g1_bad_arguments_named(kwargs, name):
-    from stimuli.curves.lac import lac_g1_spline
-    from stimuli.errors import InputError
+    from attneave.stimuli.curves.lac.g1 import lac_g1_spline
+    from attneave.stimuli.errors import InputError
 
     P = np.array([[0.0, 0.0], [10.0, 0.0], [20.0, 5.0], [30.0, 0.0]])
     with pytest.raises(InputError, match=rf"^{name}: "):
@@ -190,7 +190,7 @@ def test_tiny_triangle_is_the_scaled_unit_curve(tmp_path, capsys, scale, offset)
 def test_surprisal_notes_name_the_true_lines(tmp_path, capsys):
     # blank lines are no points: the repeated point below is on line 6 and the closing repeat on
     # line 9 (the note counted rows as if every line held one: lines 4 and 7)
-    from analysis.cli import main
+    from attneave.cli import main
 
     f = tmp_path / "c.csv"
     f.write_text("x,y\n\n0,0\n\n10,0\n10,0\n10,10\n0,10\n0,0\n")

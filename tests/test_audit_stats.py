@@ -4,12 +4,12 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.analyze import analyze
-from analysis.blurred import fit_beta_blurred
-from analysis.choice import BETA_BOUND, fit_beta, standardize
-from analysis.mapping import PREDICTORS, predict
-from analysis.report_html import render
-from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+from attneave.analysis.analyze import analyze
+from attneave.analysis.models.blurred import fit_beta_blurred
+from attneave.analysis.models.choice import BETA_BOUND, fit_beta, standardize
+from attneave.analysis.clicks.mapping import PREDICTORS, predict
+from attneave.analysis.report.html import render
+from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
 
 @pytest.fixture(scope="module")

@@ -14,11 +14,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.cli import main as cli
-from stimuli.batch.job import plan_jobs, run_job
-from stimuli.batch.runner import run_batch
-from stimuli.batch.config import load_config
-from stimuli.errors import InputError
+from attneave.cli import main as cli
+from attneave.stimuli.batch.job import plan_jobs, run_job
+from attneave.stimuli.batch.runner import run_batch
+from attneave.stimuli.batch.config import load_config
+from attneave.stimuli.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
 # batch configs; configs/experiment.yaml holds the experiment page settings

@@ -17,9 +17,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from analysis.cli import main as cli
-from stimuli.errors import InputError
-from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+from attneave.cli import main as cli
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
 SLOW_GENERATE = Path(__file__).with_name("slow_generate.py")
 
@@ -96,7 +96,7 @@ def test_2_user_files_named_like_temporaries_survive(small, tmp_path):
     assert all((dest / rel).read_text() == "mine" for rel in mine)
     assert hashes(dest, skip=mine) == ref
     # the temporaries of atomic_write carry the package name and this pid
-    from stimuli.io import atomic_write, is_temporary
+    from attneave.stimuli.io import atomic_write, is_temporary
 
     with atomic_write(tmp_path / "f.txt") as fh:
         fh.write("x")
@@ -178,7 +178,7 @@ def test_5_a_second_run_on_a_locked_directory_is_refused(small, tmp_path, capsys
 
 
 def test_6_disk_full_is_one_line_exit_1_and_the_rerun_completes(small, tmp_path, capsys, monkeypatch):
-    import stimuli.render.files as core
+    import attneave.stimuli.render.files as core
 
     cfg, ref = small
     dest = tmp_path / "set"
@@ -278,13 +278,13 @@ def test_15_workers_are_capped_at_the_jobs_with_a_warning(small, tmp_path, capsy
 
 
 def test_5_the_lock_dies_with_its_holder_not_with_its_forked_workers(tmp_path):
-    from stimuli.batch.outdir import locked
+    from attneave.stimuli.batch.outdir import locked
 
     # a holder that forks a long-lived child (as the worker pool does) and then dies without
     # cleaning up (as under kill -9): the directory must be free although the child lives on
     script = (
         "import os, sys, time\n"
-        "from stimuli.batch.outdir import locked\n"
+        "from attneave.stimuli.batch.outdir import locked\n"
         "with locked(sys.argv[1]):\n"
         "    child = os.fork()\n"
         "    if child == 0:\n"

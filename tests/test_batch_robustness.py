@@ -11,8 +11,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main as cli
-from stimuli.errors import InputError
+from attneave.cli import main as cli
+from attneave.stimuli.errors import InputError
 
 CANVAS = "canvas: {width: 48, height: 48, margin: 4}\n"
 
@@ -63,7 +63,7 @@ def test_a_margin_that_leaves_no_figure_area_is_refused(tmp_path, capsys):
 
 @pytest.mark.parametrize("dtype", [None, "uint16", "uint8"])
 def test_a_one_pixel_image_renders(dtype):
-    from stimuli.render import render_silhouette
+    from attneave.stimuli.render import render_silhouette
 
     pts = np.array([[0.0, 0.0], [0.5, 0.2], [0.3, 0.9], [-0.2, 0.5]])
     img = render_silhouette(pts, size=1, dtype=dtype)["img"]
@@ -71,7 +71,7 @@ def test_a_one_pixel_image_renders(dtype):
 
 
 def test_an_unexpected_error_removes_a_directory_the_run_made_and_says_so(tmp_path, capsys, monkeypatch):
-    from stimuli.batch import recipes
+    from attneave.stimuli.batch import recipes
 
     def broken(params, rng, canvas):
         raise ValueError("could not broadcast")
@@ -88,7 +88,7 @@ def test_an_unexpected_error_removes_a_directory_the_run_made_and_says_so(tmp_pa
 
 def test_an_unexpected_error_in_an_existing_directory_keeps_it_and_says_how_to_finish(tmp_path, capsys,
                                                                                        monkeypatch):
-    from stimuli.batch import recipes
+    from attneave.stimuli.batch import recipes
 
     real = recipes.RECIPES["blob"]
     calls = []
@@ -127,7 +127,7 @@ def test_duplicate_yaml_keys_are_refused_naming_key_and_lines(tmp_path, capsys):
 
 
 def test_yaml_merge_keys_are_not_duplicates(tmp_path):
-    from stimuli.batch.config_file import parse_yaml
+    from attneave.stimuli.batch.config_file import parse_yaml
 
     _, data = parse_yaml("a: &x {p: 1, q: 2}\nb:\n  <<: *x\n  p: 3\n", "m.yaml")
     assert data == {"a": {"p": 1, "q": 2}, "b": {"p": 3, "q": 2}}
@@ -210,7 +210,7 @@ def test_superformula_overflow_is_one_line_naming_the_parameters(tmp_path, capsy
 
 
 def test_superformula_overflow_raises_without_numpy_warnings():
-    from stimuli.shapes.generators import superformula
+    from attneave.stimuli.shapes.generators import superformula
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -222,8 +222,8 @@ def test_superformula_overflow_raises_without_numpy_warnings():
 
 def test_aliasing_and_blob_bounds_are_refused_when_the_config_is_read():
     # the generators' own rules, found before any job runs (one line naming the key)
-    from stimuli.batch.params import SHAPES
-    from stimuli.shapes.generators import MAX_BLOB_SIGMA
+    from attneave.stimuli.batch.params import SHAPES
+    from attneave.stimuli.shapes.generators import MAX_BLOB_SIGMA
 
     for recipe, params, needle in (("radial_frequency", dict(frequency=[3, 8], amplitude=[0.1, 0.1], n=16),
                                     "alias radial frequency 8"),

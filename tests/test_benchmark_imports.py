@@ -2,7 +2,7 @@
 
 They are not run by the test command (they need ../shared/data or minutes),
 so a module moved or renamed in the package would leave them broken
-unnoticed: ``validate_guided.py`` imported ``stimuli.extraction.core`` for a
+unnoticed: ``validate_guided.py`` imported ``attneave.stimuli.extraction.core`` for a
 while after the extraction package was split. Every ``from X import Y`` of
 the project's packages in them, at any depth, must resolve.
 """

@@ -5,8 +5,8 @@ comparison with the clothoid G1 Hermite curve."""
 import numpy as np
 import pytest
 
-from stimuli.curves.biangular import biangular_g1, compare_g1_hermite
-from stimuli.errors import InputError
+from attneave.stimuli.curves.biangular import biangular_g1, compare_g1_hermite
+from attneave.stimuli.errors import InputError
 
 CASES = [((0, 0), 0.9, (3, 1), -0.2), ((10, 5), -1.856, (4, -1), -3.156), ((0, 0), -0.3, (1, 0), 1.2)]
 

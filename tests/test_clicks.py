@@ -6,10 +6,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from analysis.clicks import from_image_coords, parse_columns, parse_coordinates, read_clicks, to_image_coords
-from analysis.mapping import map_clicks, predict
-from stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
-from stimuli import InputError
+from attneave.analysis.clicks.read import from_image_coords, parse_columns, parse_coordinates, read_clicks, to_image_coords
+from attneave.analysis.clicks.mapping import map_clicks, predict
+from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+from attneave.stimuli import InputError
 
 
 # ------------------------------------------------------------- coordinates
@@ -234,7 +234,7 @@ def test_window_units_of_psychopy():
 
 
 def test_separator_and_decimal_sniffing(tmp_path):
-    from analysis.click_csv import sniff_separator
+    from attneave.analysis.clicks.dialects import sniff_separator
 
     assert sniff_separator("a\tb\tc") == "\t" and sniff_separator("a|b") == "|"
     assert sniff_separator('"x;y",b') == ","  # a separator inside quotes does not count
@@ -288,7 +288,7 @@ def test_coordinate_lists_are_unpacked_or_excluded(tmp_path):
 
 
 def test_stimulus_values_match_by_id_image_path_or_file_name(tmp_path):
-    from analysis.exclusions import match_stimulus_ids
+    from attneave.analysis.clicks.exclusions import match_stimulus_ids
 
     sq = np.array([[10, 10], [50, 10], [50, 50], [10, 50]], float)
     write_stimulus_set(tmp_path, {"a1": sq, "b1": sq, "c1": sq}, size=(64, 64))
@@ -305,7 +305,7 @@ def test_stimulus_values_match_by_id_image_path_or_file_name(tmp_path):
 
 
 def test_exclusion_report_threshold():
-    from analysis.exclusions import exclusion_report
+    from attneave.analysis.clicks.exclusions import exclusion_report
 
     def table(k, n):
         return pd.DataFrame(dict(reason=["far_from_contour"] * k + [""] * (n - k), excluded=[True] * k + [False] * (n - k),
@@ -324,7 +324,7 @@ def test_tolerant_reader_agrees_with_the_csv_module(tmp_path_factory, body, newl
     # the reader's fast path (numpy field counts + pandas) against Python's csv module, line by line
     import csv
 
-    from analysis.click_csv import read_tolerant_csv
+    from attneave.analysis.clicks.dialects import read_tolerant_csv
 
     text = newline.join(["participant,stimulus_id,x,y", *body]) + (newline if final_newline else "")
     f = tmp_path_factory.mktemp("t") / "c.csv"

@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.special import fresnel
 
-from stimuli.curves.euler import (
+from attneave.stimuli.curves.euler import (
     ClothoidConvergenceError,
     clothoid_points,
     fresnel_moments,
@@ -53,7 +53,7 @@ def test_fresnel_moments_at_a_zero_closed_form():
 
 def _clothoid_end_fresnel(theta0, k, dk, L):
     """End point of a clothoid from the textbook Fresnel closed form,
-    written independently of stimuli.curves.euler (dk > 0)."""
+    written independently of attneave.stimuli.curves.euler (dk > 0)."""
     # theta(s) = theta0 + k s + dk s^2 / 2 = (pi/2) u^2 + theta0 - k^2/(2 dk)
     # with u = (dk s + k) / sqrt(pi dk)
     sq = np.sqrt(np.pi * dk)

@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from stimuli.batch.config import load_config, stimulus_seed
-from stimuli.errors import InputError
+from attneave.stimuli.batch.config import load_config, stimulus_seed
+from attneave.stimuli.errors import InputError
 
 # batch configs; configs/experiment.yaml holds the experiment page settings
 CONFIGS = sorted(p for p in (Path(__file__).resolve().parents[1] / "configs").glob("*.yaml") if p.stem != "experiment")
@@ -188,7 +188,7 @@ def test_stimulus_seed_is_the_documented_seedsequence():
 
 
 def test_config_and_make_say_the_same_for_the_same_mistake(tmp_path):
-    from stimuli.batch.recipes import make
+    from attneave.stimuli.batch.recipes import make
 
     for params, key in [({"sigmma": 0.1}, "sigmma"), ({"sigma": -0.5}, "sigma"), ({"n": "many"}, "n")]:
         text = f"seed: 1\nconditions:\n  - name: a\n    recipe: blob\n    params: {params}\n"

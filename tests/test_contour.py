@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from stimuli import Contour, InputError
+from attneave.stimuli import Contour, InputError
 
 
 def circle(R=100.0, n=4000, cx=256.0, cy=256.0, phase=0.0):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.special import fresnel, hyp2f1, sici, spence
 
-from stimuli.curves import (
+from attneave.stimuli.curves import (
     clothoid,
     constant_info,
     constant_info_curvature,
@@ -20,8 +20,8 @@ from stimuli.curves import (
     pseudospiral,
     superspiral,
 )
-from stimuli.errors import InputError
-from stimuli.geometry.information import surprisal_paper
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.information import surprisal_paper
 
 TOL = 1e-9
 
@@ -444,7 +444,7 @@ def test_bad_arguments():
 def test_integrator_has_a_bounded_budget(monkeypatch):
     # a curve turning ~1e5 rad would take minutes (hours for 1e11 rad: clothoid c=1e6
     # on [0, 1000] fell back to this integrator and never returned); it must be a clear error
-    import stimuli.curves.natural as curves
+    import attneave.stimuli.curves.natural as curves
 
     monkeypatch.setattr(curves, "_MAX_NFEV", 20_000, raising=False)
     # the estimate before integrating refuses this one at once (1e5 rad)...
@@ -460,7 +460,7 @@ def test_a_curve_turning_beyond_the_budget_is_refused_at_once():
     # eq. 7 with n = 1e300 turns by about 1e301 rad on [0.001, 1]: 13 s of integration before
     import time
 
-    from stimuli.curves import constant_info
+    from attneave.stimuli.curves import constant_info
 
     t = time.perf_counter()
     with pytest.raises(InputError, match="turns by about 1.09e\\+301 rad"):

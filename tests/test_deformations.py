@@ -8,10 +8,10 @@ the concave one has a negative turning angle there, the convex one not.
 import numpy as np
 import pytest
 
-from stimuli import Contour, InputError
-from stimuli.shapes import deformations as dm
-from stimuli.shapes import generators as g
-from stimuli.batch import recipes
+from attneave.stimuli import Contour, InputError
+from attneave.stimuli.shapes import deformations as dm
+from attneave.stimuli.shapes import generators as g
+from attneave.stimuli.batch import recipes
 
 
 def rng(seed=0):

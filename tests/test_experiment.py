@@ -11,11 +11,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
-from analysis.experiment import calibration, order
-from analysis.experiment.options import ExperimentOptions, load_options
-from stimuli.stimulus_set import write_stimulus_set
-from stimuli.errors import InputError
+from attneave.cli import main
+from attneave.analysis.experiment import calibration, order
+from attneave.analysis.experiment.options import ExperimentOptions, load_options
+from attneave.stimuli.stimulus_set import write_stimulus_set
+from attneave.stimuli.errors import InputError
 
 W, H = 160, 120
 GROUND = 128
@@ -139,7 +139,7 @@ NODE = shutil.which("node")
 def test_javascript_and_python_orders_are_equal():
     from importlib import resources
 
-    js = resources.files("analysis.experiment").joinpath("static", "task.js")
+    js = resources.files("attneave.analysis.experiment").joinpath("static", "task.js")
     ids = [f"s{i}" for i in range(12)]
     conds = ["p" if i % 3 else "t" for i in range(12)]
     participants = ["P01", "p,02", "Zoë", "日本", "", "x" * 50]
@@ -285,7 +285,7 @@ def test_conditions_filter_and_first_k_practice(stimset, tmp_path):
 def test_background_colour_is_the_commonest_corner(tmp_path):
     import cv2
 
-    from analysis.experiment.build import background_colour
+    from attneave.analysis.experiment.build import background_colour
 
     paths = []
     for i, ground in enumerate([200, 200, 30]):
@@ -392,7 +392,7 @@ def test_psychopy_export(stimset, tmp_path):
     mod = _load_script(script)
     assert mod.COLUMNS[:7] == ["participant", "stimulus_id", "x", "y", "click", "trial", "rt_ms"]
     from importlib import resources
-    js = resources.files("analysis.experiment").joinpath("static", "task.js").read_text()
+    js = resources.files("attneave.analysis.experiment").joinpath("static", "task.js").read_text()
     for col in mod.COLUMNS:
         assert f"'{col}'" in js  # the page writes the same columns
     # window units (centred, y up) -> image pixels (y down): the drawn image's corners and centre

@@ -14,8 +14,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
-from analysis.experiment import calibration, order
+from attneave.cli import main
+from attneave.analysis.experiment import calibration, order
 from test_experiment import H, W, make_set
 
 CHROMIUM = "/usr/bin/chromium"

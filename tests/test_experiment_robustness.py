@@ -9,7 +9,7 @@ import shutil
 
 import pytest
 
-from analysis.cli import main
+from attneave.cli import main
 from test_experiment import make_set
 
 

@@ -1,7 +1,7 @@
 """Contour extraction from images: sub-pixel accuracy, curvature, clean-up, batches.
 
 Ground truth comes from analytic shapes rendered with exact area coverage
-(``stimuli.render.coverage``: each pixel's grey level is the exact fraction
+(``attneave.stimuli.render.coverage``: each pixel's grey level is the exact fraction
 of its square inside the shape), so every tolerance below is a property of
 the extraction, not of the renderer.
 
@@ -22,9 +22,9 @@ import pytest
 import scipy.signal
 from scipy.spatial import cKDTree
 
-from stimuli.geometry.contour import Contour
-from stimuli.errors import InputError
-from stimuli.extraction import (
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.extraction import (
     contour_curvature,
     curvature_peaks,
     default_sigma,
@@ -33,7 +33,7 @@ from stimuli.extraction import (
     extract_contours,
     read_image,
 )
-from stimuli.render import coverage, render_silhouette, write_png
+from attneave.stimuli.render import coverage, render_silhouette, write_png
 
 N = 512
 
@@ -411,8 +411,8 @@ def _write_inputs(d):
 def test_cli_failures_reported_and_others_written(tmp_path):
     import pandas as pd
 
-    from analysis.cli import main
-    from stimuli.tables import read_points
+    from attneave.cli import main
+    from attneave.stimuli.tables import read_points
 
     _write_inputs(tmp_path)
     out = tmp_path / "out"
@@ -444,7 +444,7 @@ def test_cli_failures_reported_and_others_written(tmp_path):
 
 
 def test_cli_objects_all_naming_and_workers_give_identical_files(tmp_path):
-    from analysis.cli import main
+    from attneave.cli import main
 
     _write_inputs(tmp_path)
     a, b = tmp_path / "a", tmp_path / "b"
@@ -461,7 +461,7 @@ def test_cli_objects_all_naming_and_workers_give_identical_files(tmp_path):
 
 
 def test_cli_rerun_removes_outputs_of_an_input_that_now_fails(tmp_path):
-    from analysis.cli import main
+    from attneave.cli import main
 
     _write_inputs(tmp_path)
     img, out = tmp_path / "good.png", tmp_path / "out"
@@ -473,7 +473,7 @@ def test_cli_rerun_removes_outputs_of_an_input_that_now_fails(tmp_path):
 
 
 def test_cli_bad_arguments_exit_2(tmp_path, capsys):
-    from analysis.cli import main
+    from attneave.cli import main
 
     _write_inputs(tmp_path)
     assert main(["extract", str(tmp_path / "good.png"), "-o", str(tmp_path / "o"), "--method", "threshold"]) == 2
@@ -486,7 +486,7 @@ def test_cli_bad_arguments_exit_2(tmp_path, capsys):
 
 
 def test_cli_threshold_nan_is_a_usage_error(tmp_path):
-    from analysis.cli import main
+    from attneave.cli import main
 
     img = tmp_path / "a.png"
     import cv2

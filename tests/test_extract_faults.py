@@ -28,7 +28,7 @@ def _png_header_only(w, h):
 def test_pixel_count_checked_from_the_header_before_decoding(tmp_path, capsys):
     import pandas as pd
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     (tmp_path / "huge.png").write_bytes(_png_header_only(65535, 65535))
     (tmp_path / "big.png").write_bytes(_png_header_only(3000, 2000))
@@ -47,7 +47,7 @@ def test_pixel_count_checked_from_the_header_before_decoding(tmp_path, capsys):
 
 
 def test_fifo_input_is_refused_not_read(tmp_path):
-    from analysis.cli import main
+    from attneave.cli import main
 
     fifo = tmp_path / "pipe.png"
     os.mkfifo(fifo)
@@ -95,7 +95,7 @@ def test_workers_exit_when_the_parent_is_killed(tmp_path):
         cv2.rectangle(img, (80, 80), (220, 220), (20, 20, 220), -1)
         files.append(str(tmp_path / f"p{i}.png"))
         cv2.imwrite(files[-1], img)
-    proc = subprocess.Popen([sys.executable, "-m", "analysis.cli", "extract", *files, "-o", str(tmp_path / "o"),
+    proc = subprocess.Popen([sys.executable, "-m", "attneave.cli", "extract", *files, "-o", str(tmp_path / "o"),
                              "--workers", "2"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 60

@@ -11,7 +11,7 @@ import pytest
 def _png(path, img):
     import cv2
 
-    from stimuli.render import write_png
+    from attneave.stimuli.render import write_png
 
     if img.ndim == 3 and img.shape[2] == 4:  # RGBA, 8 or 16 bit
         assert cv2.imwrite(str(path), np.ascontiguousarray(img[..., [2, 1, 0, 3]]))
@@ -32,7 +32,7 @@ def _disks(shape=(80, 160), centres=((40, 40), (120, 40)), r=22, rgb=False, seed
 
 
 def _run(args):
-    from analysis.cli import main
+    from attneave.cli import main
 
     return main(["extract", *map(str, args)])
 
@@ -64,7 +64,7 @@ def test_two_boxes_on_one_image_give_two_outlines(tmp_path, capsys):
 
 
 def test_read_boxes_keeps_every_row_of_an_image(tmp_path):
-    from stimuli.extraction.assists import read_boxes
+    from attneave.stimuli.extraction.assists import read_boxes
 
     img = _png(tmp_path / "two.png", _disks())
     f = tmp_path / "b.csv"
@@ -140,8 +140,8 @@ def test_sigma_over_half_the_perimeter_names_sigma(tmp_path, capsys):
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.uint16])
 def test_uniform_colour_cut_out_is_ok(tmp_path, dtype):
-    from stimuli.extraction.pipeline import extract_images
-    from stimuli.render import coverage
+    from attneave.stimuli.extraction.pipeline import extract_images
+    from attneave.stimuli.render import coverage
 
     full = np.iinfo(dtype).max
     t = np.linspace(0, 2 * np.pi, 720, endpoint=False)

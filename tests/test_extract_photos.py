@@ -12,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from stimuli.errors import InputError
-from stimuli.extraction import extract
-from stimuli.extraction.segment import NoObject
-from stimuli.extraction.verdict import frame_contact, judge
-from stimuli.render import coverage
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.extraction import extract
+from attneave.stimuli.extraction.segment import NoObject
+from attneave.stimuli.extraction.verdict import frame_contact, judge
+from attneave.stimuli.render import coverage
 
 
 def _disk(shape, cx, cy, r):
@@ -57,7 +57,7 @@ def test_clean_object_is_ok_and_frame_cut_object_is_suspect():
 
 
 def test_frame_contact_of_a_square_in_a_corner():
-    from stimuli.geometry.contour import Contour
+    from attneave.stimuli.geometry.contour import Contour
 
     sq = Contour(np.array([[-0.5, -0.5], [19.5, -0.5], [19.5, 19.5], [-0.5, 19.5]]))
     assert frame_contact(sq, (50, 50)) == pytest.approx(0.5)
@@ -92,7 +92,7 @@ def _jpeg_bytes(img):
 def test_truncated_and_corrupt_jpeg_are_suspect_and_intact_is_ok(tmp_path, capsys):
     import pandas as pd
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     clean = np.round(40 + 180 * _disk((160, 200), 100.3, 80.2, 50)).astype(np.uint8)
     data = _jpeg_bytes(np.repeat(clean[:, :, None], 3, axis=2))
@@ -135,7 +135,7 @@ def test_box_and_automatic_recover_a_photographed_object():
     assert _iou(boxed.contour, truth) > 0.9
     # the automatic figure-ground of a photograph is never certified; from a box, an outline
     # whose two sides' colours do not overlap and that reaches every side of the box passes
-    # the calibrated rule (see stimuli.extraction.verdict)
+    # the calibrated rule (see attneave.stimuli.extraction.verdict)
     v = judge(img, auto)
     assert v.status == "suspect" and "cannot be verified" in v.reason and len(v.reasons) == 1
     v = judge(img, boxed)
@@ -147,7 +147,7 @@ def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
     # a photo above ASSISTED_WORK_PIXELS is reduced for GrabCut; a box 1 px
     # inside the frame must still leave background on the reduced copy, and
     # the mask never leaves the box
-    from stimuli.extraction import photo
+    from attneave.stimuli.extraction import photo
 
     monkeypatch.setattr(photo, "ASSISTED_WORK_PIXELS", 5000)
     shape = (120, 160)
@@ -163,7 +163,7 @@ def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
 def test_box_mode_keeps_more_resolution_than_the_automatic_search(monkeypatch):
     # a person's box is drawn on the full photo: box mode reduces only above
     # ASSISTED_WORK_PIXELS, the automatic search above WORK_PIXELS
-    from stimuli.extraction import photo
+    from attneave.stimuli.extraction import photo
 
     monkeypatch.setattr(photo, "WORK_PIXELS", 5000)
     img, truth = _photo((120, 160), seed=3, box=(40, 30, 80, 60))
@@ -216,7 +216,7 @@ def test_photo_outline_lies_on_the_colour_edge_to_a_fraction_of_a_pixel(radius, 
 
 
 def test_colour_edge_field_keeps_the_mask_where_the_edge_is_faint():
-    from stimuli.extraction.colour_edge import SHARP_CONTRAST, colour_edge_field
+    from attneave.stimuli.extraction.colour_edge import SHARP_CONTRAST, colour_edge_field
 
     img = np.zeros((30, 30, 3), np.uint8)
     img[:, :15] = (100, 100, 100)
@@ -230,7 +230,7 @@ def test_colour_edge_field_keeps_the_mask_where_the_edge_is_faint():
 
 
 def test_colour_edge_source_computes_only_the_crop_asked_for():
-    from stimuli.extraction.colour_edge import ColourEdgeSource, colour_edge_field
+    from attneave.stimuli.extraction.colour_edge import ColourEdgeSource, colour_edge_field
 
     img, truth = _photo(seed=2)
     whole = colour_edge_field(img, truth)
@@ -266,7 +266,7 @@ def test_cli_boxes_several_per_image_and_scribbles(tmp_path):
     import cv2
     import pandas as pd
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     img, truth = _photo((120, 220), box=(20, 30, 50, 50))
     img2, truth2 = _photo((120, 220), seed=1, box=(140, 40, 50, 50))
@@ -277,7 +277,7 @@ def test_cli_boxes_several_per_image_and_scribbles(tmp_path):
     out = tmp_path / "out"
     assert main(["extract", str(tmp_path / "two.png"), "-o", str(out), "--boxes", str(tmp_path / "boxes.csv"),
                  "--objects", "all"]) == 0
-    from stimuli.geometry.contour import Contour
+    from attneave.stimuli.geometry.contour import Contour
 
     c0, c1 = Contour.from_csv(out / "two.0.contour.csv"), Contour.from_csv(out / "two.1.contour.csv")
     assert _iou(c0, truth) > 0.9 and _iou(c1, truth2) > 0.9  # in box order
@@ -299,7 +299,7 @@ def test_cli_boxes_several_per_image_and_scribbles(tmp_path):
     ("a.png,1,1,10,10\na,5,5,10,10", "need --objects all"),
 ])
 def test_cli_box_errors_are_one_line(tmp_path, capsys, rows, message):
-    from analysis.cli import main
+    from attneave.cli import main
 
     _write_photo(tmp_path / "a.png", _photo()[0])
     (tmp_path / "b.csv").write_text("image,x,y,width,height\n" + rows + "\n")
@@ -316,7 +316,7 @@ def test_cli_box_errors_are_one_line(tmp_path, capsys, rows, message):
     (["--method", "model", "--model-file", "nothere.onnx"], "nothere.onnx: no such model file"),
 ])
 def test_cli_model_option_errors_are_one_line(tmp_path, capsys, extra, message):
-    from analysis.cli import main
+    from attneave.cli import main
 
     _write_photo(tmp_path / "a.png", _photo()[0])
     (tmp_path / "net.onnx").write_bytes(b"")
@@ -330,7 +330,7 @@ def test_cli_model_option_errors_are_one_line(tmp_path, capsys, extra, message):
 def test_cli_scribble_errors_are_one_line(tmp_path, capsys):
     import cv2
 
-    from analysis.cli import main
+    from attneave.cli import main
 
     _write_photo(tmp_path / "a.png", _photo()[0])
     sdir = tmp_path / "s"
@@ -366,8 +366,8 @@ def _tiny_network(path, size):
 
 
 def test_model_method_through_a_tiny_onnx_network(tmp_path, capsys):
-    from analysis.cli import main
-    from stimuli.geometry.contour import Contour
+    from attneave.cli import main
+    from attneave.stimuli.geometry.contour import Contour
 
     _tiny_network(tmp_path / "tiny.onnx", 64)
     cov = _disk((120, 160), 80.3, 60.2, 35)
@@ -435,7 +435,7 @@ def test_model_finding_nothing_in_a_box_falls_back_to_grabcut_and_says_so(tmp_pa
 
 
 def test_auto_keeps_the_exact_paths_of_masks_renders_and_cut_outs():
-    from stimuli.extraction.segment import image_kind
+    from attneave.stimuli.extraction.segment import image_kind
 
     cov = _disk((120, 140), 70.3, 60.2, 35)
     assert image_kind(cov >= 0.5) == "otsu"  # a mask

@@ -1,7 +1,7 @@
 """Fault cases of issue 11, input side: special files, sizes, overflow, the files real tools write.
 
 One test per item (4, 9, 10, 11, 12, 13, 14); each failed on the code as it was
-before the fix. Every command is run in-process through ``analysis.cli.main``
+before the fix. Every command is run in-process through ``attneave.cli.main``
 except the one smoke test whose point is ``python -W error::RuntimeWarning``.
 """
 
@@ -18,8 +18,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
-from stimuli.stimulus_set import write_stimulus_set
+from attneave.cli import main
+from attneave.stimuli.stimulus_set import write_stimulus_set
 
 DATA = Path(__file__).parent / "data"
 WINDOW = (1920, 1080)  # the window of the PsychoPy fixture
@@ -124,7 +124,7 @@ def test_item9_surprisal_sizes_are_bounded_and_named(tmp_path, capsys, args, exp
 
 # --------------------------------------------------------------------------- item 10
 def test_item10_input_size_is_bounded_before_reading(tmp_path, stimset, capsys):
-    from stimuli.io import MAX_TEXT_BYTES
+    from attneave.stimuli.io import MAX_TEXT_BYTES
 
     big = tmp_path / "big.csv"
     with open(big, "wb") as fh:  # sparse: no disk used, but st_size says 201 MB
@@ -168,7 +168,7 @@ def test_item11_no_runtime_warning_reaches_the_user(tmp_path, stimset):
     pd.DataFrame({"participant": "P1", "stimulus_id": "rf_003", "x": [*pts[:, 0], 1e308, -1e200],
                   "y": [*pts[:, 1], 1e308, 5.0]}).to_csv(clicks, index=False)
     env = dict(os.environ, MPLBACKEND="Agg")
-    script = ("import sys; from analysis.cli import main; "
+    script = ("import sys; from attneave.cli import main; "
               "codes = [main(a) for a in sys.argv[1:] and [sys.argv[1:5], sys.argv[5:]]]; print(codes)")
     argv = ["surprisal", str(src), "-o", str(tmp_path / "o.csv"),
             "analyze", str(clicks), "--stimuli", str(stimset), "-o", str(tmp_path / "out"),
@@ -360,7 +360,7 @@ def _never(*args, **kwargs):
 def test_review_simulate_and_power_sizes_and_effects_are_bounded(tmp_path, stimset, capsys, monkeypatch,
                                                                     command, args, named):
     # each of these was a MemoryError, an overflow warning or a numpy ValueError traceback
-    for name in ("analysis.mapping.predict", "analysis.observers.simulate", "analysis.observers.power"):
+    for name in ("attneave.analysis.clicks.mapping.predict", "attneave.analysis.simulate.observers.simulate", "attneave.analysis.simulate.observers.power"):
         monkeypatch.setattr(name, _never)  # refused before any work (the old code allocated there)
     out = ["-o", tmp_path / "sim.csv"] if command == "simulate" else []
     out += ["--seed", "1"] if command == "simulate" and "--seed" not in args else []
@@ -371,7 +371,7 @@ def test_review_simulate_and_power_sizes_and_effects_are_bounded(tmp_path, stims
 
 def test_review_a_stray_quote_does_not_swallow_the_rows_after_it(tmp_path):
     # a quote left open made every later line one field of its row: 60 clicks read as 5, exit 0
-    from analysis.clicks import read_clicks
+    from attneave.analysis.clicks.read import read_clicks
 
     f = tmp_path / "clicks.csv"
     f.write_text('participant,stimulus_id,x,y,comment\n'
@@ -396,7 +396,7 @@ def test_review_a_full_disk_is_one_line_exit_1_for_every_writer(tmp_path, stimse
     def full(table, path, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
 
-    monkeypatch.setattr("stimuli.tables.write_table", full)
+    monkeypatch.setattr("attneave.stimuli.tables.write_table", full)
     out = tmp_path / "out.csv"
     argv = {"surprisal": ["surprisal", _square_csv(tmp_path / "sq.csv"), "-o", out],
             "simulate": ["simulate", "--stimuli", stimset, "-o", out, "--participants", "2", "--clicks", "2",
@@ -459,12 +459,12 @@ def test_item11_curve_arguments_that_overflow_are_one_line(tmp_path, capsys, arg
 def test_item6_disk_full_in_any_command_is_one_line_exit_1(tmp_path, capsys, stimset, monkeypatch):
     import errno
 
-    import analysis.report
+    import attneave.analysis.report.outputs
 
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(tmp_path / "out" / "clicks.csv"))
 
-    monkeypatch.setattr(analysis.report, "write_analysis", full)
+    monkeypatch.setattr(attneave.analysis.report.outputs, "write_analysis", full)
     clicks = tmp_path / "clicks.csv"
     pts = _rf(3)[::50]
     pd.DataFrame({"participant": "P1", "stimulus_id": "rf_003", "x": pts[:, 0], "y": pts[:, 1]}).to_csv(clicks, index=False)

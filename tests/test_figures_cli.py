@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 from scipy.special import fresnel
 
-from analysis.cli import main
+from attneave.cli import main
 
 COLUMNS = ["s", "x", "y", "theta", "curvature"]
 
@@ -128,7 +128,7 @@ def test_figures_writes_paper_figures(tmp_path, capsys):
 
 
 def test_make_figures_hook(tmp_path):
-    from analysis import figures
+    from attneave.papers import ziatdinov as figures
 
     def extra(outdir):
         import matplotlib
@@ -157,7 +157,7 @@ def test_figures_bad_output(tmp_path, capsys):
 def test_fig2_amplitude_grows_with_arc_length(b):
     # the paper: "the amplitudes of (5) increase with an arc length (Fig. 2)", which holds
     # with ds = s/n: u = -ln A' - b (s/n)^2 cos(exp(s) s/n - 2 pi/n), A' = 1/4, n = 10
-    from analysis.figures import fig2_curve
+    from attneave.papers.ziatdinov import fig2_curve
 
     s, u = fig2_curve(b)
     n, level = 10, -np.log(0.25)
@@ -173,7 +173,7 @@ def test_fig2_amplitude_grows_with_arc_length(b):
 
 
 def test_fig2_note_says_ds_is_s_over_n(tmp_path):
-    from analysis import figures
+    from attneave.papers import ziatdinov as figures
 
     figures.make_figures(tmp_path, makers=[figures.fig2])
     note = (tmp_path / "figures.md").read_text()

@@ -7,9 +7,9 @@ import pytest
 from pydantic import ValidationError
 from scipy.spatial import ConvexHull
 
-from stimuli import Contour, InputError
-from stimuli.shapes import generators as g
-from stimuli.batch import recipes
+from attneave.stimuli import Contour, InputError
+from attneave.stimuli.shapes import generators as g
+from attneave.stimuli.batch import recipes
 
 
 def rng(seed=0):
@@ -312,7 +312,7 @@ def test_from_image_recipe(tmp_path):
 
 
 def test_native_placement_outside_the_canvas_is_an_error():
-    from stimuli.batch import recipes
+    from attneave.stimuli.batch import recipes
 
     canvas = recipes.Canvas(64, 64, 4)
     with pytest.raises(InputError, match=r"placement: native: .* outside the 64x64 canvas"):

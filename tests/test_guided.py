@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 import scipy.signal
 
-from stimuli import Contour, InputError
-from stimuli.shapes import generators as g
-from stimuli.shapes import guided
-from stimuli.batch import recipes
-from stimuli.geometry.information import find_peaks, surprisal
+from attneave.stimuli import Contour, InputError
+from attneave.stimuli.shapes import generators as g
+from attneave.stimuli.shapes import guided
+from attneave.stimuli.batch import recipes
+from attneave.stimuli.geometry.information import find_peaks, surprisal
 
 
 def rng(seed=0):
@@ -321,7 +321,7 @@ def test_deterministic_base_is_not_redrawn_and_its_repeats_are_named(tmp_path):
     items = recipes.make("guided", 1, kinds=["peaks", "troughs"])
     assert items[0].params["base_random"] is True
     # the batch names such copies once per condition, and only when there are repeats
-    from stimuli.batch.runner import run_batch
+    from attneave.stimuli.batch.runner import run_batch
 
     for repeats, named in ((3, True), (1, False)):
         cfg = tmp_path / f"g{repeats}.yaml"

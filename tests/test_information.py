@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from stimuli import Contour, InputError, find_peaks, surprisal, surprisal_paper, surprisal_vonmises
-from stimuli.geometry.information import surprisal_from_points
+from attneave.stimuli import Contour, InputError, find_peaks, surprisal, surprisal_paper, surprisal_vonmises
+from attneave.stimuli.geometry.information import surprisal_from_points
 
 MODELS = ["paper", "vonmises"]
 
@@ -154,7 +154,7 @@ def test_bad_prominence_is_an_error_not_a_silent_peak_set(prominence, tmp_path, 
     u = np.cos(np.linspace(0, 4 * np.pi, 64, endpoint=False))
     with pytest.raises(InputError, match="prominence"):
         find_peaks(u, prominence=prominence)
-    from analysis.cli import main
+    from attneave.cli import main
 
     th = 2 * np.pi * np.arange(100) / 100
     src = tmp_path / "c.csv"
@@ -217,8 +217,8 @@ def test_bad_length_unit():
 
 
 def test_cli_length_unit_choices_and_column(tmp_path, capsys):
-    from analysis.cli import main
-    from stimuli.geometry.information import LENGTH_UNITS
+    from attneave.cli import main
+    from attneave.stimuli.geometry.information import LENGTH_UNITS
 
     src = tmp_path / "c.csv"
     src.write_text("x,y\n" + "".join(f"{x},{y}\n" for x, y in notched_polygon()))

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from analysis.cli import main
-from stimuli import Contour, InputError
-from stimuli.io import atomic_write
-from stimuli.tables import read_points, read_table
+from attneave.cli import main
+from attneave.stimuli import Contour, InputError
+from attneave.stimuli.io import atomic_write
+from attneave.stimuli.tables import read_points, read_table
 
 
 def _ellipse_csv(path):
@@ -79,7 +79,7 @@ def test_line_numbers_count_blank_lines(tmp_path):
 
 
 def test_an_output_may_not_destroy_an_input(tmp_path, monkeypatch):
-    from stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.io import check_output_spares_inputs
 
     (tmp_path / "set").mkdir()
     (tmp_path / "set" / "manifest.csv").write_text("id\n")
@@ -102,7 +102,7 @@ def test_an_output_may_not_destroy_an_input(tmp_path, monkeypatch):
 
 
 def test_make_output_dir_says_why_not_in_one_line(tmp_path):
-    from stimuli.io import make_output_dir
+    from attneave.stimuli.io import make_output_dir
 
     (tmp_path / "file").write_text("")
     for out, why in ((tmp_path / "file", "not a directory"), (tmp_path / "file" / "sub", "cannot be created"),
@@ -113,7 +113,7 @@ def test_make_output_dir_says_why_not_in_one_line(tmp_path):
 
 
 def test_temporary_directory_refuses_the_working_directory(tmp_path, monkeypatch):
-    from stimuli.io import temporary_directory
+    from attneave.stimuli.io import temporary_directory
 
     monkeypatch.chdir(tmp_path)
     with pytest.raises(InputError, match="working directory"):

@@ -1,4 +1,4 @@
-"""Log-aesthetic arcs' integrals (stimuli.curves.lac_arc, lac_quadrature):
+"""Log-aesthetic arcs' integrals (attneave.stimuli.curves.lac.arc, lac_quadrature):
 the derivatives Newton uses against finite differences of the integrals,
 the graded rule's depth per alpha against the deepest rule and against the
 arc's natural equation, the one-sided rule against the two-sided one, and
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.sparse.linalg import spsolve
 
-from stimuli.curves.lac_arc import (
+from attneave.stimuli.curves.lac.arc import (
     arc_integrals,
     arc_turn,
     grading_levels,
@@ -16,8 +16,8 @@ from stimuli.curves.lac_arc import (
     graph_value,
     piece_chords,
 )
-from stimuli.curves.lac_newton import LACSystem
-from stimuli.curves.lac_quadrature import LEVELS, graded_rule, quadrature_groups
+from attneave.stimuli.curves.lac.newton import LACSystem
+from attneave.stimuli.curves.lac.quadrature import LEVELS, graded_rule, quadrature_groups
 
 # arcs through an inflection, of one sign with a large curvature ratio, nearly circular
 K0 = np.array([-1.0, 5.0, 0.8, 2.0, 1.0])

@@ -6,11 +6,11 @@ import mpmath
 import numpy as np
 import pytest
 
-from stimuli.curves import glac, log_aesthetic
-from stimuli.curves.aesthetic import glac_curvature
-from stimuli.curves.lac import lac_length, lac_standard_end
-from stimuli.curves.lac_gamma import _gamma_form, lac_position
-from stimuli.errors import InputError
+from attneave.stimuli.curves import glac, log_aesthetic
+from attneave.stimuli.curves.lac.aesthetic import glac_curvature
+from attneave.stimuli.curves.lac.g1 import lac_length, lac_standard_end
+from attneave.stimuli.curves.lac.gamma import _gamma_form, lac_position
+from attneave.stimuli.errors import InputError
 
 ALPHAS = [-2, -1, -0.5, 0, 0.5, 1, 1.5, 2, 3]
 

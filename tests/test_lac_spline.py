@@ -1,4 +1,4 @@
-"""G2 log-aesthetic spline (stimuli.curves.lac_spline): interpolation checked
+"""G2 log-aesthetic spline (attneave.stimuli.curves.lac.spline): interpolation checked
 by integrating the curve's natural equation independently (solve_ivp),
 curvature continuity, monotone curvature, the log curvature graph of every
 segment, the reduction to the G2 clothoid spline at alpha = -1, and the
@@ -11,11 +11,11 @@ import pandas as pd
 import pytest
 from scipy.integrate import solve_ivp
 
-from analysis.cli import main
-from stimuli.curves.lac_spline import lac_spline
-from stimuli.curves.metrics import g2_error, interior_extrema, segment_slices
-from stimuli.curves.qic import qic_spline
-from stimuli.errors import InputError
+from attneave.cli import main
+from attneave.stimuli.curves.lac.spline import lac_spline
+from attneave.stimuli.curves.metrics import g2_error, interior_extrema, segment_slices
+from attneave.stimuli.curves.qic.spline import qic_spline
+from attneave.stimuli.errors import InputError
 
 
 def radial(n, amps, size=80.0, centre=(200.0, 150.0)):
@@ -33,7 +33,7 @@ def natural_curvature(alpha, k0, k1):
     """kappa(t) on [0, 1] from the definition: rho**alpha (log rho when
     alpha = 0) linear in arc length, continued through kappa = 0 as
     sign(v)|v|**(-1/alpha) for alpha < 0 (written here independently of
-    stimuli.curves.lac_arc), and the inflection's t (or None)."""
+    attneave.stimuli.curves.lac.arc), and the inflection's t (or None)."""
     if alpha == 0:
         return (lambda t: k0 * (k1 / k0) ** t), None
     g = lambda k: np.sign(k) * abs(k) ** (-alpha)  # noqa: E731
@@ -182,7 +182,7 @@ def test_arc_chord_against_the_natural_equation(alpha, k0, k1, L):
     # the chord of one arc (curvature ratios up to 500, an inflection with a
     # square-root curvature) by its graded Gauss rule, against the natural
     # equation solved at rtol 1e-13 (the curvature of the definition)
-    from stimuli.curves.lac_arc import arc_integrals
+    from attneave.stimuli.curves.lac.arc import arc_integrals
 
     x, y, th = integrate_segment(alpha, 0.0, 0.0, 0.4, k0, k1, L)
     out = arc_integrals(np.array([0.4]), np.array([k0]), np.array([k1]), np.array([L]), alpha)

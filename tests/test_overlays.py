@@ -4,10 +4,10 @@ colour bar goes to the corner where it covers the least of the outline."""
 import cv2
 import numpy as np
 
-from stimuli.extraction.outlines import extract
-from stimuli.extraction.overlays import overlay
-from stimuli.extraction.scalespace import describe
-from stimuli.extraction.verdict import Verdict
+from attneave.stimuli.extraction.outlines import extract
+from attneave.stimuli.extraction.overlays import overlay
+from attneave.stimuli.extraction.scalespace import describe
+from attneave.stimuli.extraction.verdict import Verdict
 
 
 def _disk_image(cx, cy, r=40, size=(240, 320)):

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 import scipy.signal
 
-from stimuli.geometry.peaks import circular_peaks_and_prominences, peaks_and_prominences
+from attneave.stimuli.geometry.peaks import circular_peaks_and_prominences, peaks_and_prominences
 
 
 def signals(seed, count=300):

@@ -25,9 +25,10 @@ import pytest
 import shapely
 from scipy.integrate import quad
 
-from stimuli.curves import euler, qic_kernel
-from stimuli.curves.qic import ConvergenceError, qic_spline
-from stimuli.geometry.contour import Contour
+from attneave.stimuli.curves import euler
+from attneave.stimuli.curves.qic import kernel as qic_kernel
+from attneave.stimuli.curves.qic.spline import ConvergenceError, qic_spline
+from attneave.stimuli.geometry.contour import Contour
 
 if qic_kernel.KERNEL != "c":
     if os.environ.get("ATTNEAVE_REQUIRE_KERNEL") == "1":
@@ -115,7 +116,7 @@ def test_kernel_agrees_with_numpy_on_random_smooth_curves():
 
 
 def test_kernel_agrees_with_numpy_on_real_and_jagged_outlines():
-    from analysis.spline_plots import load_bird30
+    from attneave.papers.spline_plots import load_bird30
 
     rng = np.random.default_rng(90)
     shapes = [load_bird30()] + [jagged(rng, n) for n in (12, 20, 20, 40)]
@@ -186,7 +187,7 @@ def test_clothoid_points_match_numpy_and_quadrature(scale):
 def test_turn_samples_match_sample_by_turn_and_segment_bulge():
     # the robust rule's samples by the kernel (qic_kernel.turn_samples) are sample_by_turn's points bit
     # for bit, and each segment's distance from its chord is segment_bulge's (numpy) times the mean chord
-    from stimuli.curves.qic_rule import mean_side, segment_bulge
+    from attneave.stimuli.curves.qic.rule import mean_side, segment_bulge
 
     rng = np.random.default_rng(91)
     # the clothoid fits (their log-aesthetic form is sampled by quadrature, not by the kernel)

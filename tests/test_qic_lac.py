@@ -1,4 +1,4 @@
-"""The robust QIC spline's log-aesthetic form (stimuli.curves.qic_lac):
+"""The robust QIC spline's log-aesthetic form (attneave.stimuli.curves.qic.lac):
 the G2 log-aesthetic system with G1 nodes and G0 corners, checked against
 the clothoid fit it starts from (alpha = -1 is the clothoid), against the
 log-aesthetic law of curvature (eq. 9 of the seed: the graph variable
@@ -10,11 +10,11 @@ import pytest
 import shapely
 from scipy.spatial import cKDTree
 
-from stimuli.curves.metrics import interior_extrema, segment_slices
-from stimuli.curves.points import bisector_tangents
-from stimuli.curves.qic import qic_spline
-from stimuli.curves.qic_lac import log_aesthetic_form
-from stimuli.geometry.contour import Contour
+from attneave.stimuli.curves.metrics import interior_extrema, segment_slices
+from attneave.stimuli.curves.points import bisector_tangents
+from attneave.stimuli.curves.qic.spline import qic_spline
+from attneave.stimuli.curves.qic.lac import log_aesthetic_form
+from attneave.stimuli.geometry.contour import Contour
 
 
 def jagged_outline(rng):

@@ -7,12 +7,12 @@ import pytest
 import shapely
 from scipy.spatial import cKDTree
 
-from stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning, self_intersections
-from stimuli.curves.points import bisector_tangents
-from stimuli.curves.polynomial import polynomial_spline
-from stimuli.curves.qic import qic_spline
-from stimuli.curves.qic_rule import segment_bulge
-from stimuli.geometry.contour import Contour
+from attneave.stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning, self_intersections
+from attneave.stimuli.curves.points import bisector_tangents
+from attneave.stimuli.curves.polynomial import polynomial_spline
+from attneave.stimuli.curves.qic.spline import qic_spline
+from attneave.stimuli.curves.qic.rule import segment_bulge
+from attneave.stimuli.geometry.contour import Contour
 
 
 def jagged_outline(rng, n=1500):
@@ -93,7 +93,7 @@ def test_sharp_apex_becomes_a_corner_the_sides_run_into():
     # apex share its large curvature and bulge out (by more than SHARP_BULGE,
     # checked below); the robust spline makes the apex a G0 corner, and its
     # curve keeps close to the triangle
-    from stimuli.curves.qic_rule import SHARP_BULGE
+    from attneave.stimuli.curves.qic.rule import SHARP_BULGE
 
     a = np.radians(4)
     V = np.array([[200, 50], [200 - 300 * np.tan(a), 350], [200 + 300 * np.tan(a), 350]])
@@ -175,7 +175,7 @@ def test_attneave_curved_qic_accepts_what_cubic_accepts():
     # 'cubic' accepts (simple, near the polygon). A small seeded version: of 12
     # polygons cubic accepts, qic accepts at least 11 (the full measure,
     # benchmarks/validate_spline.py --curved 600: 98.0%, one qic curve of 600 crossing itself)
-    from stimuli.shapes.generators import attneave_polygon, smooth_closed
+    from attneave.stimuli.shapes.generators import attneave_polygon, smooth_closed
 
     rng = np.random.default_rng(7)
     cubic = both = 0
@@ -210,8 +210,8 @@ def test_robust_pieces_between_corners_are_the_open_g2_splines():
     # Between two consecutive G0 corners (no G1 node between them) the robust
     # curve is the pure G2 open spline through that run of points with natural
     # ends, solved afresh here: whatever the rule's fits shared or reused
-    from stimuli.curves.euler import wrap_angle
-    from stimuli.shapes.generators import attneave_polygon
+    from attneave.stimuli.curves.euler import wrap_angle
+    from attneave.stimuli.shapes.generators import attneave_polygon
 
     rng = np.random.default_rng(3)
     checked = 0
@@ -241,7 +241,7 @@ def test_crossing_precheck_agrees_with_the_segment_search():
     # circle sampled the same way must not
     from types import SimpleNamespace
 
-    from stimuli.curves.qic_rule import bad_segments
+    from attneave.stimuli.curves.qic.rule import bad_segments
 
     def sampled(points, per=5):
         # straight segments between consecutive points, both ends included
@@ -261,7 +261,7 @@ def test_crossing_precheck_agrees_with_the_segment_search():
     assert bad_segments(seg, sampled(eight), np.zeros(12)).tolist() == [5, 11]
     # a crossing the polygon of the points has too is not the curve's doing: none then, and whether the
     # polygon is simple is asked only once the samples cross
-    from stimuli.curves.qic_rule import crossing_segments
+    from attneave.stimuli.curves.qic.rule import crossing_segments
 
     asked = []
     c = sampled(eight)
@@ -320,7 +320,7 @@ def test_isolated_sharp_turn_becomes_a_g0_corner():
     # 61 / 2): sharp nodes (a corner of the outline sampled by one point);
     # the segments beside node 3 bulge (by more than SHARP_BULGE), and the
     # rule makes it a G0 corner; node 9's bulge by less
-    from stimuli.curves.qic_rule import CORNER_TURN, polygon_turns, sharp_nodes
+    from attneave.stimuli.curves.qic.rule import CORNER_TURN, polygon_turns, sharp_nodes
 
     P = np.array([[464.9, 401.2], [474.9, 263.6], [555.7, 107.2], [551.3, 7.4], [402.2, 64.7],
                   [345.6, 212.9], [286.9, 201.2], [246.9, 242.2], [95.1, 231.4], [20.2, 345.6],

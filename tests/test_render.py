@@ -18,8 +18,8 @@ import numpy as np
 import pytest
 import shapely
 
-from stimuli.errors import InputError
-from stimuli.render import (
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.render import (
     coverage,
     disc_coverage,
     fit_to_image,

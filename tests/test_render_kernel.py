@@ -22,8 +22,8 @@ import os
 import numpy as np
 import pytest
 
-import stimuli.render.raster as raster
-from stimuli.render import KERNEL, coverage, disc_coverage, render_dots, render_silhouette
+import attneave.stimuli.render.raster as raster
+from attneave.stimuli.render import KERNEL, coverage, disc_coverage, render_dots, render_silhouette
 
 if KERNEL != "c":
     if os.environ.get("ATTNEAVE_REQUIRE_KERNEL") == "1":
@@ -164,7 +164,7 @@ def test_plain_rings_take_the_same_route_as_any_other_input():
     """One float64 ring goes straight to the kernel, which checks its points:
     a repeated closing point, duplicates, a Contour-like object or a list
     give the same image, rings and area, and bad points the usual error."""
-    from stimuli.errors import InputError
+    from attneave.stimuli.errors import InputError
 
     ring = np.array([(3.2, 2.5), (20.7, 4.1), (17.0, 19.4), (5.5, 15.0)])
     ref = render_silhouette(ring.tolist(), size=24, dtype="uint8")

@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 import shapely
 
-from stimuli.geometry.polyline import shoelace
-from stimuli.render import coverage, render_silhouette
-from stimuli.render.raster import FLOAT32_MIN_PIXELS, sum_dtype
-from stimuli.shapes.generators import fourier_shape
+from attneave.stimuli.geometry.polyline import shoelace
+from attneave.stimuli.render import coverage, render_silhouette
+from attneave.stimuli.render.raster import FLOAT32_MIN_PIXELS, sum_dtype
+from attneave.stimuli.shapes.generators import fourier_shape
 
 SHAPE = (300, 320)  # 96000 pixels
 

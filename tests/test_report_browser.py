@@ -11,7 +11,7 @@ import shutil
 import numpy as np
 import pytest
 
-from analysis.cli import main
+from attneave.cli import main
 
 CHROMIUM = shutil.which("chromium") or "/usr/bin/chromium"
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
@@ -32,7 +32,7 @@ def _browser_or_skip():
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory):
-    from stimuli.stimulus_set import write_stimulus_set
+    from attneave.stimuli.stimulus_set import write_stimulus_set
 
     tmp = tmp_path_factory.mktemp("browser")
     rng = np.random.default_rng(0)

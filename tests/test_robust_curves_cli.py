@@ -8,10 +8,10 @@ import pandas as pd
 import pytest
 from scipy.special import exp1
 
-from analysis.cli import main
-from stimuli.curves.aesthetic import log_aesthetic
-from stimuli.curves.natural import pseudospiral
-from stimuli.curves.superspiral import superspiral
+from attneave.cli import main
+from attneave.stimuli.curves.lac.aesthetic import log_aesthetic
+from attneave.stimuli.curves.natural import pseudospiral
+from attneave.stimuli.curves.superspiral import superspiral
 
 
 def _nielsen(s, lam):
@@ -222,7 +222,7 @@ def test_figures_unwritable_output(capsys, out):
 
 
 def test_figures_names_replaced_files(tmp_path, capsys, monkeypatch):
-    from analysis import figures
+    from attneave.papers import ziatdinov as figures
 
     def maker(outdir):
         p = outdir / "fig1_u_vs_curvature.png"

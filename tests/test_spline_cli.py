@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
+from attneave.cli import main
 
 
 def _write_points(path, P):
@@ -52,8 +52,8 @@ def test_log_aesthetic_form_in_output_and_summary(tmp_path):
     # a lobed outline reduced to 16 points, where the robust rule takes the
     # log-aesthetic form: the summary says alpha, the samples show its law
     # (sign(k)|k|**0.3 linear in arc length on every segment) and monotone curvature
-    from stimuli.curves.qic_lac import ALPHA
-    from stimuli.geometry.contour import Contour
+    from attneave.stimuli.curves.qic.lac import ALPHA
+    from attneave.stimuli.geometry.contour import Contour
 
     t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
     r = 1 + 0.5 * np.cos(3 * t) + 0.2 * np.cos(7 * t + 1)
@@ -161,7 +161,7 @@ def test_cusp_in_a_polynomial_spline_is_refused_without_warnings(tmp_path):
     src = tmp_path / "back.csv"
     src.write_text("x,y\n0,0\n10,0\n0,0\n5,5\n")  # doubles back: the cubic would have a cusp
     out = tmp_path / "o.csv"
-    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "analysis.cli", "spline", str(src),
+    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "attneave.cli", "spline", str(src),
                            "-o", str(out), "--method", "cubic"], capture_output=True, text=True)
     assert "RuntimeWarning" not in proc.stderr
     # curvature is undefined at the cusp: one line naming the line, never blank cells
@@ -257,7 +257,7 @@ def test_huge_coordinates_without_runtime_warnings(tmp_path):
     src = tmp_path / "big.csv"
     src.write_text("x,y\n1e308,1e308\n1.0000001e308,1e308\n1.0000001e308,1.0000001e308\n1e308,1.0000001e308\n")
     out = tmp_path / "o.csv"
-    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "analysis.cli", "spline", str(src),
+    proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "attneave.cli", "spline", str(src),
                            "-o", str(out), "--summary", str(tmp_path / "s.json")], capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stderr == "", proc.stderr
     df = pd.read_csv(out)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import newton, root
 
-from stimuli.curves.metrics import (
+from attneave.stimuli.curves.metrics import (
     SampledCurve,
     bending_energy,
     curve_metrics,
@@ -16,8 +16,8 @@ from stimuli.curves.metrics import (
     interior_extrema,
     segment_turning,
 )
-from stimuli.errors import InputError
-from stimuli.curves.splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.curves.splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline
 
 
 def smooth_closed(rng, n):
@@ -334,7 +334,7 @@ def test_metrics_on_known_samples():
 
 def test_bird30_fig10_analogue(tmp_path):
     # the shipped 30-point bird: QIC adds no extrema, the polynomial splines do
-    from analysis.spline_plots import FIG10_NAME, fig10_analogue, load_bird30
+    from attneave.papers.spline_plots import FIG10_NAME, fig10_analogue, load_bird30
 
     P = load_bird30()
     assert P.shape == (30, 2)
@@ -351,8 +351,8 @@ def test_bird30_fig10_analogue(tmp_path):
 
 
 def test_lac_alpha_minus_one_is_the_g1_clothoid():
-    from stimuli.curves.euler import g1_hermite
-    from stimuli.curves.lac import LACNotDrawable, lac_segment, lac_segment_points
+    from attneave.stimuli.curves.euler import g1_hermite
+    from attneave.stimuli.curves.lac.g1 import LACNotDrawable, lac_segment, lac_segment_points
 
     rng = np.random.default_rng(8)
     done = 0
@@ -381,7 +381,7 @@ def test_lac_segment_has_a_straight_log_curvature_graph(alpha):
     # rho(s) = (lam alpha s + 1)**(1/alpha): rho**alpha (log rho for alpha 0)
     # is linear in arc length; and the segment joins its end points with
     # the given tangents
-    from stimuli.curves.lac import lac_segment, lac_segment_points
+    from attneave.stimuli.curves.lac.g1 import lac_segment, lac_segment_points
 
     seg = lac_segment((0, 0), -0.6, (2, 0), 0.25, alpha=alpha)
     s, x, y, k = lac_segment_points(seg, 200)
@@ -398,7 +398,7 @@ def test_lac_segment_has_a_straight_log_curvature_graph(alpha):
 
 
 def test_lac_symmetric_triangle_is_a_circular_arc():
-    from stimuli.curves.lac import lac_segment, lac_segment_points
+    from attneave.stimuli.curves.lac.g1 import lac_segment, lac_segment_points
 
     seg = lac_segment((0, 0), -0.5, (2, 0), 0.5, alpha=0.7)
     _, _, _, k = lac_segment_points(seg, 20)
@@ -448,8 +448,8 @@ def test_small_angle_start_is_g2_to_third_order(closed):
     the exact clothoids (solved independently, segment by segment) jump in
     curvature by O(eps) at the circle-free start and by O(eps**3) after the
     small-angle increments, at every node that is not held."""
-    from stimuli.curves.euler import g1_hermite
-    from stimuli.curves.qic_newton import small_angle_start
+    from attneave.stimuli.curves.euler import g1_hermite
+    from attneave.stimuli.curves.qic.newton import small_angle_start
 
     rng = np.random.default_rng(5)
     m = 9
@@ -483,7 +483,7 @@ def test_quadrature_in_column_blocks_matches_an_independent_rule():
     """The Gauss-Legendre moments of many segments at once (products cut into
     column blocks below the threaded-BLAS threshold) against a 60-node rule
     written here, for every segment of a batch large enough to be cut."""
-    from stimuli.curves.euler import fresnel_moments
+    from attneave.stimuli.curves.euler import fresnel_moments
 
     rng = np.random.default_rng(3)
     m = 40000  # products of 2**17 multiply-adds at most: 26 blocks with the 14-node rule
@@ -500,7 +500,7 @@ def test_segment_turn_is_the_tangent_range_on_dense_samples():
     """QICSpline.segment_turn (computed when asked, from the segment's
     quadratic tangent angle) against the range of theta on 4001 samples per
     segment, on smooth and on looping splines."""
-    from stimuli.curves.qic_newton import tangent_range
+    from attneave.stimuli.curves.qic.newton import tangent_range
 
     rng = np.random.default_rng(8)
     for P in (smooth_closed(rng, 12), rng.uniform(0, 100, (9, 2))):

@@ -10,12 +10,15 @@ import numpy as np
 import pytest
 import scipy.stats
 
-from analysis import blurred, choice, circular, group
-from analysis.mapping import map_clicks, predict
-from analysis.observers import power, simulate, simulate_indices
-from analysis.analyze import analyze
-from stimuli.stimulus_set import StimulusSet
-from stimuli import Contour
+from attneave.analysis.models import blurred
+from attneave.analysis.models import choice
+from attneave.analysis.models import circular
+from attneave.analysis.models import group
+from attneave.analysis.clicks.mapping import map_clicks, predict
+from attneave.analysis.simulate.observers import power, simulate, simulate_indices
+from attneave.analysis.analyze import analyze
+from attneave.stimuli.stimulus_set import StimulusSet
+from attneave.stimuli import Contour
 
 
 # --------------------------------------------------------------------- shapes
@@ -250,7 +253,7 @@ def test_mean_z_test_statistic_and_exact_null_on_two_points():
 def spiky():
     """Curved Attneave & Arnoult shapes through 6 random vertices: surprisal z up to ~9.5
     at a few points, so that a participant's mean z over few clicks is strongly skewed."""
-    from stimuli.batch.recipes import Canvas, make
+    from attneave.stimuli.batch.recipes import Canvas, make
 
     shapes = {}
     for i in range(4):
@@ -293,7 +296,7 @@ def test_calibrated_group_test_holds_its_level_with_few_clicks_on_spiky_stimuli(
 def test_paper_and_vonmises_forms_standardise_to_the_same_z(ten):
     # both are a constant minus a positive multiple of cos(a - 2*pi/n): the von Mises form is
     # no rival (so analyze does not fit it)
-    from stimuli.geometry.information import surprisal
+    from attneave.stimuli.geometry.information import surprisal
 
     s, pred = ten
     for sid, p in pred.items():

@@ -7,7 +7,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from analysis.cli import main
+from attneave.cli import main
 
 COLUMNS = ["i", "s", "t", "x", "y", "turning_angle", "curvature", "surprisal", "peak", "length_unit"]
 
@@ -79,7 +79,7 @@ def test_bad_input_one_line_exit_2(tmp_path, capsys, content, needle):
 def test_usage_error_is_one_line(tmp_path):
     # the one real process of this command's tests: exit status and stderr as a shell sees them
     proc = subprocess.run(
-        [sys.executable, "-m", "analysis.cli", "surprisal", "x.csv", "-o", "y.csv", "-n", "3", "--spacing", "2"],
+        [sys.executable, "-m", "attneave.cli", "surprisal", "x.csv", "-o", "y.csv", "-n", "3", "--spacing", "2"],
         capture_output=True,
         text=True,
     )

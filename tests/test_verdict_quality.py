@@ -1,4 +1,4 @@
-"""The measures of a photographed outline's quality (stimuli.extraction.quality)
+"""The measures of a photographed outline's quality (attneave.stimuli.extraction.quality)
 and the reasons they give in the verdict, on constructed photos whose
 answers are known: exact pixel counts of colour regions, outlines on and
 off a rendered edge, a square sharing sides with its box.
@@ -9,10 +9,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_support
-from stimuli.extraction.verdict import frame_contact, judge
-from stimuli.geometry.contour import Contour
-from stimuli.render import coverage
+from attneave.stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_support
+from attneave.stimuli.extraction.verdict import frame_contact, judge
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.render import coverage
 
 
 def _square(x0, y0, x1, y1):
@@ -82,9 +82,9 @@ def test_colour_error_of_a_leaked_outline_is_the_share_of_background_inside():
 
 
 def test_several_outlines_of_one_photo_measure_its_fields_once(monkeypatch):
-    import stimuli.extraction.quality as quality
-    import stimuli.extraction.verdict as verdict
-    from stimuli.extraction.outlines import Extraction
+    import attneave.stimuli.extraction.quality as quality
+    import attneave.stimuli.extraction.verdict as verdict
+    from attneave.stimuli.extraction.outlines import Extraction
 
     calls = {"edge": 0, "contrast": 0}
     edge, contrast = quality.edge_distance, verdict.contrast_field
@@ -124,7 +124,7 @@ def test_edge_support_on_and_off_a_rendered_edge():
 
 
 def _photo_extraction(mask, box=None, mode="auto"):
-    from stimuli.extraction.outlines import Extraction
+    from attneave.stimuli.extraction.outlines import Extraction
 
     ys, xs = np.nonzero(mask)
     c = _square(xs.min(), ys.min(), xs.max() + 1, ys.max() + 1).resample(spacing=0.5)
@@ -176,7 +176,7 @@ def test_box_outline_is_ok_only_when_its_colours_part_and_it_reaches_the_box():
 
 
 def test_silhouettes_get_no_photo_measures():
-    from stimuli.extraction import extract
+    from attneave.stimuli.extraction import extract
 
     img = (255 * coverage(_circle(50.2, 40.1, 25).points, (80, 100))).round().astype(np.uint8)
     v = judge(img, extract(img, method="auto"))
@@ -190,9 +190,9 @@ def test_suspect_banner_on_a_narrow_image(width):
     # narrow images (a silhouette of 70 px touching the frame)
     import faulthandler
 
-    from stimuli.extraction import describe
-    from stimuli.extraction.overlays import overlay
-    from stimuli.extraction.verdict import Verdict
+    from attneave.stimuli.extraction import describe
+    from attneave.stimuli.extraction.overlays import overlay
+    from attneave.stimuli.extraction.verdict import Verdict
 
     img = (255 * coverage(_circle(width / 2, 30.2, 12).points, (60, width))).round().astype(np.uint8)
     c = _circle(width / 2, 30.2, 12)

@@ -78,13 +78,13 @@ def add_parser(sub):
 def run(args):
     import sys
 
-    from analysis.analyze import analyze
-    from analysis.click_files import participants_in_several_files, read_click_files, repeated_rows
-    from analysis.clicks import WINDOW_UNITS, parse_window_size, window_units_to_pixels
-    from analysis.exclusions import exclusion_report, resolve_stimulus_ids
-    from analysis.report import check_output_dir, write_analysis
-    from stimuli.errors import InputError
-    from stimuli.stimulus_set import read_stimulus_set
+    from attneave.analysis.analyze import analyze
+    from attneave.analysis.clicks.files import participants_in_several_files, read_click_files, repeated_rows
+    from attneave.analysis.clicks.read import WINDOW_UNITS, parse_window_size, window_units_to_pixels
+    from attneave.analysis.clicks.exclusions import exclusion_report, resolve_stimulus_ids
+    from attneave.analysis.report.outputs import check_output_dir, write_analysis
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.stimulus_set import read_stimulus_set
 
     # everything that can be wrong with the inputs is found before anything is written; first that
     # OUT (replaced whole) is neither an input, nor holds one, nor is the working directory
@@ -114,7 +114,7 @@ def run(args):
     click_files = args.clicks[0] if len(args.clicks) == 1 else list(args.clicks)
     write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
                    inputs=dict(clicks=click_files, stimuli=args.stimuli))
-    from analysis.report_html import t_text
+    from attneave.analysis.report.html import t_text
 
     s = res.summary
     g = s["group"]

@@ -60,12 +60,12 @@ _SETTINGS = ("title", "instructions", "end_text", "practice", "clicks", "min_cli
 
 
 def run(args):
-    from analysis.experiment.build import build_experiment
-    from analysis.experiment.options import load_options
-    from stimuli.stimulus_set import read_stimulus_set
+    from attneave.analysis.experiment.build import build_experiment
+    from attneave.analysis.experiment.options import load_options
+    from attneave.stimuli.stimulus_set import read_stimulus_set
 
-    from stimuli.errors import InputError
-    from stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.io import check_output_spares_inputs
 
     check_output_spares_inputs(args.output, [args.stimuli, args.config])
     options = load_options(args.config, {k: getattr(args, k) for k in _SETTINGS})

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from analysis.commands.simulate import add_effect_arguments, check_design
+from attneave.analysis.commands.simulate import add_effect_arguments, check_design
 
 #: Most simulated experiments per design and Monte Carlo replicates of the null: each is a
 #: float per replicate held at once, and beyond these the p-value's resolution gains nothing.
 MAX_SIMULATIONS = 100_000
 MAX_GROUP_SIMULATIONS = 1_000_000
-#: Fewest experiments per design: :data:`analysis.observers.MIN_SIMULATIONS`, repeated here (and
+#: Fewest experiments per design: :data:`attneave.analysis.simulate.observers.MIN_SIMULATIONS`, repeated here (and
 #: checked equal by the tests) so that 'attneave --help' does not import scipy.
 MIN_SIMULATIONS = 20
 
@@ -64,21 +64,21 @@ def add_parser(sub):
 def run(args):
     import numpy as np
 
-    from analysis.effect import resolve_effect
-    from analysis.mapping import predict
-    from analysis.observers import power
-    from stimuli.stimulus_set import read_stimulus_set
-    from stimuli.io import disk_error_exit
-    from stimuli.tables import write_table
-    from stimuli.validate import as_int, as_number
+    from attneave.analysis.models.effect import resolve_effect
+    from attneave.analysis.clicks.mapping import predict
+    from attneave.analysis.simulate.observers import power
+    from attneave.stimuli.stimulus_set import read_stimulus_set
+    from attneave.stimuli.io import disk_error_exit
+    from attneave.stimuli.tables import write_table
+    from attneave.stimuli.validate import as_int, as_number
 
-    from stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.io import check_output_spares_inputs
 
     if args.output is not None:
         # found before minutes of simulation, not after
         from pathlib import Path
 
-        from stimuli.errors import InputError
+        from attneave.stimuli.errors import InputError
 
         check_output_spares_inputs(args.output, [args.stimuli])
         out = Path(args.output)

@@ -33,8 +33,8 @@ def check_design(n_stimuli, participants, clicks, args):
     InputError
         One line naming the option and its bound.
     """
-    from stimuli.errors import InputError
-    from stimuli.validate import as_int, as_number
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.validate import as_int, as_number
 
     as_int(args.n, "-n", lo=3, hi=MAX_MODEL_POINTS)
     as_int(args.seed, "--seed", lo=0)
@@ -98,14 +98,14 @@ def add_parser(sub):
 def run(args):
     import numpy as np
 
-    from analysis.effect import resolve_effect
-    from analysis.mapping import predict
-    from analysis.observers import simulate
-    from stimuli.stimulus_set import read_stimulus_set
-    from stimuli.io import disk_error_exit
-    from stimuli.tables import write_table
+    from attneave.analysis.models.effect import resolve_effect
+    from attneave.analysis.clicks.mapping import predict
+    from attneave.analysis.simulate.observers import simulate
+    from attneave.stimuli.stimulus_set import read_stimulus_set
+    from attneave.stimuli.io import disk_error_exit
+    from attneave.stimuli.tables import write_table
 
-    from stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.io import check_output_spares_inputs
 
     check_output_spares_inputs(args.output, [args.stimuli])
     stimset = read_stimulus_set(args.stimuli)

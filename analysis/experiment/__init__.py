@@ -21,7 +21,7 @@ psychopy
     The PsychoPy Coder export.
 """
 
-from .build import build_experiment
-from .options import ExperimentOptions
+from attneave.analysis.experiment.build import build_experiment
+from attneave.analysis.experiment.options import ExperimentOptions
 
 __all__ = ["build_experiment", "ExperimentOptions"]

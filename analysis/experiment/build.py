@@ -25,11 +25,11 @@ from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
-from stimuli.errors import InputError
-from stimuli.io import replace_directory, temporary_directory
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import replace_directory, temporary_directory
 
-from .options import ExperimentOptions
-from .order import latin_square_lists
+from attneave.analysis.experiment.options import ExperimentOptions
+from attneave.analysis.experiment.order import latin_square_lists
 
 __all__ = ["Stimulus", "select_stimuli", "background_colour", "page_config", "build_experiment", "MARKER"]
 
@@ -79,7 +79,7 @@ def select_stimuli(stimset, options):
 
     Parameters
     ----------
-    stimset : stimuli.stimulus_set.StimulusSet
+    stimset : attneave.stimuli.stimulus_set.StimulusSet
     options : ExperimentOptions
 
     Returns
@@ -302,7 +302,7 @@ def page_config(options, practice, main, background, version):
 
 
 def _static(name):
-    return resources.files("analysis.experiment").joinpath("static", name)
+    return resources.files("attneave.analysis.experiment").joinpath("static", name)
 
 
 def render_index(config):
@@ -381,14 +381,14 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
 
     Parameters
     ----------
-    stimset : stimuli.stimulus_set.StimulusSet
+    stimset : attneave.stimuli.stimulus_set.StimulusSet
     out : str or Path
         The experiment directory. Created; replaced when it is empty or a
         previous experiment; otherwise refused unless `force`, which renames
         it to ``<out>.old-N`` first (nothing is deleted).
     options : ExperimentOptions, optional
     psychopy : bool
-        Also write ``out/psychopy/`` (see :mod:`analysis.experiment.psychopy`).
+        Also write ``out/psychopy/`` (see :mod:`attneave.analysis.experiment.psychopy`).
     force : bool
 
     Returns
@@ -414,7 +414,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
            along the contour of everyday objects: A large-scale study.
            Perception & Psychophysics, 70(1), 50-64.
     """
-    from stimuli import __version__
+    from attneave.stimuli import __version__
 
     options = options or ExperimentOptions()
     out = Path(out)
@@ -427,7 +427,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
     background = options.grey or background_colour([s.source for s in every])
     config = page_config(options, practice, main, background, __version__)
     if psychopy:
-        from .psychopy import conditions_rows
+        from attneave.analysis.experiment.psychopy import conditions_rows
 
         conditions_rows(options, practice, main)  # its units' checks, before anything is written
     action = check_output(out, force)
@@ -441,7 +441,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
             (tmp / name).write_bytes(_static(name).read_bytes())
         (tmp / "index.html").write_text(render_index(config), encoding="utf-8")
         if psychopy:
-            from .psychopy import write_psychopy
+            from attneave.analysis.experiment.psychopy import write_psychopy
 
             write_psychopy(tmp / "psychopy", options, practice, main, config)
         files = _listing(tmp)

@@ -16,7 +16,7 @@ from typing import Literal, Optional, Union
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["ExperimentOptions", "load_options", "DEFAULT_INSTRUCTIONS", "DEFAULT_SIZE_DEG"]
 
@@ -88,7 +88,7 @@ class ExperimentOptions(BaseModel):
         Offer an Undo button (and Backspace / Z) that removes the last click.
     order : {'random', 'blocked', 'fixed'}
         Main-trial order: shuffled per participant (seeded by the participant
-        id, reproducible, see :mod:`analysis.experiment.order`), blocked by
+        id, reproducible, see :mod:`attneave.analysis.experiment.order`), blocked by
         condition (block order and trials within blocks shuffled), or the
         manifest's.
     seed : str
@@ -98,7 +98,7 @@ class ExperimentOptions(BaseModel):
         Only stimuli of these conditions (manifest column ``condition``).
     lists : int
         Counterbalancing: K participant lists by a Latin square over
-        conditions (see :func:`analysis.experiment.order.latin_square_lists`).
+        conditions (see :func:`attneave.analysis.experiment.order.latin_square_lists`).
     fixation_ms : int
         A fixation cross before each stimulus for this long (0: none).
     iti_ms : int
@@ -283,7 +283,7 @@ def _yaml_lines(root):
 def _read_yaml(path):
     # the batch config's bounded reader: a FIFO, a device, a huge file, deep nesting or an
     # alias bomb ("billion laughs") is refused in one line instead of hanging or exhausting memory
-    from stimuli.batch.config_file import parse_yaml, read_text
+    from attneave.stimuli.batch.config_file import parse_yaml, read_text
 
     path = Path(path)
     root, data = parse_yaml(read_text(path), path)  # also refuses a key given twice

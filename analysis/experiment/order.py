@@ -38,7 +38,7 @@ References
 
 from __future__ import annotations
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["fnv1a32", "mulberry32", "shuffle", "trial_order", "participant_list", "latin_square_lists"]
 

@@ -34,8 +34,8 @@ import pprint
 from importlib import resources
 from pathlib import Path
 
-from stimuli.errors import InputError
-from stimuli.io import atomic_write
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import atomic_write
 
 __all__ = ["conditions_rows", "script_text", "write_psychopy", "HEIGHT_FRACTION"]
 
@@ -63,7 +63,7 @@ def conditions_rows(options, practice, main):
     Parameters
     ----------
     options : ExperimentOptions
-    practice, main : list of analysis.experiment.build.Stimulus
+    practice, main : list of attneave.analysis.experiment.build.Stimulus
 
     Returns
     -------
@@ -90,7 +90,7 @@ def script_text(options, config):
     ----------
     options : ExperimentOptions
     config : dict
-        From :func:`analysis.experiment.build.page_config`.
+        From :func:`attneave.analysis.experiment.build.page_config`.
 
     Returns
     -------
@@ -107,7 +107,7 @@ def script_text(options, config):
     )
     text_height = {"deg": "0.8", "pix": "24", "height": "0.035"}[options.psychopy_units]
     wrap = {"deg": "30", "pix": "1000", "height": "1.2"}[options.psychopy_units]
-    template = resources.files("analysis.experiment").joinpath("static", "attneave_task.py.in").read_text("utf-8")
+    template = resources.files("attneave.analysis.experiment").joinpath("static", "attneave_task.py.in").read_text("utf-8")
     return (template.replace("__SETTINGS__", pprint.pformat(settings, indent=4, width=100, sort_dicts=False))
             .replace("__DISTANCE__", repr(float(options.viewing_distance_cm)))
             .replace("__TEXT_HEIGHT__", text_height)
@@ -123,7 +123,7 @@ def write_psychopy(directory, options, practice, main, config):
     options : ExperimentOptions
     practice, main : list of Stimulus
     config : dict
-        The page's config (:func:`analysis.experiment.build.page_config`).
+        The page's config (:func:`attneave.analysis.experiment.build.page_config`).
 
     Returns
     -------

@@ -8,7 +8,7 @@ recipe call), ``outdir`` (the output directory's lock and state),
 ``execution`` (local workers or Dask) and ``runner`` (the whole batch,
 resumable and reproducible)."""
 
-from stimuli._lazy import attach as _attach
+from attneave.stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "load_config": ".config",

@@ -32,7 +32,7 @@ names the file, the YAML line and the key path, e.g.::
 A batch makes at most ``MAX_JOBS`` (100,000) recipe calls; the grid is
 counted (the product of its list lengths times the repeats) before it is
 expanded, so a grid of a million cells is refused at once, naming the
-condition. The file itself is bounded too (:mod:`stimuli.batch.config_file`:
+condition. The file itself is bounded too (:mod:`attneave.stimuli.batch.config_file`:
 size, nesting, aliases).
 
 Parameters named ``path`` or ending in ``_path`` are file names; relative ones
@@ -62,12 +62,12 @@ from typing import Any, Literal, Optional
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
-from stimuli.batch.config_file import parse_yaml, read_text, resolved_text, yaml_line
-from stimuli.batch.errors import describe, loc_str, suggest
-from stimuli.batch.params import Style
-from stimuli.batch.placement import Canvas
-from stimuli.errors import InputError
-from stimuli.stimulus_set import to_jsonable
+from attneave.stimuli.batch.config_file import parse_yaml, read_text, resolved_text, yaml_line
+from attneave.stimuli.batch.errors import describe, loc_str, suggest
+from attneave.stimuli.batch.params import Style
+from attneave.stimuli.batch.placement import Canvas
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.stimulus_set import to_jsonable
 
 __all__ = [
     "BatchConfig",
@@ -375,7 +375,7 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
 
 def _recipes():
     # imported when a config is resolved, not when this module is: recipes pull in the generators
-    from stimuli.batch.recipes import RECIPES
+    from attneave.stimuli.batch.recipes import RECIPES
 
     return RECIPES
 

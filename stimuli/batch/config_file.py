@@ -15,9 +15,9 @@ from __future__ import annotations
 import os
 import stat
 
-from stimuli.errors import InputError
-from stimuli.io import check_regular_file
-from stimuli.stimulus_set import to_jsonable
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import check_regular_file
+from attneave.stimuli.stimulus_set import to_jsonable
 
 __all__ = ["MAX_CONFIG_BYTES", "MAX_DEPTH", "MAX_NODES", "read_text", "parse_yaml", "yaml_line", "dumper", "resolved_text"]
 
@@ -172,7 +172,7 @@ def resolved_text(seed, output, canvas, style, conditions):
     """The text of the resolved ``config.yaml``: defaults filled in, the package version."""
     import yaml
 
-    from stimuli import __version__
+    from attneave.stimuli import __version__
 
     doc = {
         "attneave_version": __version__,

@@ -1,7 +1,7 @@
 """Drawing a recipe item: a float image with exact area coverage, or SVG.
 
-:func:`draw_item` renders an :class:`~stimuli.batch.recipes.Item` with a
-:class:`~stimuli.batch.params.Style` through :mod:`stimuli.render`;
+:func:`draw_item` renders an :class:`~attneave.stimuli.batch.recipes.Item` with a
+:class:`~attneave.stimuli.batch.params.Style` through :mod:`attneave.stimuli.render`;
 :func:`item_svg` writes the same drawing as SVG in the same pixel
 coordinates (x = column, y = row, y down, pixel centres at integers).
 """
@@ -10,14 +10,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.batch.params import Style
-from stimuli.errors import InputError
+from attneave.stimuli.batch.params import Style
+from attneave.stimuli.errors import InputError
 
 __all__ = ["draw_item", "drawn_bbox", "item_svg", "render_item"]
 
 
 def render_item(item, style, canvas):
-    """The :mod:`stimuli.render` result dict of an item: its image and the geometry drawn.
+    """The :mod:`attneave.stimuli.render` result dict of an item: its image and the geometry drawn.
 
     Parameters
     ----------
@@ -30,10 +30,10 @@ def render_item(item, style, canvas):
     dict
         What the ``render_*`` function returned (``img``, ``kind``, the
         rings, strokes or dot centres in image pixels, ...); its image is
-        :func:`draw_item`'s and its SVG (:func:`stimuli.render.svg_text`)
+        :func:`draw_item`'s and its SVG (:func:`attneave.stimuli.render.svg_text`)
         :func:`item_svg`'s.
     """
-    from stimuli import render
+    from attneave.stimuli import render
 
     if not isinstance(style, Style):
         style = Style.model_validate(style)
@@ -80,7 +80,7 @@ def draw_item(item, style, canvas):
 
 def item_svg(item, style, canvas):
     """The item as a complete, deterministic SVG document (same pixel coordinates)."""
-    from stimuli.render import svg_text
+    from attneave.stimuli.render import svg_text
 
     return svg_text(render_item(item, style, canvas))
 

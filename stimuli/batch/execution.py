@@ -1,7 +1,7 @@
 """Running the jobs of a batch: in this process, in local worker processes or on Dask.
 
 Local workers are forked processes (one per core at most is useful), made
-by :func:`stimuli.workers.orphan_safe_pool`: when the parent dies (even by
+by :func:`attneave.stimuli.workers.orphan_safe_pool`: when the parent dies (even by
 ``kill -9``), they exit within a second instead of waiting forever for work
 that will never come.
 """
@@ -12,9 +12,9 @@ import contextlib
 import math
 import sys
 
-from stimuli.batch.job import run_job
-from stimuli.errors import InputError
-from stimuli.workers import orphan_safe_pool
+from attneave.stimuli.batch.job import run_job
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.workers import orphan_safe_pool
 
 __all__ = ["execute"]
 
@@ -41,7 +41,7 @@ def execute(jobs, out, workers=1, scheduler=None, progress=None, total=None, ini
     Parameters
     ----------
     jobs : list of dict
-        From :func:`stimuli.batch.job.plan_jobs`.
+        From :func:`attneave.stimuli.batch.job.plan_jobs`.
     out : Path
         The set directory.
     workers : int

@@ -2,7 +2,7 @@
 
 A *job* is one recipe call: condition ``c``, grid cell ``k``, repeat ``r``.
 Its id prefix is ``<name>_<kkk>_<rrr>`` (zero-padded to at least 3 digits)
-and its seed comes from :func:`stimuli.batch.config.stimulus_seed`, never
+and its seed comes from :func:`attneave.stimuli.batch.config.stimulus_seed`, never
 from the order in which workers pick jobs up. A recipe call may return
 several items (e.g. ``base``/``concave``/``convex``); item ``s`` gets the
 id ``<prefix>_<s>``, or ``<prefix>`` when its suffix is empty.
@@ -24,10 +24,10 @@ import socket
 import threading
 from pathlib import Path
 
-from stimuli.batch.config import record_paths, stimulus_seed
-from stimuli.errors import InputError
-from stimuli.io import atomic_write
-from stimuli.stimulus_set import encode_json, to_jsonable
+from attneave.stimuli.batch.config import record_paths, stimulus_seed
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import atomic_write
+from attneave.stimuli.stimulus_set import encode_json, to_jsonable
 
 __all__ = ["ROWS_DIR", "JobError", "plan_jobs", "run_job", "journal_path"]
 
@@ -116,9 +116,9 @@ class JobError(RuntimeError):
 def _run_job(job, out_dir):
     import numpy as np
 
-    from stimuli.batch.drawing import render_item
-    from stimuli.batch.recipes import RECIPES
-    from stimuli.render import svg_text, write_png
+    from attneave.stimuli.batch.drawing import render_item
+    from attneave.stimuli.batch.recipes import RECIPES
+    from attneave.stimuli.render import svg_text, write_png
 
     out = Path(out_dir)
     fn = RECIPES[job["recipe"]][1]
@@ -221,7 +221,7 @@ def _cut_off(drawn, canvas):
     describes (its area, its outline), so it is flagged like any other poor
     stimulus: one line on stderr and the manifest's ``warning`` column.
     """
-    from stimuli.batch.drawing import drawn_bbox
+    from attneave.stimuli.batch.drawing import drawn_bbox
 
     box = drawn_bbox(drawn)
     if box is None:

@@ -9,12 +9,12 @@ While a batch runs, its directory holds, besides the stimulus files:
 ``.attneave-batch``
     The marker: the SHA-256 of the resolved config whose batch is in progress.
 ``.rows/``
-    The journals of finished jobs (see :mod:`stimuli.batch.job`).
+    The journals of finished jobs (see :mod:`attneave.stimuli.batch.job`).
 
 A directory may hold the user's own files too. Nothing here deletes a file
 that a batch did not write: ``--force`` removes the files listed in the
 earlier batch's manifest and journals, and cleanup removes only temporaries
-named by :func:`stimuli.io.atomic_write` (``.attneave-tmp-<pid>-...``).
+named by :func:`attneave.stimuli.io.atomic_write` (``.attneave-tmp-<pid>-...``).
 """
 
 from __future__ import annotations
@@ -25,10 +25,10 @@ import os
 import shutil
 from pathlib import Path
 
-from stimuli.batch.job import ROWS_DIR
-from stimuli.errors import InputError
-from stimuli.io import is_temporary
-from stimuli.stimulus_set import FILE_COLUMNS, read_manifest_rows
+from attneave.stimuli.batch.job import ROWS_DIR
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import is_temporary
+from attneave.stimuli.stimulus_set import FILE_COLUMNS, read_manifest_rows
 
 __all__ = ["MARKER", "LOCK", "locked", "inspect", "remove_previous", "remove_temporaries", "completed"]
 
@@ -101,7 +101,7 @@ def locked(out):
 
 
 def inspect(out, batch):
-    """'fresh' | 'partial' | 'complete' | 'other' | 'unknown' (see :func:`stimuli.batch.run_batch`)."""
+    """'fresh' | 'partial' | 'complete' | 'other' | 'unknown' (see :func:`attneave.stimuli.batch.run_batch`)."""
     if not out.exists():
         return "fresh"
     marker = out / MARKER
@@ -120,7 +120,7 @@ def check_inside(out):
     """Refuse an ``images/``, ``contours/`` or journal directory that is a link leading outside `out`.
 
     The set's files would be written elsewhere, and the set read back would be
-    refused (:func:`stimuli.stimulus_set.inside`): say so before writing anything.
+    refused (:func:`attneave.stimuli.stimulus_set.inside`): say so before writing anything.
 
     Raises
     ------

@@ -1,9 +1,9 @@
 """Parameter schemas of the batch recipes: what a config may say, checked once.
 
-Each recipe of :mod:`stimuli.batch.recipes` takes one pydantic model of this
+Each recipe of :mod:`attneave.stimuli.batch.recipes` takes one pydantic model of this
 module (unknown keys and out-of-range values are errors that name the key).
 The config validates every grid cell with it when the file is read
-(:mod:`stimuli.batch.config`); the validated models are what the workers
+(:mod:`attneave.stimuli.batch.config`); the validated models are what the workers
 get, so nothing is parsed twice. :class:`Style` says how items are drawn.
 """
 
@@ -112,7 +112,7 @@ def _one_or_list(item_type):
 
 
 def _check_sampling(n, cycles, what, param):
-    """The generators' rule (:func:`stimuli.shapes.generators.check_sampling`), when the config is read:
+    """The generators' rule (:func:`attneave.stimuli.shapes.generators.check_sampling`), when the config is read:
     at least 4 of the `n` points per cycle, or the shape aliases."""
     if n < 4 * cycles:
         raise ValueError(f"n: {n} points alias {what} {cycles:g} (at least 4 points per cycle are needed, "
@@ -207,7 +207,7 @@ class SuperformulaParams(ShapeParams):
         # rather than when the recipe runs
         import numpy as np
 
-        from stimuli.shapes.generators import superformula_radius
+        from attneave.stimuli.shapes.generators import superformula_radius
 
         probe = np.array([0.0, 1e-3, 2 * np.pi, 2 * np.pi + 1e-3])
         with np.errstate(all="ignore"):
@@ -222,7 +222,7 @@ class BlobParams(ShapeParams):
     """Smooth random blob; see :func:`stimuli.generators.blob`."""
 
     r0: float = Field(100.0, gt=0, allow_inf_nan=False)
-    # the generator's bound (stimuli.shapes.generators.MAX_BLOB_SIGMA), checked when the config is read
+    # the generator's bound (attneave.stimuli.shapes.generators.MAX_BLOB_SIGMA), checked when the config is read
     sigma: float = Field(0.2, ge=0, le=3.0, allow_inf_nan=False, description="RMS of the log-radius")
     width: float = Field(0.6, gt=0, allow_inf_nan=False, description="correlation width in radians")
     n: int = Field(1024, ge=8, le=1_000_000)
@@ -315,7 +315,7 @@ def check_base_draw(base, used, key):
 
 
 class DeformationParams(RecipeParams):
-    """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`stimuli.shapes.deformations`."""
+    """Barenholtz et al. (2003) matched concave/convex changes; see :mod:`attneave.stimuli.shapes.deformations`."""
 
     base: BaseShape = Field(default_factory=BaseShape)
     mode: Literal["edge", "vertex", "bump"] = "edge"

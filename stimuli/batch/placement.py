@@ -4,7 +4,7 @@ Every shape is made in its generator's own units and then placed on the
 canvas: ``placement='fit'`` (default) scales it uniformly so that its
 bounding box fills the canvas less ``margin`` on the tighter side and
 centres the box on the image centre ``((width - 1) / 2, (height - 1) / 2)``
-(:func:`stimuli.render.fit_to_image`); ``placement='native'`` keeps the
+(:func:`attneave.stimuli.render.fit_to_image`); ``placement='native'`` keeps the
 generator's units as pixels (e.g. an RF pattern's ``r0`` in px) and puts
 the generator's centre (the polar origin, the grid centre) on the image
 centre. Points are ``(x, y)`` in image pixels, y down, pixel centres at
@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["Canvas", "place"]
 
@@ -82,7 +82,7 @@ def place(contours, centre, canvas, placement="fit"):
         ``placement, scale, offset``.
     """
     if placement == "fit":
-        from stimuli.render import fit_to_image
+        from attneave.stimuli.render import fit_to_image
 
         allp = np.vstack([c.points for c in contours])
         f = fit_to_image(allp, size=canvas.size, margin=canvas.margin)

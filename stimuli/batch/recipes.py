@@ -6,8 +6,8 @@ the key); ``fn(params, rng, canvas)`` draws everything it needs from the
 `numpy.random.Generator` `rng` and returns a list of :class:`Item`: the
 contour placed on the canvas in image pixels, what the image shows, and
 every resolved parameter. The parameter models live in
-:mod:`stimuli.batch.params`, placement on the canvas in
-:mod:`stimuli.batch.placement`, drawing in :mod:`stimuli.batch.drawing`.
+:mod:`attneave.stimuli.batch.params`, placement on the canvas in
+:mod:`attneave.stimuli.batch.placement`, drawing in :mod:`attneave.stimuli.batch.drawing`.
 
 Recipes
 -------
@@ -17,21 +17,21 @@ Recipes
     ``polygon`` and ``curved``, placed with one transform so they overlay).
     The two names differ only in the default ``version``.
 ``radial_frequency``, ``fourier``, ``superformula``, ``blob``
-    See :mod:`stimuli.shapes.generators`.
+    See :mod:`attneave.stimuli.shapes.generators`.
 ``from_csv``, ``from_image``
     A contour from a CSV file (columns x, y) or the largest object of a
     photograph (:func:`stimuli.extract.extract_contours`).
 ``deformation``
     Barenholtz et al. (2003): items ``base``, ``concave``, ``convex`` (the
-    last two with parent ``base``); see :mod:`stimuli.shapes.deformations`.
+    last two with parent ``base``); see :mod:`attneave.stimuli.shapes.deformations`.
 ``guided``
     Information-guided items from one base shape: ``base``, ``cat``,
     ``peaks``, ``troughs``, ``dots``, ``dots_troughs`` (``kinds`` chooses);
-    see :mod:`stimuli.shapes.guided`.
+    see :mod:`attneave.stimuli.shapes.guided`.
 
 Placement
 ---------
-See :mod:`stimuli.batch.placement` (``placement='fit'`` or ``'native'``).
+See :mod:`attneave.stimuli.batch.placement` (``placement='fit'`` or ``'native'``).
 Deformation displacements and fragment gaps are in pixels of the placed
 shape. Points are ``(x, y)`` in image pixels, y down, pixel centres at
 integers.
@@ -45,16 +45,16 @@ from typing import Callable, Literal, Optional
 import numpy as np
 from pydantic import BaseModel, Field, field_validator, model_validator
 
-from stimuli.batch.drawing import draw_item, item_svg
-from stimuli.batch.params import SHAPES, BaseShape, DeformationParams, Style, check_base_draw
-from stimuli.batch.params import RecipeParams as _Params
-from stimuli.batch.placement import Canvas, place
-from stimuli.errors import InputError
-from stimuli.geometry.contour import Contour
-from stimuli.validate import as_rng
-from stimuli.shapes import deformations
-from stimuli.shapes import generators
-from stimuli.shapes import guided
+from attneave.stimuli.batch.drawing import draw_item, item_svg
+from attneave.stimuli.batch.params import SHAPES, BaseShape, DeformationParams, Style, check_base_draw
+from attneave.stimuli.batch.params import RecipeParams as _Params
+from attneave.stimuli.batch.placement import Canvas, place
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.validate import as_rng
+from attneave.stimuli.shapes import deformations
+from attneave.stimuli.shapes import generators
+from attneave.stimuli.shapes import guided
 
 # Canvas, Style, place, draw_item and item_svg are kept here too: callers make, place and draw in one place
 __all__ = ["Canvas", "Item", "Style", "RECIPES", "SHAPES", "draw_item", "item_svg", "make", "place"]
@@ -104,7 +104,7 @@ GUIDED_KINDS = ("base", "cat", "peaks", "troughs", "dots", "dots_troughs")
 
 
 class GuidedParams(_Params):
-    """Information-guided items from one base shape; see :mod:`stimuli.shapes.guided`."""
+    """Information-guided items from one base shape; see :mod:`attneave.stimuli.shapes.guided`."""
 
     base: BaseShape = Field(default_factory=BaseShape)
     kinds: list[Literal[GUIDED_KINDS]] = Field(  # type: ignore[valid-type]
@@ -177,9 +177,9 @@ def _shape(name, p, rng):
 def _from_image(p):
     """The largest object's outline and the extraction's verdict (``ok`` or ``suspect``, with its reasons)."""
     # lazily: these pull in OpenCV and scikit-image
-    from stimuli.extraction.imageio import open_image
-    from stimuli.extraction.outlines import extract
-    from stimuli.extraction.verdict import judge
+    from attneave.stimuli.extraction.imageio import open_image
+    from attneave.stimuli.extraction.outlines import extract
+    from attneave.stimuli.extraction.verdict import judge
 
     f = open_image(p.path)  # the decoder's complaints are collected, not printed
     ex = extract(f.image, method=p.method, threshold=p.threshold, polarity=p.polarity, objects="largest",
@@ -300,7 +300,7 @@ def guided_recipe(params, rng, canvas):
     ``max_tries``; ``base_tries`` and ``base_rejected`` (the reasons) are
     recorded. A base that draws no random numbers (``from_csv``,
     ``from_image``) is the same on every call (``base_random`` false): it is
-    not drawn again (:func:`stimuli.batch.runner.identical_repeats` warns
+    not drawn again (:func:`attneave.stimuli.batch.runner.identical_repeats` warns
     when repeats of it are copies).
     """
 
@@ -331,7 +331,7 @@ def guided_recipe(params, rng, canvas):
     else:
         raise InputError(f"guided: the requested items do not fit on {p.max_tries} base shapes; last: {rejected[-1]}")
     # (a base without randomness makes identical repeats: the runner says so once per condition,
-    # and only when there are repeats; see stimuli.batch.runner.identical_repeats)
+    # and only when there are repeats; see attneave.stimuli.batch.runner.identical_repeats)
     parent = "base" if "base" in kinds else None
     common = dict(bparams, base_tries=tries, base_rejected=rejected, base_random=not fixed)
     items = []
@@ -374,7 +374,7 @@ def make(recipe, rng, canvas=None, **params):
     rng : numpy.random.Generator or int
         The generator (a non-negative int seeds ``numpy.random.default_rng``;
         None, floats and other objects are refused: see
-        :func:`stimuli.validate.as_rng`).
+        :func:`attneave.stimuli.validate.as_rng`).
     canvas : Canvas, optional
         Default ``Canvas()`` (512 x 512, margin 32).
     **params
@@ -398,7 +398,7 @@ def make(recipe, rng, canvas=None, **params):
     """
     from pydantic import ValidationError
 
-    from stimuli.batch.errors import describe, loc_str
+    from attneave.stimuli.batch.errors import describe, loc_str
 
     if recipe not in RECIPES:
         raise InputError(f"recipe: unknown {recipe!r}; expected one of {', '.join(sorted(RECIPES))}")

@@ -1,6 +1,6 @@
 """Run a batch config: plan recipe calls, run them, write a stimulus set.
 
-The output directory (see DESIGN.md, "Files", and :mod:`stimuli.stimulus_set`)
+The output directory (see DESIGN.md, "Files", and :mod:`attneave.stimuli.stimulus_set`)
 ends up holding exactly::
 
     manifest.csv            one row per stimulus, sorted by stimulus_id
@@ -16,9 +16,9 @@ How that is kept
 ----------------
 * Jobs (one recipe call each) have ids and seeds that do not depend on the
   order in which they run, and each writes its files atomically and then
-  journals its manifest rows (:mod:`stimuli.batch.job`).
+  journals its manifest rows (:mod:`attneave.stimuli.batch.job`).
 * One ``generate`` at a time writes a directory: it holds a lock there
-  (:func:`stimuli.batch.outdir.locked`); a second is refused.
+  (:func:`attneave.stimuli.batch.outdir.locked`); a second is refused.
 * Before any stimulus, a marker ``.attneave-batch`` holding the SHA-256 of the
   resolved config is written. A rerun into the same directory with the same
   config skips complete jobs and makes the rest; a directory made by another
@@ -49,13 +49,13 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from stimuli.batch import outdir
-from stimuli.batch.config import ResolvedBatch, load_config
-from stimuli.batch.execution import execute
-from stimuli.batch.job import ROWS_DIR, plan_jobs
-from stimuli.errors import InputError
-from stimuli.io import DISK_ERRORS, atomic_write, check_output_spares_inputs, make_output_dir
-from stimuli.stimulus_set import write_manifest
+from attneave.stimuli.batch import outdir
+from attneave.stimuli.batch.config import ResolvedBatch, load_config
+from attneave.stimuli.batch.execution import execute
+from attneave.stimuli.batch.job import ROWS_DIR, plan_jobs
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import DISK_ERRORS, atomic_write, check_output_spares_inputs, make_output_dir
+from attneave.stimuli.stimulus_set import write_manifest
 
 __all__ = ["BatchError", "BatchResult", "run_batch", "identical_repeats", "DISK_ERRORS"]
 
@@ -225,7 +225,7 @@ def _check_spares_inputs(batch, out, force):
 
     The inputs are the config file and the files its recipes read (``path``
     parameters). ``force`` deletes an earlier batch's files, so with it the
-    directory may hold no input at all (:func:`stimuli.io.check_output_spares_inputs`);
+    directory may hold no input at all (:func:`attneave.stimuli.io.check_output_spares_inputs`);
     without it, no input may be one of the files the batch writes there
     (``config.yaml``, ``manifest.csv``, ``images/``, ``contours/``), except
     the set's own resolved ``config.yaml`` run again (it is written back

@@ -99,7 +99,7 @@ def add_parser(sub):
     import argparse
     import textwrap
 
-    from stimuli.commands.counts import MAX_ROWS, count
+    from attneave.stimuli.commands.counts import MAX_ROWS, count
 
     p = sub.add_parser(
         "curve",
@@ -136,8 +136,8 @@ def add_parser(sub):
 
 
 def make_curve(args):
-    """Build the :class:`stimuli.curves.Curve` that `args` describe."""
-    from stimuli import curves
+    """Build the :class:`attneave.stimuli.curves.Curve` that `args` describe."""
+    from attneave.stimuli import curves
 
     fam = args.family
     if fam == "clothoid":
@@ -156,8 +156,8 @@ def make_curve(args):
 def run(args):
     from pathlib import Path
 
-    from stimuli.errors import InputError
-    from stimuli.tables import write_table
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.tables import write_table
 
     out = Path(args.output)
     if not out.parent.is_dir():

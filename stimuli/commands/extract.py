@@ -1,8 +1,8 @@
 """``attneave extract``: contours, curvature and surprisal of objects in images.
 
-The pipeline and its outputs are described in :mod:`stimuli.extraction.pipeline`;
+The pipeline and its outputs are described in :mod:`attneave.stimuli.extraction.pipeline`;
 this module parses the arguments, calls
-:func:`stimuli.extraction.pipeline.extract_images` and prints.
+:func:`attneave.stimuli.extraction.pipeline.extract_images` and prints.
 """
 
 from __future__ import annotations
@@ -86,8 +86,8 @@ def add_parser(sub):
 
 
 def _check_args(args):
-    from stimuli.errors import InputError
-    from stimuli.extraction.pipeline import check_options
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.extraction.pipeline import check_options
 
     if args.threshold is not None and not math.isfinite(args.threshold):
         raise InputError(f"--threshold must be a finite number, got {args.threshold}")
@@ -126,8 +126,8 @@ def _expand_directories(paths):
     subdirectories); an InputError for a directory without any."""
     from pathlib import Path
 
-    from stimuli.errors import InputError
-    from stimuli.extraction.imageio import IMAGE_SUFFIXES
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.extraction.imageio import IMAGE_SUFFIXES
 
     out = []
     for p in paths:
@@ -144,7 +144,7 @@ def _expand_directories(paths):
 def run(args):
     import sys
 
-    from stimuli.extraction.pipeline import extract_images
+    from attneave.stimuli.extraction.pipeline import extract_images
 
     _check_args(args)
     # `attneave extract photos/ -o out`: a folder of images, as people keep them (a directory was

@@ -36,10 +36,10 @@ def run(args):
     import os
     import sys
 
-    from stimuli.batch.config import load_config
-    from stimuli.batch.runner import BatchError, run_batch
-    from stimuli.io import disk_error_exit
-    from stimuli.errors import InputError
+    from attneave.stimuli.batch.config import load_config
+    from attneave.stimuli.batch.runner import BatchError, run_batch
+    from attneave.stimuli.io import disk_error_exit
+    from attneave.stimuli.errors import InputError
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")

@@ -7,7 +7,7 @@ METHOD_CHOICES = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "
 
 
 def add_parser(sub):
-    from stimuli.commands.counts import MAX_ROWS, count
+    from attneave.stimuli.commands.counts import MAX_ROWS, count
 
     p = sub.add_parser(
         "spline",
@@ -63,8 +63,8 @@ def _check_points(P, path, closed):
     """One-line errors that name the file and the CSV lines of the rows at fault."""
     import numpy as np
 
-    from stimuli.errors import InputError
-    from stimuli.tables import read_points  # again, for the lines of a message
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.tables import read_points  # again, for the lines of a message
 
     need = 3 if closed else 2
     if len(P) < need:
@@ -117,7 +117,7 @@ def _drop_closing_repeat(P, path, closed):
     last point and say so in one line (the segment indices of the others are unchanged)."""
     import sys
 
-    from stimuli.tables import read_points  # again, for the lines of the note
+    from attneave.stimuli.tables import read_points  # again, for the lines of the note
 
     if closed and len(P) > 1 and (P[-1] == P[0]).all():
         lines = read_points(path, with_lines=True)[1]
@@ -135,7 +135,7 @@ def _frame(P, path):
     so that neither curvature nor arc length overflows (the curve is the same)."""
     import numpy as np
 
-    from stimuli.errors import InputError
+    from attneave.stimuli.errors import InputError
 
     lo, hi = P.min(axis=0), P.max(axis=0)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -159,7 +159,7 @@ def _summary(args, P, sp, unit, span, closed, crossings):
 
     import numpy as np
 
-    from stimuli.curves.metrics import curve_metrics
+    from attneave.stimuli.curves.metrics import curve_metrics
 
     m = curve_metrics(unit)
     with np.errstate(over="ignore"):  # an overflow is reported as null
@@ -200,7 +200,7 @@ def _problems(curve, closed):
     """(crossing count, crossing segments, segments turning by more than pi)."""
     import numpy as np
 
-    from stimuli.curves.metrics import segment_slices, segment_turning, self_crossing_segments, self_intersections
+    from attneave.stimuli.curves.metrics import segment_slices, segment_turning, self_crossing_segments, self_intersections
 
     crossings = self_intersections(curve.x, curve.y, closed)
     crossing = self_crossing_segments(curve.x, curve.y, curve.segment, closed) if crossings else []
@@ -219,13 +219,13 @@ def run(args):
 
     import numpy as np
 
-    from stimuli.commands.counts import MAX_ROWS
-    from stimuli.curves.splines import fit_spline
-    from stimuli.errors import InputError
-    from stimuli.io import atomic_write
-    from stimuli.tables import read_points, write_table
+    from attneave.stimuli.commands.counts import MAX_ROWS
+    from attneave.stimuli.curves.splines import fit_spline
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.io import atomic_write
+    from attneave.stimuli.tables import read_points, write_table
 
-    from stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.io import check_output_spares_inputs
 
     closed = not args.open
     check_output_spares_inputs(args.output, [args.points], what="-o")

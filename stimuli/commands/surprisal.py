@@ -32,7 +32,7 @@ def add_parser(sub):
     p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
     p.add_argument("--open", action="store_true", help="the contour is open (eq. 4, mean turn 0)")
     p.add_argument("--bits", action="store_true", help="surprisal in bits instead of nats")
-    # the choices mirror stimuli.geometry.information.LENGTH_UNITS (not imported here: --help stays fast)
+    # the choices mirror attneave.stimuli.geometry.information.LENGTH_UNITS (not imported here: --help stays fast)
     p.add_argument("--length-unit", choices=("sample", "perimeter", "radius", "px"), default=None,
                    help="unit of ds in eq. 4-5: sample (ds = 1, default), perimeter (ds = 1/n), radius of the "
                         "equal-area circle (all three scale-free), or px (the paper's literal pixels)")
@@ -41,13 +41,13 @@ def add_parser(sub):
 
 
 def run(args):
-    from stimuli.geometry.contour import Contour
-    from stimuli.geometry.information import surprisal
-    from stimuli.io import disk_error_exit
-    from stimuli.tables import write_table
+    from attneave.stimuli.geometry.contour import Contour
+    from attneave.stimuli.geometry.information import surprisal
+    from attneave.stimuli.io import disk_error_exit
+    from attneave.stimuli.tables import write_table
 
-    from stimuli.io import check_output_spares_inputs
-    from stimuli.tables import read_points
+    from attneave.stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.tables import read_points
 
     check_output_spares_inputs(args.output, [args.contour], what="-o")
     closed = not args.open
@@ -71,8 +71,8 @@ def run(args):
 
 def _check_size(args, contour):
     """Bound the number of output points before anything is allocated."""
-    from stimuli.errors import InputError
-    from stimuli.validate import as_number
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.validate import as_number
 
     if args.n is not None and not 3 <= args.n <= MAX_POINTS:
         raise InputError(f"-n: must be 3 <= n <= {MAX_POINTS:,} points, got {args.n}")
@@ -92,7 +92,7 @@ def _check_finite(result):
     """Refuse a result whose surprisal overflowed (a huge --b on a large contour), rather than write inf."""
     import numpy as np
 
-    from stimuli.errors import InputError
+    from attneave.stimuli.errors import InputError
 
     u = np.asarray(result.surprisal, dtype=float)
     inner = u if result.params["closed"] else u[1:-1]  # an open curve's ends have no turning angle (NaN)
@@ -109,7 +109,7 @@ def _note_dropped(pts, path, closed):
 
     import numpy as np
 
-    from stimuli.tables import read_points
+    from attneave.stimuli.tables import read_points
 
     if len(pts) < 2:
         return
@@ -136,10 +136,10 @@ def _check_closed_shape(contour, path):
     """A closed contour's curvature sign (convex +, concave -) needs a simple curve of positive area.
 
     The area is checked where every closed `Contour` is made (the same rule for the library and
-    this command: :func:`stimuli.geometry._checks.check_area`); simplicity here, since the
+    this command: :func:`attneave.stimuli.geometry._checks.check_area`); simplicity here, since the
     library accepts a figure eight.
     """
-    from stimuli.errors import InputError
+    from attneave.stimuli.errors import InputError
 
     if not contour.is_simple():
         x, y = contour.self_intersections()[0]

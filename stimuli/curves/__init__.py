@@ -4,7 +4,7 @@ constant-information curves), Euler-spiral segments, log-aesthetic segments,
 splines through points (QIC, log-aesthetic and polynomial), two-point G1
 Hermite curves, and the metrics that compare them.
 
-The curve families are available directly (``stimuli.curves.clothoid(...)``);
+The curve families are available directly (``attneave.stimuli.curves.clothoid(...)``);
 the rest lives in the sub-modules: ``natural`` (the integrator, clothoid,
 pseudospiral), ``aesthetic`` (LAC, GLAC), ``lac_gamma`` (the LAC's closed
 form), ``superspiral``, ``constant_info``, ``euler`` (clothoid segments),
@@ -14,14 +14,14 @@ form), ``superspiral``, ``constant_info``, ``euler`` (clothoid segments),
 ``metrics``.
 """
 
-from stimuli.curves.aesthetic import glac, log_aesthetic  # noqa: F401  (the families are the package's face)
-from stimuli.curves.constant_info import (  # noqa: F401
+from attneave.stimuli.curves.lac.aesthetic import glac, log_aesthetic  # noqa: F401  (the families are the package's face)
+from attneave.stimuli.curves.constant_info import (  # noqa: F401
     constant_info,
     constant_info_curvature,
     constant_info_domain,
 )
-from stimuli.curves.natural import FAMILIES, Curve, clothoid, integrate_natural, pseudospiral  # noqa: F401
-from stimuli.curves.superspiral import superspiral  # noqa: F401
+from attneave.stimuli.curves.natural import FAMILIES, Curve, clothoid, integrate_natural, pseudospiral  # noqa: F401
+from attneave.stimuli.curves.superspiral import superspiral  # noqa: F401
 
 __all__ = [
     "FAMILIES",

@@ -40,9 +40,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.euler import clothoid_points, g1_hermite
-from stimuli.curves.points import end_angles
-from stimuli.errors import InputError
+from attneave.stimuli.curves.euler import clothoid_points, g1_hermite
+from attneave.stimuli.curves.points import end_angles
+from attneave.stimuli.errors import InputError
 
 __all__ = ["biangular_g1", "compare_g1_hermite"]
 
@@ -144,7 +144,7 @@ def biangular_g1(p0, theta0, p1, theta1, n=65):
 
 def compare_g1_hermite(p0, theta0, p1, theta1, n=65):
     """The biangular curve and the clothoid (Bertolazzi & Frego's G1 Hermite
-    solution, :func:`stimuli.curves.euler.g1_hermite`) on the same end
+    solution, :func:`attneave.stimuli.curves.euler.g1_hermite`) on the same end
     conditions.
 
     Returns

@@ -1,16 +1,16 @@
 """Argument checks shared by the curve families and splines, and their arc-length grid.
 
 Each check returns the value in the type the code needs or raises
-:class:`~stimuli.errors.InputError` with one line naming the parameter.
+:class:`~attneave.stimuli.errors.InputError` with one line naming the parameter.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry.contour import check_flag  # one rule for flags, the contours' own
-from stimuli.validate import as_int, as_number
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import check_flag  # one rule for flags, the contours' own
+from attneave.stimuli.validate import as_int, as_number
 
 __all__ = ["MAX_ARC", "MAX_RATE", "MAX_POINTS", "check_flag", "check_count", "check_samples", "check_tolerance",
            "arc_grid"]
@@ -23,7 +23,7 @@ MAX_RATE = 1e12
 #: Most points a curve family or a spline's samples may have. Each point
 #: carries five float64 columns (s, x, y, theta, curvature) and costs up to
 #: ~15 us to evaluate (superspiral quadrature), so the bound is ten times below
-#: :meth:`stimuli.geometry.Contour.resample`'s 1e8 plain points: 10**7 points
+#: :meth:`attneave.stimuli.geometry.Contour.resample`'s 1e8 plain points: 10**7 points
 #: are about 0.4 GB and seconds to minutes of work; the command line allows
 #: 1e6 rows.
 MAX_POINTS = 10**7

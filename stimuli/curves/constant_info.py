@@ -1,16 +1,16 @@
 """Constant-information curves (the seed paper's eq. 7): curvature
 ``k(s) = (1/s) (n arccos(C n**2 / s**2) + 2 pi)``, for which the surprisal of
 eq. 5 with ``ds = s/n`` is constant along the curve. y-UP coordinates, as in
-:mod:`stimuli.curves.natural`.
+:mod:`attneave.stimuli.curves.natural`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.natural import EPS, MAX_ARC, RTOL, arc_grid, integrate_natural, relabel
-from stimuli.errors import InputError
-from stimuli.validate import as_number
+from attneave.stimuli.curves.natural import EPS, MAX_ARC, RTOL, arc_grid, integrate_natural, relabel
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_number
 
 __all__ = ["constant_info", "constant_info_curvature", "constant_info_domain"]
 

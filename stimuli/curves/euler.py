@@ -9,7 +9,7 @@ over many segments at once.
 Coordinates are plain Cartesian: angles are measured from the +x axis towards
 the +y axis and curvature is ``d theta / d s``. With image pixels (y down) that
 means positive angles and curvature turn clockwise *on the screen*; the spline
-layer (:mod:`stimuli.curves.splines`) converts to the project's geometric sign.
+layer (:mod:`attneave.stimuli.curves.splines`) converts to the project's geometric sign.
 
 The G1 Hermite problem (given two points and a tangent angle at each, find
 ``k``, ``dk`` and the length ``L``) is solved as in Bertolazzi & Frego (2015):
@@ -36,7 +36,7 @@ from math import factorial
 import numpy as np
 from scipy.special import fresnel
 
-from stimuli.curves import qic_kernel
+from attneave.stimuli.curves.qic import kernel as qic_kernel
 
 __all__ = [
     "fresnel_moments",

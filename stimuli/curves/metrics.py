@@ -242,7 +242,7 @@ def self_intersections(x, y, closed=True):
 
     Counted on the polyline through the samples (consecutive repeats, e.g. a
     segment's end and the next one's start, are one point) with
-    :meth:`stimuli.geometry.contour.Contour.self_intersections` (GEOS).
+    :meth:`attneave.stimuli.geometry.contour.Contour.self_intersections` (GEOS).
 
     Examples
     --------
@@ -254,8 +254,8 @@ def self_intersections(x, y, closed=True):
     >>> self_intersections(np.array([0, 1, 2, 3.]), np.zeros(4)) > 0  # closed, it runs back over itself
     True
     """
-    from stimuli.errors import InputError
-    from stimuli.geometry.contour import Contour
+    from attneave.stimuli.errors import InputError
+    from attneave.stimuli.geometry.contour import Contour
 
     pts = np.column_stack([x, y])
     try:

@@ -23,10 +23,10 @@ Accuracy
 --------
 Clothoids use Fresnel integrals in closed form. Superspirals use adaptive
 Gauss-Kronrod quadrature (:func:`scipy.integrate.quad_vec`, 21-point rule).
-Log-aesthetic curves (:mod:`stimuli.curves.aesthetic`) are in closed form
+Log-aesthetic curves (:mod:`attneave.stimuli.curves.lac.aesthetic`) are in closed form
 through the incomplete gamma function. Superspirals and the
-constant-information curves live in :mod:`stimuli.curves.superspiral` and
-:mod:`stimuli.curves.constant_info`. The other families use :func:`integrate_natural`, an explicit Runge-Kutta
+constant-information curves live in :mod:`attneave.stimuli.curves.superspiral` and
+:mod:`attneave.stimuli.curves.constant_info`. The other families use :func:`integrate_natural`, an explicit Runge-Kutta
 method of order 8 (DOP853, :func:`scipy.integrate.solve_ivp`) on
 ``(theta, x, y)`` with ``rtol = 1e-13`` and ``atol = 1e-13 * length``. With
 these defaults the positions agree with closed forms (Fresnel integrals,
@@ -53,7 +53,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.curves.checks import (  # noqa: F401  (re-exported: the families import them from here)
+from attneave.stimuli.curves.checks import (  # noqa: F401  (re-exported: the families import them from here)
     MAX_ARC,
     MAX_POINTS,
     MAX_RATE,
@@ -63,8 +63,8 @@ from stimuli.curves.checks import (  # noqa: F401  (re-exported: the families im
     check_samples,
     check_tolerance,
 )
-from stimuli.errors import InputError
-from stimuli.validate import as_number
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_number
 
 __all__ = [
     "Curve",
@@ -132,7 +132,7 @@ class Curve:
         return np.column_stack([self.x, self.y])
 
     def table(self):
-        """Columns ``s, x, y, theta, curvature`` as a dict (for :func:`stimuli.tables.write_table`)."""
+        """Columns ``s, x, y, theta, curvature`` as a dict (for :func:`attneave.stimuli.tables.write_table`)."""
         return {k: np.asarray(getattr(self, k)) for k in ("s", "x", "y", "theta", "curvature")}
 
 
@@ -379,7 +379,7 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
 
     Notes
     -----
-    Evaluated by :func:`stimuli.curves.euler.clothoid_points` (the one
+    Evaluated by :func:`attneave.stimuli.curves.euler.clothoid_points` (the one
     clothoid evaluator of the package): the generalised Fresnel integral
     ``int_0^d exp(i (k(s0) u + c u**2 / 2)) du`` through the Fresnel
     integrals :func:`scipy.special.fresnel` after completing the square, or
@@ -393,7 +393,7 @@ def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
     >>> bool(np.allclose(cl.points[-1], (C, S)))
     True
     """
-    from stimuli.curves.euler import clothoid_points
+    from attneave.stimuli.curves.euler import clothoid_points
 
     k0 = as_number(k0, "k0", ge=-MAX_RATE, le=MAX_RATE)
     c = as_number(c, "c", ge=-MAX_RATE, le=MAX_RATE)

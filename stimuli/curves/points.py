@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.euler import wrap_angle
-from stimuli.errors import InputError
-from stimuli.validate import as_points
+from attneave.stimuli.curves.euler import wrap_angle
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_points
 
 __all__ = ["spline_points", "geometric_sign", "chord_end_angles", "circle_tangents", "bisector_tangents", "end_angles"]
 

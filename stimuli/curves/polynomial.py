@@ -10,15 +10,15 @@ pixels (y down); reported curvature follows the project's geometric sign.
 
 from __future__ import annotations
 
-from stimuli.curves.natural import check_samples
+from attneave.stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from stimuli.curves.metrics import SampledCurve, curve_metrics
-from stimuli.curves.points import geometric_sign, spline_points
-from stimuli.errors import InputError
+from attneave.stimuli.curves.metrics import SampledCurve, curve_metrics
+from attneave.stimuli.curves.points import geometric_sign, spline_points
+from attneave.stimuli.errors import InputError
 
 __all__ = ["PolynomialSpline", "polynomial_spline"]
 

@@ -1,6 +1,6 @@
-"""Splines through points by name: the QIC spline (:mod:`stimuli.curves.qic`),
-polynomial baselines (:mod:`stimuli.curves.polynomial`) and log-aesthetic
-splines (G1: :mod:`stimuli.curves.lac`; G2: :mod:`stimuli.curves.lac_spline`), behind one entry point,
+"""Splines through points by name: the QIC spline (:mod:`attneave.stimuli.curves.qic.spline`),
+polynomial baselines (:mod:`attneave.stimuli.curves.polynomial`) and log-aesthetic
+splines (G1: :mod:`attneave.stimuli.curves.lac.g1`; G2: :mod:`attneave.stimuli.curves.lac.spline`), behind one entry point,
 :func:`fit_spline`, used by ``attneave spline``.
 """
 
@@ -8,10 +8,10 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from stimuli.curves.polynomial import PolynomialSpline, polynomial_spline
-from stimuli.curves.qic import ConvergenceError, QICSpline, qic_spline
-from stimuli.curves.natural import check_flag
-from stimuli.errors import InputError
+from attneave.stimuli.curves.polynomial import PolynomialSpline, polynomial_spline
+from attneave.stimuli.curves.qic.spline import ConvergenceError, QICSpline, qic_spline
+from attneave.stimuli.curves.natural import check_flag
+from attneave.stimuli.errors import InputError
 
 __all__ = [
     "ConvergenceError",
@@ -34,13 +34,13 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
     points : array_like, shape (N, 2)
         Points ``(x, y)`` in image pixels (y down).
     method : str
-        ``'qic'`` (:func:`~stimuli.curves.qic.qic_spline`, robust), ``'qic-g2'``
+        ``'qic'`` (:func:`~attneave.stimuli.curves.qic.spline.qic_spline`, robust), ``'qic-g2'``
         (the same, pure G2), ``'cubic'`` (periodic when closed,
         not-a-knot when open), ``'cubic-natural'`` (open only),
-        ``'poly2'`` .. ``'poly5'`` (:func:`~stimuli.curves.polynomial.polynomial_spline`; ``'poly3'``
+        ``'poly2'`` .. ``'poly5'`` (:func:`~attneave.stimuli.curves.polynomial.polynomial_spline`; ``'poly3'``
         is the same curve as ``'cubic'``), ``'lac-g1'``
-        (:func:`stimuli.curves.lac.lac_g1_spline`), ``'lac'`` (the G2
-        log-aesthetic spline, :func:`stimuli.curves.lac_spline.lac_spline`).
+        (:func:`attneave.stimuli.curves.lac.g1.lac_g1_spline`), ``'lac'`` (the G2
+        log-aesthetic spline, :func:`attneave.stimuli.curves.lac.spline.lac_spline`).
     closed : bool
         Closed curve (default) or open; must be a bool (a string such as
         ``'no'`` is refused).
@@ -66,11 +66,11 @@ def fit_spline(points, method="qic", closed=True, **kwargs):
         sp = polynomial_spline(points, int(method[-1]), closed, **kwargs)
         return replace(sp, method=method)
     if method == "lac-g1":
-        from stimuli.curves.lac import lac_g1_spline
+        from attneave.stimuli.curves.lac.g1 import lac_g1_spline
 
         return lac_g1_spline(points, closed, **kwargs)
     if method == "lac":
-        from stimuli.curves.lac_spline import lac_spline
+        from attneave.stimuli.curves.lac.spline import lac_spline
 
         return lac_spline(points, closed=closed, **kwargs)
     raise InputError(f"method: expected one of {', '.join(METHODS)}, got {method!r}")

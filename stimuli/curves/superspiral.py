@@ -1,7 +1,7 @@
 """Superspirals (the seed paper's eq. 10; Ziatdinov 2012): curves whose
 radius of curvature, as a function of the tangent angle, is a completely
 monotonic Gauss hypergeometric function. y-UP coordinates, as in
-:mod:`stimuli.curves.natural`.
+:mod:`attneave.stimuli.curves.natural`.
 
 References
 ----------
@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.curves.natural import Curve, check_count, check_tolerance
-from stimuli.errors import InputError
-from stimuli.validate import as_number
+from attneave.stimuli.curves.natural import Curve, check_count, check_tolerance
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_number
 
 __all__ = ["superspiral"]
 
@@ -42,7 +42,7 @@ def superspiral(a=1.0, b=1.0, c=2.0, theta_end=np.pi, num=201, *, epsabs=1e-13, 
     num : int
         Number of points, **equally spaced in tangent angle** (not in arc
         length) over ``[0, theta_end]``; 2 to
-        :data:`stimuli.curves.natural.MAX_POINTS` (1e7).
+        :data:`attneave.stimuli.curves.natural.MAX_POINTS` (1e7).
     epsabs, epsrel : float
         Tolerances of :func:`scipy.integrate.quad_vec` (adaptive 21-point
         Gauss-Kronrod): finite, >= 0, not both 0.

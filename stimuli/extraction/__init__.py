@@ -8,7 +8,7 @@ scale-space description (:mod:`.scalespace`), the overlay drawing
 (:mod:`.overlays`) and the per-image pipeline of ``attneave extract``
 (:mod:`.pipeline`)."""
 
-from stimuli._lazy import attach as _attach
+from attneave.stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "METHODS": ".segment",

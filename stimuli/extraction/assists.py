@@ -10,7 +10,7 @@ give several objects (with ``--objects all``).
 Scribbles directory: for an input ``STEM.*``, the file ``STEM.png`` (RGB or
 RGBA, the photo's size) with object strokes in pure red ``(255, 0, 0)`` and
 background strokes in pure blue ``(0, 0, 255)``; other colours and
-transparent pixels are unmarked (:func:`stimuli.extraction.photo.read_scribbles`).
+transparent pixels are unmarked (:func:`attneave.stimuli.extraction.photo.read_scribbles`).
 
 Every mistake (an unknown image, a box outside its image, a scribble image
 of the wrong size) is refused before any image is processed, with one line
@@ -21,7 +21,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["read_boxes", "scribble_files"]
 
@@ -59,9 +59,9 @@ def read_boxes(path, images, objects="largest"):
         a box not inside its image, or several boxes without
         ``objects='all'``; one line naming the file and its line.
     """
-    from stimuli.extraction.grabcut import check_box
-    from stimuli.extraction.imageio import header_size
-    from stimuli.tables import read_table
+    from attneave.stimuli.extraction.grabcut import check_box
+    from attneave.stimuli.extraction.imageio import header_size
+    from attneave.stimuli.tables import read_table
 
     df = read_table(path, required=("image", "x", "y", "width", "height"), numeric=("x", "y", "width", "height"))
     if len(df) == 0:
@@ -110,7 +110,7 @@ def scribble_files(directory, images):
         Not a directory, one without any scribble image, a PNG that belongs to no input, or one whose size
         differs from its photo's; one line naming the file.
     """
-    from stimuli.extraction.imageio import header_size
+    from attneave.stimuli.extraction.imageio import header_size
 
     d = Path(directory)
     if not d.is_dir():

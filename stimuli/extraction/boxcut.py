@@ -7,9 +7,9 @@ its belly): which background it keeps depends on the colour space and on
 how its colour models start. So box mode runs GrabCut from
 :data:`HYPOTHESES` (CIE Lab or RGB; started from the whole box as object,
 from the box with its inner band held as probable background, or from the
-box's central ellipse, :func:`~stimuli.extraction.grabcut.core_labels`)
+box's central ellipse, :func:`~attneave.stimuli.extraction.grabcut.core_labels`)
 and keeps the hypothesis of the lowest :func:`hypothesis_score`: the
-colour error of its outline (:func:`~stimuli.extraction.quality.colour_error`:
+colour error of its outline (:func:`~attneave.stimuli.extraction.quality.colour_error`:
 how much the colours just inside and just outside overlap) plus a penalty
 for falling short of a side of the box by more than :data:`GAP_FREE` of the
 box's size (a person draws the box close around the object, so an outline
@@ -19,7 +19,7 @@ never chosen.
 
 On the development photos (``benchmarks/validate_photos.py``, halves A and
 B of each group; the weights chosen on a grid, each half checked): see the
-module notes of :mod:`stimuli.extraction.photo` for the figures.
+module notes of :mod:`attneave.stimuli.extraction.photo` for the figures.
 
 Boxes are ``(x, y, width, height)`` in image pixels (x = column, y = row,
 y down).
@@ -37,7 +37,7 @@ import os
 
 import numpy as np
 
-from stimuli.extraction.grabcut import box_labels, core_labels, fill_holes, grabcut, largest_part
+from attneave.stimuli.extraction.grabcut import box_labels, core_labels, fill_holes, grabcut, largest_part
 
 __all__ = ["BOX_BAND", "CORE", "GAP_FREE", "GAP_WEIGHT", "HYPOTHESES", "box_hypotheses", "hypothesis_score",
            "choose_hypothesis"]
@@ -64,7 +64,7 @@ def box_hypotheses(bgr, box, iterations=5, extra=None, parts="largest"):
     Parameters
     ----------
     bgr : (H, W, 3) uint8 ndarray
-        The photo in BGR order (as :func:`~stimuli.extraction.grabcut.to_bgr8` gives).
+        The photo in BGR order (as :func:`~attneave.stimuli.extraction.grabcut.to_bgr8` gives).
     box : (x, y, width, height)
         Image pixels, inside the image.
     iterations : int
@@ -125,8 +125,8 @@ def hypothesis_score(image, mask, box, gap=True):
     float
         ``colour_error + GAP_WEIGHT * max(0, box_gap - GAP_FREE)`` (the
         second term with `gap` only)
-        (:func:`~stimuli.extraction.quality.colour_error`,
-        :func:`~stimuli.extraction.quality.box_gap`); inf for a mask that
+        (:func:`~attneave.stimuli.extraction.quality.colour_error`,
+        :func:`~attneave.stimuli.extraction.quality.box_gap`); inf for a mask that
         is empty, covers less than 3 % or more than 97 % of the box, or has
         no colour error (no core or ring).
 
@@ -143,8 +143,8 @@ def hypothesis_score(image, mask, box, gap=True):
     >>> hypothesis_score(img, np.zeros((80, 80), bool), (18, 18, 44, 44))
     inf
     """
-    from stimuli.extraction.quality import box_gap, colour_error
-    from stimuli.geometry.contour import Contour
+    from attneave.stimuli.extraction.quality import box_gap, colour_error
+    from attneave.stimuli.geometry.contour import Contour
 
     x, y, bw, bh = box
     mask = fill_holes(mask)

@@ -9,7 +9,7 @@ background's, in proportion to how much of it each covers (the camera
 integrates over the pixel). :func:`colour_edge_field` turns that into a
 grey field that is 1 at the object's local colour, 0 at the background's
 and in between on the edge; tracing it at 0.5 (the grey path of
-:mod:`stimuli.extraction.trace`, which keeps the mask's topology and moves
+:mod:`attneave.stimuli.extraction.trace`, which keeps the mask's topology and moves
 the outline at most to the neighbouring pixel centres) puts the outline on
 the edge. Where the two colours are too close for the edge to say anything
 (below :data:`SHARP_CONTRAST`), the field is the mask itself, and the
@@ -48,7 +48,7 @@ def _local_means(values, weight, radius):
     and the weight sums. Sums are taken on 4 x 4 blocks and brought back bilinearly before they are
     divided (the means vary slowly; a block without weight then does not pull its neighbours' means).
 
-    The grey path's local level (:func:`stimuli.extraction.trace._local_level_field`) divides on
+    The grey path's local level (:func:`attneave.stimuli.extraction.trace._local_level_field`) divides on
     the blocks instead, where a block without weight holds the global level; it was measured as
     it is (disks to 0.004 px), and the same sums divided after interpolation trace graded
     backgrounds 2 % less accurately, so the two are kept apart."""
@@ -105,7 +105,7 @@ def colour_edge_field(image, mask, sharp=SHARP_CONTRAST, radius=LOCAL_RADIUS):
     """
     import cv2
 
-    from stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.grabcut import to_bgr8
 
     m = np.ascontiguousarray(mask, dtype=bool)
     rgb = to_bgr8(image).astype(np.float32)
@@ -127,7 +127,7 @@ class ColourEdgeSource:
     """:func:`colour_edge_field` computed only where it is asked for.
 
     Indexing with two slices (``source[r0:r1, c0:c1]``, as
-    :class:`~stimuli.extraction.segment.Segmentation` crops its source)
+    :class:`~attneave.stimuli.extraction.segment.Segmentation` crops its source)
     returns the field of that crop, computed on the crop widened by the
     local window, so that a large photo never holds its whole field and
     the temporaries of its computation (several float copies of the

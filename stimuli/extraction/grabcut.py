@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["to_bgr8", "inset_box", "check_box", "box_labels", "core_labels", "grabcut", "largest_part",
            "fill_holes"]

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["IMAGE_SUFFIXES", "MAX_PIXELS", "DecoderWarning", "ImageFile", "open_image", "read_image", "header_size", "load_image", "split_channels", "full_scale",
            "MAX_INTEGER_LEVELS"]
@@ -79,7 +79,7 @@ def open_image(path, max_pixels=MAX_PIXELS):
         opening it, so nothing blocks), missing, empty, larger than
         `max_pixels`, or not decodable; one line naming the file. `path`
         not a str or Path (an array is given to
-        :func:`stimuli.extraction.extract` directly), `max_pixels` not a
+        :func:`attneave.stimuli.extraction.extract` directly), `max_pixels` not a
         whole number >= 1.
     """
     import cv2
@@ -172,7 +172,7 @@ def _as_path(path):
         return Path(path)
     if isinstance(path, np.ndarray):
         raise InputError("path: expected an image file name (str or Path), got an array; pass arrays to "
-                         "stimuli.extraction.extract or extract_contours directly")
+                         "attneave.stimuli.extraction.extract or extract_contours directly")
     raise InputError(f"path: expected an image file name (str or Path), got {type(path).__name__} {path!r:.60}")
 
 

@@ -62,7 +62,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
+from attneave.stimuli.errors import InputError
 
 __all__ = ["MODEL_SIZE", "MODEL_MEAN", "MODEL_STD", "BOX_CONTEXT", "load_model", "input_size", "object_probability",
            "boxed_probability"]
@@ -147,7 +147,7 @@ def object_probability(image, model_file, size=None, mean=MODEL_MEAN, std=MODEL_
     """
     import cv2
 
-    from stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.grabcut import to_bgr8
 
     mean, std = np.asarray(mean, np.float32), np.asarray(std, np.float32)
     if mean.shape != (3,) or std.shape != (3,) or not np.all(std > 0):
@@ -201,7 +201,7 @@ def boxed_probability(image, box, name="image", **model):
     InputError
         A box outside the image, and as :func:`object_probability`.
     """
-    from stimuli.extraction.grabcut import check_box
+    from attneave.stimuli.extraction.grabcut import check_box
 
     box = check_box(box, np.shape(image), name, "box")
     h, w = np.shape(image)[:2]

@@ -66,7 +66,7 @@ The pipeline
    (a staircase) is smoothed lightly along the arc (``mask_sigma`` px,
    default 1) instead. A photograph's figure-ground mask (``'photo'``,
    boxes, scribbles, ``'grabcut'``) is traced the same way on the photo's colour edge
-   (:mod:`stimuli.extraction.colour_edge`: each pixel's colour projected
+   (:mod:`attneave.stimuli.extraction.colour_edge`: each pixel's colour projected
    on the line from the local background colour to the local object
    colour), so that the outline lies on the edge where the edge is sharp
    (an exact-coverage disk, noise 0-10 levels: 0.005-0.07 px RMS, against 0.3 px
@@ -76,7 +76,7 @@ The pipeline
    smoothed along its arc with a periodic Gaussian whose scale is tied to
    the shape, ``sigma = SIGMA_FRACTION * perimeter`` (1 %) unless given, at
    least ``MIN_SIGMA`` px; curvature is the Gaussian-derivative curvature
-   at that scale (:func:`stimuli.geometry.polyline.gaussian_curvature`); surprisal
+   at that scale (:func:`attneave.stimuli.geometry.polyline.gaussian_curvature`); surprisal
    (:func:`stimuli.information.surprisal`) is computed on the smoothed
    contour resampled at ``n`` points (or a spacing in px).
 
@@ -100,11 +100,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.validate import as_int, as_number
-from stimuli.extraction.imageio import load_image
-from stimuli.extraction.segment import METHODS, POLARITIES, NoObject, check_method_options, segment
-from stimuli.extraction.trace import LOCAL_RADIUS, finish_ring, ring_area, trace_grey, trace_mask
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number
+from attneave.stimuli.extraction.imageio import load_image
+from attneave.stimuli.extraction.segment import METHODS, POLARITIES, NoObject, check_method_options, segment
+from attneave.stimuli.extraction.trace import LOCAL_RADIUS, finish_ring, ring_area, trace_grey, trace_mask
 
 __all__ = ["MASK_SIGMA", "GRABCUT_ITERATIONS", "MAX_GRABCUT_ITERATIONS", "Extraction", "extract", "extract_contours"]
 
@@ -148,7 +148,7 @@ class Extraction:
         their object), shape, source; with ``method='auto'`` resolved (the
         method chosen); with the photo method mode, box (boxes), scale,
         iterations, agreement and competing (see
-        :func:`stimuli.extraction.photo.segment_photo`).
+        :func:`attneave.stimuli.extraction.photo.segment_photo`).
     """
 
     contours: list
@@ -193,9 +193,9 @@ def extract(
         notes for when to use each. Default 'otsu'. 'auto' takes a
         two-valued image or one on a plain background by 'otsu', a cut-out
         by 'alpha' and anything else by 'photo'
-        (:func:`stimuli.extraction.segment.image_kind`); 'photo' is the
+        (:func:`attneave.stimuli.extraction.segment.image_kind`); 'photo' is the
         automatic (or, with `boxes` / `scribbles`, assisted) figure-ground
-        of :mod:`stimuli.extraction.photo`; 'model' a user's ONNX network
+        of :mod:`attneave.stimuli.extraction.photo`; 'model' a user's ONNX network
         (`model`).
     threshold : float, optional
         'threshold': the grey level of the object's edge (required), in the
@@ -248,13 +248,13 @@ def extract(
         Boxes around the object(s) (image pixels): one outline per box, in
         box order ('photo' and 'model' methods; several need
         ``objects='all'``). With 'model' the network sees the box widened
-        by :data:`~stimuli.extraction.model.BOX_CONTEXT` on every side.
+        by :data:`~attneave.stimuli.extraction.model.BOX_CONTEXT` on every side.
     scribbles : (H, W) uint8 ndarray, optional
         0 unmarked, 1 object, 2 background
-        (:func:`stimuli.extraction.photo.read_scribbles`); 'photo' method.
+        (:func:`attneave.stimuli.extraction.photo.read_scribbles`); 'photo' method.
     model : dict, optional
         ``model_file`` and optionally ``size``, ``mean``, ``std`` for
-        ``method='model'`` (:func:`stimuli.extraction.model.object_probability`).
+        ``method='model'`` (:func:`attneave.stimuli.extraction.model.object_probability`).
     grabcut_iterations : int, optional
         Iterations of GrabCut, a whole number from 1 to
         :data:`MAX_GRABCUT_ITERATIONS` ('grabcut', 'photo' and 'auto'
@@ -281,7 +281,7 @@ def extract(
         'auto', `boxes` but for 'auto', 'photo' and 'model', `scribbles`
         but for 'auto' and 'photo', `model` but for 'model') is refused,
         not ignored (the rule of ``attneave extract``,
-        :func:`stimuli.extraction.segment.check_method_options`).
+        :func:`attneave.stimuli.extraction.segment.check_method_options`).
 
     Examples
     --------

@@ -17,14 +17,14 @@ def overlay(image, contours, infos, holes=None, verdict=None):
     Parameters
     ----------
     image : ndarray
-        As read by :func:`stimuli.extraction.read_image`.
+        As read by :func:`attneave.stimuli.extraction.read_image`.
     contours : list of Contour
         ``(x, y)`` image pixels (y down, pixel centres at integers).
-    infos : list of stimuli.extraction.ContourInfo
-        Their surprisal (from :func:`stimuli.extraction.describe`).
+    infos : list of attneave.stimuli.extraction.ContourInfo
+        Their surprisal (from :func:`attneave.stimuli.extraction.describe`).
     holes : list of list of Contour, optional
         Drawn as black lines on a white halo (no surprisal).
-    verdict : stimuli.extraction.verdict.Verdict, optional
+    verdict : attneave.stimuli.extraction.verdict.Verdict, optional
         A ``suspect`` verdict is written below the image (``SUSPECT:
         reason``, wrapped on up to three lines) on an orange band added to
         it, and the image gets an orange frame; ``ok`` adds nothing.

@@ -7,8 +7,8 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
 (larger photos are reduced and the mask brought back to full size):
 
 * automatic (no box, no scribbles): GrabCut from the photo inset by 5 %
-  (:func:`~stimuli.extraction.grabcut.inset_box`) from five starts: box
-  mode's four (:mod:`stimuli.extraction.boxcut`) and CIE Lab on the
+  (:func:`~attneave.stimuli.extraction.grabcut.inset_box`) from five starts: box
+  mode's four (:mod:`attneave.stimuli.extraction.boxcut`) and CIE Lab on the
   smoothed photo (:data:`AUTO_FIRST`); the hypothesis whose outline's
   colours part best (colour error alone: the object need not reach the
   inset frame) is the answer, its agreement (IoU) with the next best a
@@ -27,8 +27,8 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   0.500 / 0.434 on objects and 0.726 / 0.739 on horses (mask level):
   not kept;
 * a box ``(x, y, width, height)``: outside is background; GrabCut runs
-  from four starts (:mod:`stimuli.extraction.boxcut`: CIE Lab with a band
-  of :data:`~stimuli.extraction.boxcut.BOX_BAND` of the box's size along
+  from four starts (:mod:`attneave.stimuli.extraction.boxcut`: CIE Lab with a band
+  of :data:`~attneave.stimuli.extraction.boxcut.BOX_BAND` of the box's size along
   its inside held as probable background; plain GrabCut on the RGB photo;
   Lab and RGB from the box's central ellipse, which keeps the background
   between a horse's legs out of the first object model) and the
@@ -113,7 +113,7 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   colour models on these photos, not in the choice among them. A learned
   salient-object network (method ``model``, the user's file) reaches them:
   with an IS-Net network and the same boxes, 0.891 horses and 0.934
-  objects (:mod:`stimuli.extraction.model`).
+  objects (:mod:`attneave.stimuli.extraction.model`).
   Box and scribble modes reduce a photo only above
   :data:`ASSISTED_WORK_PIXELS` (0.5 Mpx; the automatic search keeps
   :data:`WORK_PIXELS`): GrabCut at full size, as the anchor runs it, on the
@@ -149,9 +149,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
-from stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
+from attneave.stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
                                         fill_holes, largest_part, to_bgr8)
 
 __all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "AUTO_FIRST", "BOX_BAND", "SCRIBBLE_OBJECT",
@@ -399,7 +399,7 @@ def read_scribbles(path, shape=None):
     InputError
         Unreadable, not colour, of the wrong size, or with no stroke at all.
     """
-    from stimuli.extraction.imageio import full_scale, read_image
+    from attneave.stimuli.extraction.imageio import full_scale, read_image
 
     img = read_image(path)
     if img.ndim != 3 or img.shape[2] not in (3, 4):

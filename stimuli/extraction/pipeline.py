@@ -12,7 +12,7 @@ without its extension):
 * ``STEM.overlay.png``: the image with the contour coloured by surprisal
   (dark blue low, red high) and the peaks circled;
 * ``STEM.silhouette.png``: the contour rendered black on white with exact
-  coverage at the image's size (by :mod:`stimuli.render`);
+  coverage at the image's size (by :mod:`attneave.stimuli.render`);
 * ``STEM.holes.csv`` with ``holes``: columns ``hole, x, y``.
 
 With ``objects='all'`` every object of at least ``min_area`` pixels gets
@@ -21,7 +21,7 @@ its own ``STEM.K.contour.csv``, ``STEM.K.surprisal.csv``,
 1 for the next...; the overlay ``STEM.overlay.png`` shows them all.
 
 ``DIR/summary.csv`` has one row per input (:data:`SUMMARY_COLUMNS`) with
-its verdict (:mod:`stimuli.extraction.verdict`): ``status`` ``ok``,
+its verdict (:mod:`attneave.stimuli.extraction.verdict`): ``status`` ``ok``,
 ``suspect`` (the outline was written, but ``reason`` names why it may be
 wrong: frame contact, low contrast, fill, competing regions, disagreeing
 hypotheses, decoder warnings; the overlay says so too) or ``failed`` (no
@@ -42,7 +42,7 @@ may be the outputs of an input named ``STEM.K.png`` and are left, and
 temporary name and renamed.
 
 Option mistakes are refused before any image is processed (one line, an
-:class:`~stimuli.errors.InputError`): an option for another method
+:class:`~attneave.stimuli.errors.InputError`): an option for another method
 (``threshold`` without method threshold or alpha, ``rect`` without
 grabcut, ``boxes`` without auto, photo or model, ``scribbles`` without
 auto or photo, ``model_*`` without model), a ``rect`` outside an image, a
@@ -56,9 +56,9 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.extraction.segment import OPTION_METHODS
-from stimuli.extraction.verdict import PHOTO_MEASURES
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.extraction.segment import OPTION_METHODS
+from attneave.stimuli.extraction.verdict import PHOTO_MEASURES
 
 __all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "OPTION_METHODS", "output_stems", "check_options", "extract_images",
            "process_one"]
@@ -76,7 +76,7 @@ DEFAULTS = dict(
     model_file=None, model_size=None, model_mean=None, model_std=None, max_pixels=None,
 )
 # OPTION_METHODS: the methods each method-specific option applies to (any other method refuses
-# it), the same rule as the Python API's (:func:`stimuli.extraction.segment.check_method_options`)
+# it), the same rule as the Python API's (:func:`attneave.stimuli.extraction.segment.check_method_options`)
 
 
 def output_stems(images, objects="largest"):
@@ -130,7 +130,7 @@ def extract_images(images, output, workers=1, progress=None, **options):
         Show a progress bar on stderr (None: only on a terminal).
     **options
         Any of :data:`DEFAULTS` (the parameters of
-        :func:`stimuli.extraction.extract` and :func:`stimuli.extraction.describe`).
+        :func:`attneave.stimuli.extraction.extract` and :func:`attneave.stimuli.extraction.describe`).
 
     Returns
     -------
@@ -151,8 +151,8 @@ def extract_images(images, output, workers=1, progress=None, **options):
     """
     from tqdm import tqdm
 
-    from stimuli.io import make_output_dir
-    from stimuli.tables import write_table
+    from attneave.stimuli.io import make_output_dir
+    from attneave.stimuli.tables import write_table
 
     unknown = set(options) - set(DEFAULTS)
     if unknown:
@@ -162,17 +162,17 @@ def extract_images(images, output, workers=1, progress=None, **options):
     check_options(opts, images)
     inputs = [str(i) for i in images]
     if opts["boxes"] is not None and not isinstance(opts["boxes"], dict):
-        from stimuli.extraction.assists import read_boxes
+        from attneave.stimuli.extraction.assists import read_boxes
 
         inputs.append(str(opts["boxes"]))
         opts["boxes"] = read_boxes(opts["boxes"], [str(i) for i in images], opts["objects"])
     if opts["scribbles"] is not None and not isinstance(opts["scribbles"], dict):
-        from stimuli.extraction.assists import scribble_files
+        from attneave.stimuli.extraction.assists import scribble_files
 
         opts["scribbles"] = scribble_files(opts["scribbles"], [str(i) for i in images])
     inputs += [str(f) for f in (opts["scribbles"] or {}).values()]
     if opts["method"] == "model":
-        from stimuli.extraction.model import load_model
+        from attneave.stimuli.extraction.model import load_model
 
         load_model(opts["model_file"])  # a file that is no usable network is refused before any image
         inputs.append(str(opts["model_file"]))
@@ -190,7 +190,7 @@ def extract_images(images, output, workers=1, progress=None, **options):
         else:
             from concurrent.futures import as_completed
 
-            from stimuli.workers import orphan_safe_pool
+            from attneave.stimuli.workers import orphan_safe_pool
 
             with orphan_safe_pool(min(workers, len(tasks))) as pool:
                 futures = {pool.submit(process_one, *task): i for i, task in enumerate(tasks)}
@@ -229,9 +229,9 @@ def check_options(opts, images=()):
         ``--OPTION applies to --method A or B only, not --method M``, or the
         rectangle and the image it does not fit.
     """
-    from stimuli.extraction.grabcut import check_box
-    from stimuli.extraction.imageio import header_size
-    from stimuli.extraction.segment import check_method_options
+    from attneave.stimuli.extraction.grabcut import check_box
+    from attneave.stimuli.extraction.imageio import header_size
+    from attneave.stimuli.extraction.segment import check_method_options
 
     method = opts["method"]
     if method == "model" and not opts["model_file"]:
@@ -256,7 +256,7 @@ def _check_spares_inputs(out, stems, inputs):
     """Refuse a run whose outputs in `out` would overwrite one of its inputs (one line)."""
     import re
 
-    from stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.io import check_output_spares_inputs
 
     kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS)
     ours = re.compile(rf"(?:{'|'.join(re.escape(s) for s in stems)})(?:\.\d+)?\.(?:{kinds})")
@@ -395,18 +395,18 @@ def process_one(image, stem, outdir, opts):
 
 def _analyse(image, stem, opts):
     """Everything in memory first; return ({file name: writer}, summary values)."""
-    from stimuli.extraction.imageio import MAX_PIXELS, open_image
-    from stimuli.extraction.outlines import extract
-    from stimuli.extraction.overlays import overlay
-    from stimuli.extraction.scalespace import describe
-    from stimuli.extraction.verdict import judge
-    from stimuli.render import render_silhouette
+    from attneave.stimuli.extraction.imageio import MAX_PIXELS, open_image
+    from attneave.stimuli.extraction.outlines import extract
+    from attneave.stimuli.extraction.overlays import overlay
+    from attneave.stimuli.extraction.scalespace import describe
+    from attneave.stimuli.extraction.verdict import judge
+    from attneave.stimuli.render import render_silhouette
 
     f = open_image(image, opts["max_pixels"] or MAX_PIXELS)
     img = f.image
     scribbles = None
     if opts["scribbles"] and image in opts["scribbles"]:
-        from stimuli.extraction.photo import read_scribbles
+        from attneave.stimuli.extraction.photo import read_scribbles
 
         scribbles = read_scribbles(opts["scribbles"][image], img.shape[:2])
     model = None
@@ -451,12 +451,12 @@ def _analyse(image, stem, opts):
 
 
 def _table_writer(table, float_format="%.17g"):
-    from stimuli.tables import write_table
+    from attneave.stimuli.tables import write_table
 
     return lambda path: write_table(table, path, float_format=float_format)
 
 
 def _png_writer(img):
-    from stimuli.render import write_png
+    from attneave.stimuli.render import write_png
 
     return lambda path: write_png(path, img)

@@ -70,7 +70,7 @@ def box_contact(contour, box, within=1.0):
     Examples
     --------
     >>> import numpy as np
-    >>> from stimuli.geometry.contour import Contour
+    >>> from attneave.stimuli.geometry.contour import Contour
     >>> sq = Contour(np.array([[9.5, 9.5], [29.5, 9.5], [29.5, 29.5], [9.5, 29.5]]))
     >>> box_contact(sq, (10, 10, 40, 40))  # its top and left sides lie on the box's
     0.5
@@ -108,7 +108,7 @@ def box_gap(contour, box):
     Examples
     --------
     >>> import numpy as np
-    >>> from stimuli.geometry.contour import Contour
+    >>> from attneave.stimuli.geometry.contour import Contour
     >>> sq = Contour(np.array([[9.5, 9.5], [29.5, 9.5], [29.5, 29.5], [9.5, 29.5]]))
     >>> box_gap(sq, (10, 10, 40, 20))  # the square fills the box's height, half its width
     0.5
@@ -137,7 +137,7 @@ def lab_image(image, sigma=1.0):
     """
     import cv2
 
-    from stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.grabcut import to_bgr8
 
     bgr = to_bgr8(image)
     if sigma > 0:
@@ -206,7 +206,7 @@ def edge_support(image, contour, tolerance=1.0, *, distance=None):
     Examples
     --------
     >>> import numpy as np
-    >>> from stimuli.geometry.contour import Contour
+    >>> from attneave.stimuli.geometry.contour import Contour
     >>> img = np.full((60, 60), 40, np.uint8); img[15:45, 15:45] = 200
     >>> on = Contour(np.array([[14.5, 14.5], [44.5, 14.5], [44.5, 44.5], [14.5, 44.5]])).resample(spacing=1)
     >>> off = Contour(np.array([[24.5, 24.5], [34.5, 24.5], [34.5, 34.5], [24.5, 34.5]])).resample(spacing=1)

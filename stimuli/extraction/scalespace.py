@@ -16,10 +16,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry.contour import Contour
-from stimuli.geometry.polyline import gaussian_curvature
-from stimuli.validate import as_number
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.geometry.polyline import gaussian_curvature
+from attneave.stimuli.validate import as_number
 
 __all__ = ["SIGMA_FRACTION", "MIN_SIGMA", "MAX_SIGMA_FRACTION", "ContourInfo", "default_sigma", "smooth", "contour_curvature",
            "describe", "curvature_peaks", "fourier_smooth"]
@@ -214,7 +214,7 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
         Smoothing scale in px of arc length (default 1 % of the perimeter,
         at least 1 px).
     model, A, b, bits, length_unit
-        As in :func:`stimuli.geometry.information.surprisal` (`length_unit`
+        As in :func:`attneave.stimuli.geometry.information.surprisal` (`length_unit`
         None: its default).
     prominence : float, optional
         Smallest prominence of a surprisal peak. Default: 5 % of the
@@ -226,7 +226,7 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
     -------
     ContourInfo
     """
-    from stimuli.geometry.information import surprisal
+    from attneave.stimuli.geometry.information import surprisal
 
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if not c.closed:
@@ -251,7 +251,7 @@ def _with_default_prominence(res, model, A, bits):
     """Peaks again with prominence 5 % of max(range of u, u(2 mu) - u(mu)), mu = 2 pi / n."""
     import dataclasses
 
-    from stimuli.geometry.information import find_peaks, surprisal_paper, surprisal_vonmises
+    from attneave.stimuli.geometry.information import find_peaks, surprisal_paper, surprisal_vonmises
 
     n = res.params["n"]
     mu = 2 * np.pi / n
@@ -291,7 +291,7 @@ def curvature_peaks(contour, sigma=None, prominence=None, minima=False):
         the best sample, so that its place is not limited by the sampling or
         by pixel noise on a flat maximum.
     """
-    from stimuli.geometry.information import find_peaks
+    from attneave.stimuli.geometry.information import find_peaks
 
     if not isinstance(minima, (bool, np.bool_)):  # 'no' would be taken as True
         raise InputError(f"minima: must be True or False, got {minima!r}")

@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.extraction.imageio import full_scale, split_channels
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.extraction.imageio import full_scale, split_channels
 
 __all__ = ["METHODS", "POLARITIES", "PLAIN_ETA", "OPTION_METHODS", "NoObject", "Segmentation", "segment",
            "grabcut_mask", "image_kind", "check_method_options"]
@@ -22,7 +22,7 @@ METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "mo
 PLAIN_ETA = 0.97
 POLARITIES = ("auto", "dark", "light")
 #: The methods each method-specific option applies to (any other method refuses it), for
-#: :func:`stimuli.extraction.extract` and ``attneave extract`` alike (:func:`check_method_options`).
+#: :func:`attneave.stimuli.extraction.extract` and ``attneave extract`` alike (:func:`check_method_options`).
 #: ``model_file`` is the Python API's ``model`` dict (``--model-file`` and its companions).
 OPTION_METHODS = {
     "threshold": ("threshold", "alpha"), "rect": ("grabcut",), "grabcut_iterations": ("auto", "photo", "grabcut"),
@@ -170,14 +170,14 @@ def _polarity_from_border(on):
 
 def _on_colour_edge(img, on, params):
     """A photo's figure-ground mask `on`, to be traced on the photo's colour edge where it is sharp."""
-    from stimuli.extraction.colour_edge import ColourEdgeSource
+    from attneave.stimuli.extraction.colour_edge import ColourEdgeSource
 
     return Segmentation(on, params, ColourEdgeSource(img, on), 1.0, 0.5, near_mask=True)
 
 
 def grabcut_mask(image, rect, iterations, name):
     """GrabCut from a box (default: the image inset by 5 %): (object mask, the box used)."""
-    from stimuli.extraction.grabcut import check_box, grabcut, inset_box, to_bgr8
+    from attneave.stimuli.extraction.grabcut import check_box, grabcut, inset_box, to_bgr8
 
     bgr = to_bgr8(image)
     rect = check_box(inset_box(bgr.shape) if rect is None else rect, bgr.shape, name)
@@ -193,7 +193,7 @@ class Segmentation:
     image is two-valued (a mask: traced as a staircase, then smoothed).
     ``near_mask``: the mask was found by other means than the field (a
     photo's figure-ground traced on its colour edge), so the traced outline
-    is held near the mask (:func:`stimuli.extraction.trace.trace_grey`).
+    is held near the mask (:func:`attneave.stimuli.extraction.trace.trace_grey`).
     """
 
     def __init__(self, on, params, source=None, sign=1.0, level=0.5, near_mask=False):
@@ -285,9 +285,9 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
             model=None):
     """Segment an image array: a `Segmentation` (raises `NoObject` if there is nothing to separate).
 
-    `box` and `scribbles` go to :func:`stimuli.extraction.photo.segment_photo`
+    `box` and `scribbles` go to :func:`attneave.stimuli.extraction.photo.segment_photo`
     (and make ``auto`` a photo method); `model` is a dict of the arguments
-    of :func:`stimuli.extraction.model.object_probability`.
+    of :func:`attneave.stimuli.extraction.model.object_probability`.
     """
     import cv2
 
@@ -298,20 +298,20 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         method = "photo" if box is not None or scribbles is not None else image_kind(img, name)
         params["resolved"] = method
     if method == "photo":
-        from stimuli.extraction.photo import segment_photo
+        from attneave.stimuli.extraction.photo import segment_photo
 
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
         return _on_colour_edge(img, res.mask, params)
     if method == "model":
-        from stimuli.extraction.model import object_probability
+        from attneave.stimuli.extraction.model import object_probability
 
         if not model or not model.get("model_file"):
             raise InputError("method 'model' needs a model file (--model-file FILE.onnx)")
         if box is None:
             prob = object_probability(img, **model)
         else:
-            from stimuli.extraction.model import boxed_probability
+            from attneave.stimuli.extraction.model import boxed_probability
 
             prob, box = boxed_probability(img, box, name=name, **model)
         params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]),

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.extraction.scalespace import fourier_smooth
-from stimuli.geometry.contour import Contour
+from attneave.stimuli.extraction.scalespace import fourier_smooth
+from attneave.stimuli.geometry.contour import Contour
 
 __all__ = ["LOCAL_RADIUS", "PRESMOOTH_SHIFT", "ring_area", "trace_grey", "trace_mask", "finish_ring"]
 

@@ -24,7 +24,7 @@ the measure and its value:
     of similar size make "the object" ambiguous.
 ``agreement``
     Photo methods: the IoU of the two hypotheses the method compared (see
-    :mod:`stimuli.extraction.photo`); they disagree when the answer is
+    :mod:`attneave.stimuli.extraction.photo`); they disagree when the answer is
     unstable.
 ``thickness``
     Twice the object's area over its perimeter: about the width of a
@@ -42,11 +42,11 @@ the measure and its value:
     and the outline is GrabCut's from the box (always ``suspect``).
 
 Outlines found in photographs are also measured by
-:mod:`stimuli.extraction.quality`, on the photo and the outline alone:
+:mod:`attneave.stimuli.extraction.quality`, on the photo and the outline alone:
 
 ``colour_error``
     Balanced error of colour models of the two sides of the outline, near
-    it (:func:`~stimuli.extraction.quality.colour_error`): the colours
+    it (:func:`~attneave.stimuli.extraction.quality.colour_error`): the colours
     inside and outside overlap.
 ``edge_support``
     Share of the outline on one of the photo's stronger (Canny) edges.
@@ -90,7 +90,7 @@ Outlines found in photographs are also measured by
     (method ``model``): with two IS-Net salient-object networks it passed
     14 and 18 of the 95 development photos' box outlines (13 and 17
     horses, 1 object), all of IoU >= 0.90 (``validate_photos.py --modes model-box``; the
-    network's figures are in :mod:`stimuli.extraction.model`). The model
+    network's figures are in :mod:`attneave.stimuli.extraction.model`). The model
     without a box is never ``ok``.
 
 A ``failed`` outline is one the extraction could not give at all (no
@@ -115,7 +115,7 @@ UNVERIFIABLE = ("photo", "grabcut", "model")
 THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=2.0, competing=0.5, agreement=0.95,
                   box=0.05, box_gap=0.2, colour_error=0.15, edge_support=0.8, box_ok_colour_error=0.031,
                   box_ok_gap=0.114, thin=5.0)
-#: The measures of :mod:`stimuli.extraction.quality` (None for outlines not from photographs).
+#: The measures of :mod:`attneave.stimuli.extraction.quality` (None for outlines not from photographs).
 PHOTO_MEASURES = ("colour_error", "edge_support", "box_contact", "box_gap")
 
 
@@ -161,12 +161,12 @@ def frame_contact(contour, shape):
     Examples
     --------
     >>> import numpy as np
-    >>> from stimuli.geometry.contour import Contour
+    >>> from attneave.stimuli.geometry.contour import Contour
     >>> sq = Contour(np.array([[-0.5, -0.5], [9.5, -0.5], [9.5, 9.5], [-0.5, 9.5]]))
     >>> frame_contact(sq, (100, 100))  # two of its four sides lie on the frame
     0.5
     """
-    from stimuli.extraction.quality import box_contact
+    from attneave.stimuli.extraction.quality import box_contact
 
     h, w = shape[:2]
     return box_contact(contour, (0, 0, w, h))
@@ -198,7 +198,7 @@ def boundary_contrast(image, contour, sigma=1.5, *, field=None):
     Examples
     --------
     >>> import numpy as np
-    >>> from stimuli.geometry.contour import Contour
+    >>> from attneave.stimuli.geometry.contour import Contour
     >>> img = np.zeros((40, 40), np.uint8); img[10:30, 10:30] = 200
     >>> sq = Contour(np.array([[9.5, 9.5], [29.5, 9.5], [29.5, 29.5], [9.5, 29.5]])).resample(spacing=1)
     >>> bool(boundary_contrast(img, sq) > 10)
@@ -221,8 +221,8 @@ def contrast_field(image, sigma=1.5):
     """
     import cv2
 
-    from stimuli.extraction.grabcut import to_bgr8
-    from stimuli.extraction.quality import gradient_magnitude
+    from attneave.stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.quality import gradient_magnitude
 
     lab = cv2.cvtColor(to_bgr8(image), cv2.COLOR_BGR2Lab).astype(np.float32)
     lab = cv2.GaussianBlur(lab, (0, 0), sigma)
@@ -238,9 +238,9 @@ def judge(image, extraction, decoder=(), thresholds=None):
     ----------
     image : ndarray
         The image the outline was extracted from.
-    extraction : stimuli.extraction.Extraction
+    extraction : attneave.stimuli.extraction.Extraction
     decoder : sequence of str
-        The decoder's warnings (:attr:`stimuli.extraction.imageio.ImageFile.warnings`).
+        The decoder's warnings (:attr:`attneave.stimuli.extraction.imageio.ImageFile.warnings`).
     thresholds : dict, optional
         Overrides of :data:`THRESHOLDS`.
 
@@ -349,13 +349,13 @@ def box_verified(params, measures, thresholds=None):
 
 
 def photo_measures(image, extraction):
-    """The measures of :mod:`stimuli.extraction.quality` for an outline found in a photograph.
+    """The measures of :mod:`attneave.stimuli.extraction.quality` for an outline found in a photograph.
 
     Parameters
     ----------
     image : ndarray
         The photo the outline was extracted from.
-    extraction : stimuli.extraction.Extraction
+    extraction : attneave.stimuli.extraction.Extraction
 
     Returns
     -------
@@ -365,7 +365,7 @@ def photo_measures(image, extraction):
         over the contours and their boxes; None without a box). Floats are
         rounded to 4 decimals: they are reported, not computed with.
     """
-    from stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_distance, edge_support
+    from attneave.stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_distance, edge_support
 
     p = extraction.params
     boxes = p.get("boxes") or ([p["box"]] if p.get("box") else [])

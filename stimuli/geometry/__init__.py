@@ -1,7 +1,7 @@
 """Contours and the information they carry: :class:`Contour` (curvature,
 resampling, orientation) and the quantity-of-information model (eq. 4-7)."""
 
-from stimuli._lazy import attach as _attach
+from attneave.stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "Contour": ".contour",

@@ -1,6 +1,6 @@
 """Argument checks of the geometry package's public functions.
 
-One rule per kind of argument, each raising :class:`~stimuli.errors.InputError`
+One rule per kind of argument, each raising :class:`~attneave.stimuli.errors.InputError`
 (a ``ValueError``) whose one-line message names the argument. They run once,
 where a value enters a public function; inner loops take checked values.
 
@@ -13,8 +13,8 @@ import numbers
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.validate import as_int, as_number, check_points  # noqa: F401  (check_points re-exported)
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number, check_points  # noqa: F401  (check_points re-exported)
 
 __all__ = ["check_points", "check_flag", "check_real", "check_int", "check_values", "check_scale", "check_area",
            "count_distinct_upto3", "MAX_COORDINATE", "MIN_EXTENT", "MIN_RELATIVE_EXTENT", "MIN_AREA_RATIO"]
@@ -44,7 +44,7 @@ def check_flag(value, name):
 
 def _scalar(value, name, kind):
     """Refuse what ``float()`` or ``int()`` would take but is no number here: strings, bools,
-    None, arrays, complex values (the conversion and its bounds are :mod:`stimuli.validate`'s)."""
+    None, arrays, complex values (the conversion and its bounds are :mod:`attneave.stimuli.validate`'s)."""
     if isinstance(value, (str, bytes, bool, np.bool_)) or value is None or np.ndim(value) != 0:
         raise InputError(f"{name}: must be {kind}, got {value!r}")
     if np.iscomplexobj(value):
@@ -54,7 +54,7 @@ def _scalar(value, name, kind):
 def check_real(value, name, gt=None, ge=None):
     """One finite real number (not a string, bool or array), optionally bounded below.
 
-    :func:`stimuli.validate.as_number` (its messages), after refusing what
+    :func:`attneave.stimuli.validate.as_number` (its messages), after refusing what
     ``float()`` would take but is no number here (``'1'``, ``True``).
     """
     _scalar(value, name, "a number")
@@ -64,7 +64,7 @@ def check_real(value, name, gt=None, ge=None):
 def check_int(value, name, lo=None, hi=None):
     """One integer (an integral float such as ``10.0`` too; not 3.7, a string, bool or array).
 
-    :func:`stimuli.validate.as_int` (its messages), after the same refusals as :func:`check_real`.
+    :func:`attneave.stimuli.validate.as_int` (its messages), after the same refusals as :func:`check_real`.
     """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         _scalar(value, name, "an integer")

@@ -17,8 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry._checks import (
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry._checks import (
     MAX_COORDINATE,
     MIN_AREA_RATIO,
     MIN_EXTENT,
@@ -31,7 +31,7 @@ from stimuli.geometry._checks import (
     check_values,
     count_distinct_upto3,
 )
-from stimuli.geometry.polyline import (
+from attneave.stimuli.geometry.polyline import (
     bounds,
     edges,
     unchecked_gaussian_curvature,
@@ -514,7 +514,7 @@ class Contour:
             Missing columns, non-numeric or NaN values (naming the line), or
             fewer than 3 distinct points.
         """
-        from stimuli.tables import read_points
+        from attneave.stimuli.tables import read_points
 
         kwargs.setdefault("name", str(path))
         return cls(read_points(path), closed, **kwargs)
@@ -527,6 +527,6 @@ class Contour:
         path : str or path-like
             The CSV file to write.
         """
-        from stimuli.tables import write_table
+        from attneave.stimuli.tables import write_table
 
         write_table({"x": self._points[:, 0], "y": self._points[:, 1]}, path)

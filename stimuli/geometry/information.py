@@ -55,20 +55,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry._checks import (
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry._checks import (
     check_flag,
     check_int,
     check_points,
     check_real,
     check_values,
 )
-from stimuli.geometry.contour import Contour
-from stimuli.geometry.peaks import (  # re-exported: part of this module's API
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.geometry.peaks import (  # re-exported: part of this module's API
     ROUNDOFF,
     find_peaks,
 )
-from stimuli.geometry.polyline import unchecked_turning_angles
+from attneave.stimuli.geometry.polyline import unchecked_turning_angles
 
 __all__ = [
     "surprisal_paper",

@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry._checks import check_flag, check_real, check_values
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry._checks import check_flag, check_real, check_values
 
 __all__ = ["find_peaks", "peaks_and_prominences", "circular_peaks_and_prominences", "ROUNDOFF"]
 
@@ -211,7 +211,7 @@ def find_peaks(u, closed=True, prominence=None, floor=0.0):
         Treat `u` as circular, so a peak can sit at the first point.
     prominence : float, optional
         Minimum prominence (as :func:`scipy.signal.find_peaks` defines it;
-        computed by :mod:`stimuli.geometry.peaks`); default 5%
+        computed by :mod:`attneave.stimuli.geometry.peaks`); default 5%
         of the range of `u`. A constant `u` (a circle) has no peaks.
     floor : float, optional
         Noise floor: a peak's prominence must exceed it, whatever

@@ -2,15 +2,15 @@
 the shoelace area and segment vectors.
 
 Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down).
-:class:`~stimuli.geometry.contour.Contour` is built on these.
+:class:`~attneave.stimuli.geometry.contour.Contour` is built on these.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry._checks import check_flag, check_points, check_real
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry._checks import check_flag, check_points, check_real
 
 __all__ = ["turning_angles", "gaussian_curvature", "shoelace", "edges", "bounds"]
 

@@ -11,7 +11,7 @@ Points are ``(x, y)`` in image pixels (x = column, y = row, y down, pixel
 centres at integer coordinates).
 """
 
-from stimuli._lazy import attach as _attach
+from attneave.stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "KERNEL": ".kernel",

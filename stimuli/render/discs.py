@@ -5,7 +5,7 @@ centres at integer coordinates).
 
 Each circle is cut where it crosses a grid line (and at its four extreme
 points); the polygon through those cuts is rasterised exactly by
-:mod:`stimuli.render.raster`, and each cut arc adds its circular segment
+:mod:`attneave.stimuli.render.raster`, and each cut arc adds its circular segment
 ``R^2/2 (d - sin d)`` to the one pixel that contains it.
 """
 
@@ -15,9 +15,9 @@ import math
 
 import numpy as np
 
-from stimuli.render.raster import accumulate, box_coverage, dense_coverage, ring_stream
-from stimuli.render.rings import resolve_shape
-from stimuli.validate import as_number, as_points
+from attneave.stimuli.render.raster import accumulate, box_coverage, dense_coverage, ring_stream
+from attneave.stimuli.render.rings import resolve_shape
+from attneave.stimuli.validate import as_number, as_points
 
 
 def _disc_terms(centers, radius, h, w):

@@ -13,10 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.io import atomic_write
-from stimuli.render.paint import colours, plain_colour
-from stimuli.render.rings import as_rings, resolve_shape
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.io import atomic_write
+from attneave.stimuli.render.paint import colours, plain_colour
+from attneave.stimuli.render.rings import as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
 # Output

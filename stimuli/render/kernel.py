@@ -3,7 +3,7 @@
 ``coverage_kernel.c`` (plain C99, built at install by ``setup.py`` as an
 optional extension with ``coverage_bands.c``) walks a stream's pieces
 across the pixel cells and deposits their area and cover exactly as
-:func:`stimuli.render.raster.accumulate` does, then takes the column prefix
+:func:`attneave.stimuli.render.raster.accumulate` does, then takes the column prefix
 sum and paints 8-bit pixels in one pass. 8-bit silhouettes
 (:func:`ring_u8`, :func:`stream_u8`) are painted band by band of rows,
 every pixel of the image in one call, so that the working set stays in the
@@ -20,9 +20,9 @@ from pathlib import Path
 
 import numpy as np
 
-from stimuli.compiled import address as _address
-from stimuli.compiled import load_library
-from stimuli.render.workspace import scratch
+from attneave.stimuli.compiled import address as _address
+from attneave.stimuli.compiled import load_library
+from attneave.stimuli.render.workspace import scratch
 
 _HERE = Path(__file__).resolve().parent
 
@@ -62,7 +62,7 @@ def deposit(p, bridge, h, w, box):
     """(dep, area): the pieces of stream `p` deposited over `box`.
 
     `p` is a (2, n) float64 stream (x and y rows shifted by +0.5, see
-    :mod:`stimuli.render.raster`), `bridge` its n - 1 flags or None, `box`
+    :mod:`attneave.stimuli.render.raster`), `bridge` its n - 1 flags or None, `box`
     ``(r0, r1, c0, c1)``. `dep` is the (r1 - r0 + 2, c1 - c0 + 1) float64
     array of deposits (before the column prefix sum), a scratch buffer to
     be used before the next call; `area` is the winding integral over the
@@ -130,7 +130,7 @@ def ring_u8(ring, oriented, img, luts=None):
     level) or a C-contiguous (c, 256) uint8 array of each channel's colour
     per coverage level ``rint(255 * coverage)``. Returns the winding
     integral over the image; with `oriented`, that of the ring turned to a
-    positive shoelace sum (see :func:`stimuli.render.raster.ring_area`).
+    positive shoelace sum (see :func:`attneave.stimuli.render.raster.ring_area`).
     Returns NaN, `img` undefined, unless the ring is plain: finite, at least
     3 distinct points, the first not repeated at the end (the caller then
     takes its validating path), or if memory ran out.
@@ -139,7 +139,7 @@ def ring_u8(ring, oriented, img, luts=None):
 
 
 def stream_u8(p, bridge, img, luts=None):
-    """Paint a stream (see :mod:`stimuli.render.raster`) into `img` as
+    """Paint a stream (see :mod:`attneave.stimuli.render.raster`) into `img` as
     :func:`ring_u8` does; returns the winding integral over the image."""
     x, y = np.ascontiguousarray(p[0], np.float64), np.ascontiguousarray(p[1], np.float64)
     flags = None if bridge is None else np.ascontiguousarray(bridge, np.uint8)  # kept alive

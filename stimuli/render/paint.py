@@ -11,14 +11,14 @@ import math
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.validate import as_number, as_points
-from stimuli.render import kernel, raster
-from stimuli.render.discs import disc_accumulation
-from stimuli.render.raster import (
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_number, as_points
+from attneave.stimuli.render import kernel, raster
+from attneave.stimuli.render.discs import disc_accumulation
+from attneave.stimuli.render.raster import (
     box_coverage, ring_accumulation, ring_area, ring_stream, stream_box, sum_dtype, winding,
 )
-from stimuli.render.rings import MAX_PIXELS, MAX_SIDE, as_rings, resolve_shape
+from attneave.stimuli.render.rings import MAX_PIXELS, MAX_SIDE, as_rings, resolve_shape
 
 # ---------------------------------------------------------------------------
 # Images
@@ -253,7 +253,7 @@ def render_silhouette(
     size : int or (int, int), optional
         Image ``(width, height)`` (an int for a square), sides up to
         ``MAX_SIDE`` (2**20) px and at most ``MAX_PIXELS`` (2**30) pixels
-        (:mod:`stimuli.render.rings`). Give this or `shape`.
+        (:mod:`attneave.stimuli.render.rings`). Give this or `shape`.
     shape : (int, int), optional
         Image ``(height, width)``, the numpy way round.
     figure, ground : float or (float, float, float), optional

@@ -27,7 +27,7 @@ shapes that touch or cross the border are clipped exactly. The only error is
 floating point (about 1e-13 px^2 per pixel); values within 1e-10 of 0 or 1
 are snapped so that figure and ground colours come out exactly.
 
-Discs (:mod:`stimuli.render.discs`) are exact too: the circle is cut where
+Discs (:mod:`attneave.stimuli.render.discs`) are exact too: the circle is cut where
 it crosses grid lines, the polygon through those points is accumulated as
 above, and each cut arc adds its circular segment ``R^2/2 (d - sin d)`` to
 the one pixel that contains it (the `extra` deposits of :func:`accumulate`).
@@ -37,7 +37,7 @@ The numpy path integrates 8-bit images of at least 65536 pixels in float32
 temporaries live in per-thread scratch buffers (:mod:`.workspace`).
 
 Speed. The deposits and the 8-bit painting also exist in C (:mod:`.kernel`,
-float64 throughout; ``stimuli.render.KERNEL`` says which path runs): the
+float64 throughout; ``attneave.stimuli.render.KERNEL`` says which path runs): the
 numpy functions are the reference and the fallback, held to 1e-12 by a test.
 8-bit silhouettes are painted band by band of rows (``coverage_bands.c``),
 one plain float64 ring in one ctypes call. ``bench_render.py --n 1000``
@@ -60,11 +60,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.geometry.polyline import shoelace
-from stimuli.render import kernel
-from stimuli.render.kernel import LIB
-from stimuli.render.rings import as_rings, check_alternating, orient_rings, resolve_shape
-from stimuli.render.workspace import ramp, scratch
+from attneave.stimuli.geometry.polyline import shoelace
+from attneave.stimuli.render import kernel
+from attneave.stimuli.render.kernel import LIB
+from attneave.stimuli.render.rings import as_rings, check_alternating, orient_rings, resolve_shape
+from attneave.stimuli.render.workspace import ramp, scratch
 
 # Coverage within this of 0 or 1 is round-off and is snapped (px^2).
 _SNAP = 1e-10
@@ -487,7 +487,7 @@ def coverage(rings, shape, orient=True):
     InputError
         Non-finite coordinates, a ring with fewer than 3 distinct points,
         rings that cross each other, or a bad shape (see
-        :func:`stimuli.render.rings.resolve_shape` for the size limits).
+        :func:`attneave.stimuli.render.rings.resolve_shape` for the size limits).
 
     References
     ----------

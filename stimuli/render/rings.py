@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry.polyline import shoelace
-from stimuli.validate import as_points
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.polyline import shoelace
+from attneave.stimuli.validate import as_points
 
 #: Largest image side in pixels, and largest number of pixels, that is
 #: rendered: OpenCV's limits for image files (``CV_IO_MAX_IMAGE_WIDTH``,

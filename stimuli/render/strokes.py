@@ -11,11 +11,11 @@ import math
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.validate import as_number, as_points
-from stimuli.render.paint import colours, paint_image, resolve_dtype, result_record
-from stimuli.render.raster import ring_accumulation, sum_dtype
-from stimuli.render.rings import is_single_ring, resolve_shape, rings_from_geometry
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_number, as_points
+from attneave.stimuli.render.paint import colours, paint_image, resolve_dtype, result_record
+from attneave.stimuli.render.raster import ring_accumulation, sum_dtype
+from attneave.stimuli.render.rings import is_single_ring, resolve_shape, rings_from_geometry
 
 # Largest departure of shapely's polygonised round joins/caps from the arc.
 _ARC_TOLERANCE = 1e-3

@@ -6,11 +6,11 @@ Modules: ``generators`` (and ``attneave``, the Attneave & Arnoult polygons),
 ``deformations``, ``guided`` (and ``selection``, its ranking of places).
 Generators take `rng`, a `numpy.random.Generator` or an integer seed, and
 return ``(contour, params)``. Points are ``(x, y)`` (x = column, y = row,
-y down). Names below are imported on first use, so ``import stimuli.shapes``
+y down). Names below are imported on first use, so ``import attneave.stimuli.shapes``
 is cheap.
 """
 
-from stimuli._lazy import attach as _attach
+from attneave.stimuli._lazy import attach as _attach
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "attneave_polygon": ".attneave",

@@ -1,4 +1,4 @@
-"""Size limits shared by the shape generators (see :mod:`stimuli.shapes.generators`)."""
+"""Size limits shared by the shape generators (see :mod:`attneave.stimuli.shapes.generators`)."""
 
 #: Most points a generator makes (``n``; vertices times samples per edge for
 #: the smoothed polygons): the bound of the ``attneave surprisal`` command,

@@ -4,7 +4,7 @@ curved versions.
 Coordinates are ``(x, y)`` with y pointing DOWN, in grid cells around the
 polygon's own centre (``params["centre"]``); every generator takes its
 randomness from `rng`, a `numpy.random.Generator` or an integer seed, and
-returns ``(contour, params)`` (see :mod:`stimuli.shapes.generators`).
+returns ``(contour, params)`` (see :mod:`attneave.stimuli.shapes.generators`).
 
 References
 ----------
@@ -16,10 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry.contour import Contour
-from stimuli.shapes._limits import MAX_GRID, MAX_POINTS
-from stimuli.validate import as_int, as_number, as_points, as_rng
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.shapes._limits import MAX_GRID, MAX_POINTS
+from attneave.stimuli.validate import as_int, as_number, as_points, as_rng
 
 __all__ = ["attneave_polygon", "attneave_curved", "smooth_closed", "SMOOTH_METHODS"]
 
@@ -319,7 +319,7 @@ def smooth_closed(points, method="cubic", samples_per_edge=32):
         of each four consecutive vertices and so rounds the corners without
         passing through them (what Chaikin's corner cutting converges to, one
         degree higher). ``'qic'``: the project's robust QIC spline
-        (:func:`stimuli.curves.qic.qic_spline`): clothoid segments, G2
+        (:func:`attneave.stimuli.curves.qic.spline.qic_spline`): clothoid segments, G2
         except at the few vertices where that would loop or swing out.
     samples_per_edge : int
         Points per polygon side in the output (>= 2; ``N * samples_per_edge``
@@ -389,7 +389,7 @@ _QIC_STEPS = ((None, None), (0.5 * np.pi, 0.125 * np.pi), (0.5 * np.pi, 0.0))
 
 
 def _qic(p, m):
-    from stimuli.curves.qic import ConvergenceError, qic_spline
+    from attneave.stimuli.curves.qic.spline import ConvergenceError, qic_spline
 
     for corner_turn, deviation in _QIC_STEPS:
         try:

@@ -70,9 +70,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from stimuli.geometry.contour import Contour
-from stimuli.errors import InputError
-from stimuli.validate import as_int, as_number, as_rng
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number, as_rng
 
 __all__ = [
     "Deformation",

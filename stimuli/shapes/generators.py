@@ -2,7 +2,7 @@
 
 Every generator takes its randomness from `rng`: a `numpy.random.Generator`
 (used as it is) or a non-negative integer seed (``numpy.random.default_rng(seed)``);
-None and other objects are refused (:func:`stimuli.validate.as_rng`). Each returns ``(contour, params)``: a closed, simple `Contour` and a dict of
+None and other objects are refused (:func:`attneave.stimuli.validate.as_rng`). Each returns ``(contour, params)``: a closed, simple `Contour` and a dict of
 every resolved parameter (JSON-serialisable), as stimupy returns its
 parameters with its images.
 
@@ -11,7 +11,7 @@ but in the generator's own units and around its own centre
 (``params["centre"]``): grid cells for the Attneave polygons, pixels of
 radius for the polar shapes (which are centred on ``(0, 0)``). Polar angles
 run counter-clockwise *as seen on the screen*: a polar point is
-``(r cos(theta), -r sin(theta))``. :mod:`stimuli.batch.recipes` places a shape on an
+``(r cos(theta), -r sin(theta))``. :mod:`attneave.stimuli.batch.recipes` places a shape on an
 image canvas.
 
 Simplicity: every contour is checked with `Contour.is_simple`. Polar shapes
@@ -35,11 +35,11 @@ import math
 
 import numpy as np
 
-from stimuli.geometry.contour import Contour
-from stimuli.errors import InputError
-from stimuli.validate import as_int, as_number, as_rng
-from stimuli.shapes._limits import MAX_POINTS, MAX_TERMS
-from stimuli.shapes.attneave import SMOOTH_METHODS, attneave_curved, attneave_polygon, smooth_closed
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number, as_rng
+from attneave.stimuli.shapes._limits import MAX_POINTS, MAX_TERMS
+from attneave.stimuli.shapes.attneave import SMOOTH_METHODS, attneave_curved, attneave_polygon, smooth_closed
 
 __all__ = [
     "attneave_polygon",
@@ -106,7 +106,7 @@ def check_sampling(n, cycles, what, param):
     >>> check_sampling(16, 8, "radial frequency 8", "frequency")
     Traceback (most recent call last):
     ...
-    stimuli.errors.InputError: n: 16 points alias radial frequency 8 (at least 4 points per cycle are needed, n >= 32); raise n or lower frequency
+    attneave.stimuli.errors.InputError: n: 16 points alias radial frequency 8 (at least 4 points per cycle are needed, n >= 32); raise n or lower frequency
     """
     need = 4.0 * float(cycles)
     if n < need:

@@ -49,12 +49,12 @@ import math
 
 import numpy as np
 
-from stimuli.geometry.contour import Contour
-from stimuli.errors import InputError
-from stimuli.geometry.information import surprisal
-from stimuli.shapes._limits import MAX_POINTS
-from stimuli.validate import as_int, as_number
-from stimuli.shapes.selection import rank_by_prominence, rank_candidates, select_separated
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.information import surprisal
+from attneave.stimuli.shapes._limits import MAX_POINTS
+from attneave.stimuli.validate import as_int, as_number
+from attneave.stimuli.shapes.selection import rank_by_prominence, rank_candidates, select_separated
 
 __all__ = [
     "information",
@@ -272,7 +272,7 @@ def _extremum_prominence(res, prominence):
     # u grows with the square of the turn, so a 5%-of-range threshold keeps only the
     # sharpest corners; Attneave's points are every curvature extremum, ranked. Never below
     # resampling noise: a circle has no extrema (its ripple of 1e-10 gave 64)
-    from stimuli.geometry.information import noise_prominence
+    from attneave.stimuli.geometry.information import noise_prominence
 
     own = 1e-3 * float(np.ptp(res.surprisal)) if prominence is None else prominence
     return max(own, noise_prominence(res.params))

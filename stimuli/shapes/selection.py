@@ -1,6 +1,6 @@
 """Ranking and choosing places on a contour by their surprisal.
 
-The building blocks of :mod:`stimuli.shapes.guided`: rank the equally spaced
+The building blocks of :mod:`attneave.stimuli.shapes.guided`: rank the equally spaced
 samples of a closed contour as candidate centres (by value, with ties broken
 by a window mean, or by prominence), then take the best ones that keep a
 given arc distance from each other (greedy non-maximum suppression),
@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from stimuli.errors import InputError
-from stimuli.geometry.information import find_peaks
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.information import find_peaks
 
 __all__ = ["rank_candidates", "rank_by_prominence", "select_separated", "quantise"]
 

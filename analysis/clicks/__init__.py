@@ -1,0 +1,13 @@
+"""Click files in, clicks on contours out.
+
+``read``
+    Reading one click file and converting its coordinates to image pixels.
+``dialects``
+    The CSV dialects labs' tools write: separators, decimal commas, bad rows.
+``files``
+    Several click files (one per participant) read as one table.
+``exclusions``
+    Which stimulus a click belongs to, and which clicks were left out, why.
+``mapping``
+    Predictions per stimulus and the nearest contour point of every click.
+"""

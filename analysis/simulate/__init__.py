@@ -1,0 +1,1 @@
+"""Simulated observers and power analysis (``observers``)."""

@@ -1,0 +1,7 @@
+"""``python -m attneave`` runs the command line."""
+
+import sys
+
+from attneave.cli import main
+
+sys.exit(main())
