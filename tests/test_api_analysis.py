@@ -4,7 +4,6 @@ the parameter (never a numpy/OpenCV exception, never silently ignored or a silen
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 import pytest
 
 from attneave.stimuli.errors import InputError

@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from attneave.cli import main as cli
+from attneave.stimuli.batch.config import load_config
 from attneave.stimuli.batch.job import plan_jobs, run_job
 from attneave.stimuli.batch.runner import run_batch
-from attneave.stimuli.batch.config import load_config
 from attneave.stimuli.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -11,9 +11,9 @@ import json
 import numpy as np
 import pytest
 
+from attneave.analysis.clicks.mapping import predict
 from attneave.analysis.models.choice import fit_beta, fit_choice, standardize
 from attneave.analysis.models.effect import beta_for_top_share, expected_top_share, resolve_effect, top_weights
-from attneave.analysis.clicks.mapping import predict
 from attneave.analysis.models.mixed import CumulantTable, fit_mixed
 from attneave.analysis.models.predictors import RIVALS, extremum_proximity
 from attneave.stimuli import Contour

@@ -6,10 +6,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from attneave.analysis.clicks.read import from_image_coords, parse_columns, parse_coordinates, read_clicks, to_image_coords
 from attneave.analysis.clicks.mapping import map_clicks, predict
-from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
+from attneave.analysis.clicks.read import (
+    from_image_coords,
+    parse_columns,
+    parse_coordinates,
+    read_clicks,
+    to_image_coords,
+)
 from attneave.stimuli import InputError
+from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
 
 # ------------------------------------------------------------- coordinates

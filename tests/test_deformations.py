@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from attneave.stimuli import Contour, InputError
+from attneave.stimuli.batch import recipes
 from attneave.stimuli.shapes import deformations as dm
 from attneave.stimuli.shapes import generators as g
-from attneave.stimuli.batch import recipes
 
 
 def rng(seed=0):

@@ -17,7 +17,6 @@ import numpy as np
 import pytest
 
 
-
 def _modules():
     # the libraries are mapped into the namespace from their own folders, so each
     # is walked from its own __path__ (an editable install's finder is not a folder)

@@ -10,59 +10,13 @@ import subprocess
 import numpy as np
 import pandas as pd
 import pytest
+from helpers import W
 
-from attneave.cli import main
 from attneave.analysis.experiment import calibration, order
 from attneave.analysis.experiment.options import ExperimentOptions, load_options
-from attneave.stimuli.stimulus_set import write_stimulus_set
+from attneave.cli import main
 from attneave.stimuli.errors import InputError
 
-W, H = 160, 120
-GROUND = 128
-
-# three items in two conditions (peaks / troughs fragments of one base shape), and a filler
-ITEMS = ("a", "b", "c")
-
-
-def _polygon(k, cx=80.0, cy=60.0):
-    """A star-like polygon with 2k vertices, well inside the W x H canvas (x, y image px, y down)."""
-    a = np.linspace(0, 2 * np.pi, 2 * k, endpoint=False)
-    r = np.where(np.arange(2 * k) % 2 == 0, 44.0, 28.0)
-    return np.c_[cx + r * np.cos(a), cy + 0.9 * r * np.sin(a)]
-
-
-def make_set(directory):
-    """A small stimulus set with images, conditions and parents; returns {id: vertices}."""
-    import cv2
-
-    shapes, conditions, parents = {}, {}, {}
-    for i, item in enumerate(ITEMS):
-        for j, cond in enumerate(("peaks", "troughs")):
-            sid = f"{item}_{cond}"
-            shapes[sid] = _polygon(4 + i + j)
-            conditions[sid], parents[sid] = cond, item
-    shapes["filler"] = _polygon(3)
-    conditions["filler"], parents["filler"] = "filler", ""
-    write_stimulus_set(directory, shapes, size=(W, H), condition=conditions)
-    m = pd.read_csv(directory / "manifest.csv", dtype=str, keep_default_na=False)
-    m["parent_id"] = [parents[s] for s in m["stimulus_id"]]
-    m.to_csv(directory / "manifest.csv", index=False)
-    (directory / "images").mkdir(exist_ok=True)
-    for sid, pts in shapes.items():
-        img = np.full((H, W), GROUND, np.uint8)
-        cv2.fillPoly(img, [np.round(pts * 16).astype(np.int32)], 0, lineType=cv2.LINE_AA, shift=4)
-        cv2.imwrite(str(directory / "images" / f"{sid}.png"), img)
-    return shapes
-
-
-@pytest.fixture(scope="module")
-def stimset(tmp_path_factory):
-    d = tmp_path_factory.mktemp("set")
-    make_set(d)
-    return d
-
-
-# ------------------------------------------------------------------ calibration
 
 def test_57_cm_gives_one_cm_per_degree():
     d_mm = 5.0 / math.tan(math.radians(0.5))  # 57.29 cm

@@ -6,181 +6,43 @@ Needs Debian's ``chromium`` and the Python ``playwright`` package (no
 """
 
 import json
-import os
-import shutil
 import urllib.parse
 
-import numpy as np
 import pandas as pd
 import pytest
+from helpers import (
+    PX_PER_DEG,
+    SIZE_DEG,
+    H,
+    W,
+    analyze_clicks,
+    check_click_mapping,
+    client_xy,
+    do_all_trials,
+    do_one_trial,
+    download_csv,
+    expected_stimulus_order,
+    page_url,
+    target_points,
+)
 
-from attneave.cli import main
 from attneave.analysis.experiment import calibration, order
-from test_experiment import H, W, make_set
-
-CHROMIUM = "/usr/bin/chromium"
-ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-PX_PER_DEG = 40.0
-SIZE_DEG = 6.0  # the 160-px side is 240 CSS px: 1.5 CSS px per image px
-
-
-def _missing():
-    try:
-        import playwright.sync_api  # noqa: F401
-    except ImportError:
-        return "the playwright package is not installed (pip install playwright)"
-    if not (os.path.exists(CHROMIUM) or shutil.which("chromium")):
-        return f"{CHROMIUM} is not installed (apt-get install chromium)"
-    return None
-
-
-def _with_timeout(make):
-    def wrapped(*args, **kwargs):
-        obj = make(*args, **kwargs)
-        obj.set_default_timeout(20000)
-        return obj
-    return wrapped
-
-
-@pytest.fixture(scope="module")
-def browser():
-    why = _missing()
-    if why:
-        if os.environ.get("ATTNEAVE_REQUIRE_BROWSER") == "1":
-            pytest.fail(f"ATTNEAVE_REQUIRE_BROWSER=1 but {why}")
-        pytest.skip(why)
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        exe = CHROMIUM if os.path.exists(CHROMIUM) else shutil.which("chromium")
-        b = p.chromium.launch(executable_path=exe, args=ARGS)
-        # the page answers in milliseconds: a wait of seconds means a bug, not a slow machine
-        b.new_context = _with_timeout(b.new_context)
-        b.new_page = _with_timeout(b.new_page)
-        yield b
-        b.close()
-
-
-@pytest.fixture(scope="module")
-def setup(tmp_path_factory):
-    """A set of 7 stimuli (3 items x peaks/troughs + a filler) and its experiment, 2 lists, 3 clicks each."""
-    root = tmp_path_factory.mktemp("browser")
-    shapes = make_set(root / "set")
-    exp = root / "exp"
-    assert main(["experiment", str(root / "set"), "-o", str(exp), "--lists", "2", "--clicks", "3",
-                 "--px-per-deg", str(PX_PER_DEG), "--size-deg", str(SIZE_DEG), "--fixation-ms", "50",
-                 "--iti-ms", "0", "--break-every", "2", "--seed", "test"]) == 0
-    # the same without a fixed scale: the page calibrates (card) or takes ?px_per_mm=
-    cal = root / "exp_cal"
-    assert main(["experiment", str(root / "set"), "-o", str(cal), "--lists", "2", "--clicks", "3",
-                 "--size-deg", str(SIZE_DEG), "--fixation-ms", "0", "--iti-ms", "0", "--seed", "test"]) == 0
-    return dict(root=root, set=root / "set", exp=exp, cal=cal, shapes=shapes)
-
-
-def _url(exp, **query):
-    return (exp / "index.html").as_uri() + ("?" + urllib.parse.urlencode(query) if query else "")
-
-
-def _targets(shapes, sid):
-    """Three vertices of the stimulus's polygon: the points the participant means to select."""
-    v = shapes[sid]
-    return [tuple(v[k]) for k in (0, len(v) // 3, 2 * len(v) // 3)]
-
-
-def _client(page, p):
-    """Client (CSS px) coordinates of image pixel p on the current #stimulus."""
-    r = page.evaluate("""() => { const e = document.getElementById('stimulus'); const b = e.getBoundingClientRect();
-                      return [b.left, b.top, b.width, b.height, e.naturalWidth, e.naturalHeight]; }""")
-    left, top, w, h, nw, nh = r
-    return left + (p[0] + 0.5) * w / nw, top + (p[1] + 0.5) * h / nh, w, h
-
-
-def _run(page, shapes, tap=False, wrong_first=False):
-    """Do every trial: click (or tap) the three targets; returns [(stimulus_id, targets)] in shown order."""
-    shown = []
-    while True:
-        state = page.wait_for_function("""() => document.getElementById('download') ? 'end'
-            : document.querySelector('#screen:not([hidden])[data-screen=break]') ? 'break'
-            : document.querySelector('#frame:not([hidden]) #stimulus[data-stimulus-id]') ? 'trial' : null""").json_value()
-        if state == "end":
-            return shown
-        if state == "break":
-            page.click("#next")
-            continue
-        sid = page.get_attribute("#stimulus", "data-stimulus-id")
-        targets = _targets(shapes, sid)
-        assert page.is_disabled("#next")
-        if wrong_first and not shown:
-            x, y, _, _ = _client(page, (5.0, 5.0))  # a slip: undone with Backspace
-            page.mouse.click(x, y)
-            page.keyboard.press("Backspace")
-        for p in targets:
-            x, y, w, h = _client(page, p)
-            if tap:
-                page.touchscreen.tap(x, y)
-            else:
-                page.mouse.click(x, y)
-        assert not page.is_disabled("#next")
-        shown.append((sid, targets, w, h))
-        if len(shown) % 2:
-            page.keyboard.press("Space")  # the keyboard contract: space = next
-        else:
-            page.click("#next")
-        page.wait_for_function(f"() => document.getElementById('stimulus').getAttribute('data-stimulus-id') !== "
-                               f"{json.dumps(sid)} || document.getElementById('download')")
-
-
-def _csv(page, path):
-    href = page.get_attribute("#download", "href")
-    assert href.startswith("data:text/csv")
-    text = urllib.parse.unquote(href.split(",", 1)[1])
-    path.write_text(text, encoding="utf-8")
-    return text
-
-
-def _analyze(clicks, stimset, out):
-    assert main(["analyze", str(clicks), "--stimuli", str(stimset), "-o", str(out), "--no-figures",
-                 "--permutations", "20", "--group-simulations", "0", "-n", "64"]) == 0
-    return pd.read_csv(out / "clicks.csv", keep_default_na=False), json.loads((out / "summary.json").read_text())
-
-
-def _expected_order(setup, participant, lst):
-    mine = [s for s in json.loads(_page_config(setup["exp"]))["stimuli"] if lst in s["lists"]]
-    return order.trial_order(participant, [s["id"] for s in mine], [s["condition"] for s in mine], "random", "test")
-
-
-def _page_config(exp):
-    html = (exp / "index.html").read_text()
-    start = html.index('id="attneave-config">') + len('id="attneave-config">')
-    return html[start:html.index("</script>", start)]
-
-
-def _check_mapping(mapped, shown, participant):
-    mine = mapped[mapped.participant == participant]
-    assert len(mine) == 3 * len(shown)
-    assert (mine.excluded.astype(str) == "False").all() and (mine.reason == "").all()
-    for sid, targets, _, _ in shown:
-        rows = mine[mine.stimulus_id == sid].sort_values("click")
-        got = rows[["x_image", "y_image"]].to_numpy(float)
-        err = np.hypot(*(got - np.array(targets)).T)
-        assert err.max() < 0.5, (sid, got, targets)      # the intended contour point, in image pixels
-        assert rows.distance.astype(float).max() < 0.5   # and on the contour
+from attneave.cli import main
 
 
 def test_desktop_clicks_become_image_pixels_and_analyze_reads_them(browser, setup, tmp_path):
     participant = 'P,01 "x"'   # a comma and quotes: the CSV must quote them
     page = browser.new_page(viewport={"width": 1280, "height": 800})
-    page.goto(_url(setup["exp"], participant=participant))
+    page.goto(page_url(setup["exp"], participant=participant))
     assert page.get_attribute("#screen", "data-screen") == "instructions"  # px_per_deg fixed: no calibration
     page.click("#next")
-    shown = _run(page, setup["shapes"], wrong_first=True)
+    shown = do_all_trials(page, setup["shapes"], wrong_first=True)
     rows = page.evaluate("window.attneaveData")
-    text = _csv(page, tmp_path / "clicks.csv")
+    text = download_csv(page, tmp_path / "clicks.csv")
     page.close()
 
     lst = order.participant_list(participant, 2, "test")
-    assert [s for s, *_ in shown] == _expected_order(setup, participant, lst)  # Python predicts the JS order
+    assert [s for s, *_ in shown] == expected_stimulus_order(setup, participant, lst)  # Python predicts the JS order
     # CSS size != image size: 160 x 120 px shown at 240 x 180 CSS px
     assert all(abs(w - W * SIZE_DEG * PX_PER_DEG / W) < 0.1 and abs(h - H * 1.5) < 0.1 for _, _, w, h in shown)
     assert len(rows) == 3 * len(shown) == 12
@@ -192,16 +54,16 @@ def test_desktop_clicks_become_image_pixels_and_analyze_reads_them(browser, setu
     assert df.click.astype(int).tolist() == [1, 2, 3] * 4
     assert (df.rt_ms.astype(float) > 0).all() and df.px_per_deg.astype(float).eq(PX_PER_DEG).all()
 
-    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    mapped, summary = analyze_clicks(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0 and summary["n_clicks"] == 12
-    _check_mapping(mapped, shown, participant)
+    check_click_mapping(mapped, shown, participant)
 
 
 def test_phone_touch_with_card_calibration(browser, setup, tmp_path):
     ctx = browser.new_context(viewport={"width": 390, "height": 844}, has_touch=True, is_mobile=True,
                               device_scale_factor=3)
     page = ctx.new_page()
-    page.goto(_url(setup["cal"], list=2, distance_cm=40))
+    page.goto(page_url(setup["cal"], list=2, distance_cm=40))
     # no ?participant=: a screen asks for it
     assert page.get_attribute("#screen", "data-screen") == "participant"
     assert page.is_disabled("#next")
@@ -212,8 +74,8 @@ def test_phone_touch_with_card_calibration(browser, setup, tmp_path):
     assert page.evaluate("document.getElementById('card').getBoundingClientRect().width") == 400
     page.tap("#next")
     page.tap("#next")                           # instructions
-    shown = _run(page, setup["shapes"], tap=True)
-    _csv(page, tmp_path / "clicks.csv")
+    shown = do_all_trials(page, setup["shapes"], tap=True)
+    download_csv(page, tmp_path / "clicks.csv")
     ctx.close()
 
     df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
@@ -224,16 +86,16 @@ def test_phone_touch_with_card_calibration(browser, setup, tmp_path):
     assert df.px_per_deg.astype(float).to_numpy() == pytest.approx(ppd, abs=1e-4)
     # the 160-px side is SIZE_DEG degrees wide on the phone too
     assert df.shown_w.astype(float).to_numpy() == pytest.approx(SIZE_DEG * ppd, rel=1e-3)
-    assert [s for s, *_ in shown] == _expected_order(setup, "phone-1", 2)
-    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    assert [s for s, *_ in shown] == expected_stimulus_order(setup, "phone-1", 2)
+    mapped, summary = analyze_clicks(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0
-    _check_mapping(mapped, shown, "phone-1")
+    check_click_mapping(mapped, shown, "phone-1")
 
 
 @pytest.mark.parametrize("ppm, distance_cm", [(4.0, 60.0), (2.5, 80.0)])
 def test_stimulus_measures_its_size_in_degrees(browser, setup, ppm, distance_cm):
     page = browser.new_page(viewport={"width": 1280, "height": 800})
-    page.goto(_url(setup["cal"], participant="size", px_per_mm=ppm, distance_cm=distance_cm))
+    page.goto(page_url(setup["cal"], participant="size", px_per_mm=ppm, distance_cm=distance_cm))
     page.click("#next")                         # ?px_per_mm= skips the calibration
     page.wait_for_selector("#stimulus[data-stimulus-id]:visible")
     width = page.evaluate("document.getElementById('stimulus').getBoundingClientRect().width")
@@ -272,16 +134,16 @@ def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setu
         page.wait_for_selector("#frame:not([hidden]) #stimulus[data-stimulus-id]")
         sid = page.get_attribute("#stimulus", "data-stimulus-id")
         seen.append(sid)
-        t = _targets(shapes, sid)
-        page.mouse.click(*_client(page, t[0])[:2])
+        t = target_points(shapes, sid)
+        page.mouse.click(*client_xy(page, t[0])[:2])
         assert page.is_disabled("#next")                     # min_clicks = 2
-        page.mouse.click(*_client(page, (2.0, 2.0))[:2])      # a slip ...
+        page.mouse.click(*client_xy(page, (2.0, 2.0))[:2])      # a slip ...
         page.click("#undo")                                   # ... undone with the button
-        page.mouse.click(*_client(page, (3.0, 3.0))[:2])      # another ...
+        page.mouse.click(*client_xy(page, (3.0, 3.0))[:2])      # another ...
         page.keyboard.press("z")                              # ... undone with Z
-        page.mouse.click(*_client(page, t[1])[:2])
-        page.mouse.click(*_client(page, t[2])[:2])
-        page.mouse.click(*_client(page, (4.0, 4.0))[:2])      # a 4th click: ignored (max_clicks = 3)
+        page.mouse.click(*client_xy(page, t[1])[:2])
+        page.mouse.click(*client_xy(page, t[2])[:2])
+        page.mouse.click(*client_xy(page, (4.0, 4.0))[:2])      # a 4th click: ignored (max_clicks = 3)
         page.click("#next")
         if len(seen) == 1:
             page.wait_for_selector("#screen:not([hidden])[data-screen=practice-end]")
@@ -298,9 +160,9 @@ def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setu
     assert len(practice) == 3 and {r["stimulus_id"] for r in practice} == {"a_peaks"}
     assert [r["stimulus_id"] for r in data] == [s for s in seen[1:] for _ in range(3)]  # practice not in the data
     (tmp_path / "clicks.csv").write_text(body["csv"])
-    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    mapped, summary = analyze_clicks(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0
-    _check_mapping(mapped, [(s, _targets(shapes, s), 0, 0) for s in seen[1:]], "web-1")
+    check_click_mapping(mapped, [(s, target_points(shapes, s), 0, 0) for s in seen[1:]], "web-1")
 
 
 @pytest.mark.parametrize("query, message", [
@@ -309,22 +171,11 @@ def test_static_host_submit_with_retry_done_mode_practice_and_undo(browser, setu
 ])
 def test_bad_url_parameters_stop_with_a_message(browser, setup, query, message):
     page = browser.new_page()
-    page.goto(_url(setup["cal"], **query))
+    page.goto(page_url(setup["cal"], **query))
     assert page.get_attribute("#screen", "data-screen") == "error"
     assert message in page.inner_text("#screen")
     assert page.is_hidden("#next")
     page.close()
-
-
-def _one_trial(page, shapes):
-    """Click the three targets of the trial shown and press Next; returns its stimulus id."""
-    page.wait_for_selector("#frame:not([hidden]) #stimulus[data-stimulus-id]")
-    sid = page.get_attribute("#stimulus", "data-stimulus-id")
-    for p in _targets(shapes, sid):
-        x, y, _, _ = _client(page, p)
-        page.mouse.click(x, y)
-    page.click("#next")
-    return sid
 
 
 def test_a_reload_resumes_where_the_participant_was_and_keeps_every_click(browser, setup, tmp_path):
@@ -336,9 +187,9 @@ def test_a_reload_resumes_where_the_participant_was_and_keeps_every_click(browse
     page = context.new_page()
     asked = []
     page.on("dialog", lambda d: (asked.append(d.type), d.accept()))
-    page.goto(_url(setup["exp"], participant=participant))
+    page.goto(page_url(setup["exp"], participant=participant))
     page.click("#next")  # instructions
-    first = [_one_trial(page, setup["shapes"]) for _ in range(2)]
+    first = [do_one_trial(page, setup["shapes"]) for _ in range(2)]
     page.wait_for_selector("#screen:not([hidden])[data-screen=break]")
     before = page.evaluate("window.attneaveData")
     page.reload()
@@ -346,10 +197,10 @@ def test_a_reload_resumes_where_the_participant_was_and_keeps_every_click(browse
     page.wait_for_selector("#screen:not([hidden])[data-screen=resume]")
     assert "2 of 4" in page.inner_text("#screen")
     page.click("#next")
-    rest = _run(page, setup["shapes"])
-    text = _csv(page, tmp_path / "clicks.csv")
+    rest = do_all_trials(page, setup["shapes"])
+    text = download_csv(page, tmp_path / "clicks.csv")
     lst = order.participant_list(participant, 2, "test")
-    assert first + [s for s, *_ in rest] == _expected_order(setup, participant, lst)
+    assert first + [s for s, *_ in rest] == expected_stimulus_order(setup, participant, lst)
     rows = page.evaluate("window.attneaveData")
     assert rows[:6] == before and len(rows) == 12
     df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
@@ -359,12 +210,12 @@ def test_a_reload_resumes_where_the_participant_was_and_keeps_every_click(browse
     # finished: opening the page again shows the end with the same file, and asks nothing on leaving
     page.reload()
     page.wait_for_selector("#download")
-    assert _csv(page, tmp_path / "again.csv") == text and asked == ["beforeunload"]
+    assert download_csv(page, tmp_path / "again.csv") == text and asked == ["beforeunload"]
     # ?fresh=1 starts again; another participant in the same browser never sees R01's progress
-    page.goto(_url(setup["exp"], participant=participant, fresh=1))
+    page.goto(page_url(setup["exp"], participant=participant, fresh=1))
     assert page.get_attribute("#screen", "data-screen") == "instructions"
-    page.goto(_url(setup["exp"], participant="R02"))
+    page.goto(page_url(setup["exp"], participant="R02"))
     assert page.get_attribute("#screen", "data-screen") == "instructions"
     context.close()
-    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    mapped, summary = analyze_clicks(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0 and summary["n_clicks"] == 12

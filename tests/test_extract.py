@@ -22,7 +22,6 @@ import pytest
 import scipy.signal
 from scipy.spatial import cKDTree
 
-from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.extraction import (
     contour_curvature,
@@ -33,6 +32,7 @@ from attneave.stimuli.extraction import (
     extract_contours,
     read_image,
 )
+from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.render import coverage, render_silhouette, write_png
 
 N = 512

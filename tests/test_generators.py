@@ -8,8 +8,8 @@ from pydantic import ValidationError
 from scipy.spatial import ConvexHull
 
 from attneave.stimuli import Contour, InputError
-from attneave.stimuli.shapes import generators as g
 from attneave.stimuli.batch import recipes
+from attneave.stimuli.shapes import generators as g
 
 
 def rng(seed=0):

@@ -13,10 +13,10 @@ import pytest
 import scipy.signal
 
 from attneave.stimuli import Contour, InputError
-from attneave.stimuli.shapes import generators as g
-from attneave.stimuli.shapes import guided
 from attneave.stimuli.batch import recipes
 from attneave.stimuli.geometry.information import find_peaks, surprisal
+from attneave.stimuli.shapes import generators as g
+from attneave.stimuli.shapes import guided
 
 
 def rng(seed=0):

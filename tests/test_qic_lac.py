@@ -12,8 +12,8 @@ from scipy.spatial import cKDTree
 
 from attneave.stimuli.curves.metrics import interior_extrema, segment_slices
 from attneave.stimuli.curves.points import bisector_tangents
-from attneave.stimuli.curves.qic.spline import qic_spline
 from attneave.stimuli.curves.qic.lac import log_aesthetic_form
+from attneave.stimuli.curves.qic.spline import qic_spline
 from attneave.stimuli.geometry.contour import Contour
 
 

@@ -10,8 +10,8 @@ from scipy.spatial import cKDTree
 from attneave.stimuli.curves.metrics import interior_extrema, segment_slices, segment_turning, self_intersections
 from attneave.stimuli.curves.points import bisector_tangents
 from attneave.stimuli.curves.polynomial import polynomial_spline
-from attneave.stimuli.curves.qic.spline import qic_spline
 from attneave.stimuli.curves.qic.rule import segment_bulge
+from attneave.stimuli.curves.qic.spline import qic_spline
 from attneave.stimuli.geometry.contour import Contour
 
 

@@ -34,7 +34,6 @@ from attneave.stimuli.render import (
     write_svg,
 )
 
-
 # ---------------------------------------------------------------------------
 # independent references
 

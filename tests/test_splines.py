@@ -16,8 +16,8 @@ from attneave.stimuli.curves.metrics import (
     interior_extrema,
     segment_turning,
 )
-from attneave.stimuli.errors import InputError
 from attneave.stimuli.curves.splines import ConvergenceError, fit_spline, polynomial_spline, qic_spline
+from attneave.stimuli.errors import InputError
 
 
 def smooth_closed(rng, n):

@@ -10,15 +10,12 @@ import numpy as np
 import pytest
 import scipy.stats
 
-from attneave.analysis.models import blurred
-from attneave.analysis.models import choice
-from attneave.analysis.models import circular
-from attneave.analysis.models import group
-from attneave.analysis.clicks.mapping import map_clicks, predict
-from attneave.analysis.simulate.observers import power, simulate, simulate_indices
 from attneave.analysis.analyze import analyze
-from attneave.stimuli.stimulus_set import StimulusSet
+from attneave.analysis.clicks.mapping import map_clicks, predict
+from attneave.analysis.models import blurred, choice, circular, group
+from attneave.analysis.simulate.observers import power, simulate, simulate_indices
 from attneave.stimuli import Contour
+from attneave.stimuli.stimulus_set import StimulusSet
 
 
 # --------------------------------------------------------------------- shapes

@@ -10,14 +10,6 @@ import shutil
 import pytest
 
 from attneave.cli import main
-from test_experiment import make_set
-
-
-@pytest.fixture(scope="module")
-def stimset(tmp_path_factory):
-    d = tmp_path_factory.mktemp("set")
-    make_set(d)
-    return d
 
 
 def _refused(capsys, tmp_path, out, *words):

@@ -5,9 +5,9 @@ import pandas as pd
 import pytest
 
 from attneave.analysis.analyze import analyze
+from attneave.analysis.clicks.mapping import PREDICTORS, predict
 from attneave.analysis.models.blurred import fit_beta_blurred
 from attneave.analysis.models.choice import BETA_BOUND, fit_beta, standardize
-from attneave.analysis.clicks.mapping import PREDICTORS, predict
 from attneave.analysis.report.html import render
 from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 

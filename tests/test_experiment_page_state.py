@@ -10,12 +10,19 @@ import urllib.parse
 
 import numpy as np
 import pandas as pd
-
-from attneave.cli import main
-from attneave.analysis.experiment import order
-from test_experiment_browser import (  # noqa: F401  (browser, setup: fixtures)
-    _analyze, _client, _csv, _expected_order, _one_trial, _run, _targets, _url, browser, setup,
+from helpers import (
+    analyze_clicks,
+    client_xy,
+    do_all_trials,
+    do_one_trial,
+    download_csv,
+    expected_stimulus_order,
+    page_url,
+    target_points,
 )
+
+from attneave.analysis.experiment import order
+from attneave.cli import main
 
 
 def _wait_trial(page):
@@ -29,30 +36,30 @@ def test_fresh_forgets_once_so_a_reload_resumes(browser, setup, tmp_path):
     ctx = browser.new_context(viewport={"width": 1280, "height": 800})
     page = ctx.new_page()
     page.on("dialog", lambda d: d.accept())
-    page.goto(_url(setup["exp"], participant="FR1", fresh=1))
+    page.goto(page_url(setup["exp"], participant="FR1", fresh=1))
     page.click("#next")
-    first = [_one_trial(page, setup["shapes"]) for _ in range(2)]
+    first = [do_one_trial(page, setup["shapes"]) for _ in range(2)]
     page.wait_for_selector("#screen:not([hidden])[data-screen=break]")
     assert "fresh" not in urllib.parse.urlparse(page.url).query and "participant=FR1" in page.url
     page.reload()
     page.wait_for_selector("#screen:not([hidden])[data-screen=resume]")
     assert len(page.evaluate("window.attneaveData")) == 6
     page.click("#next")
-    rest = _run(page, setup["shapes"])
-    _csv(page, tmp_path / "clicks.csv")
+    rest = do_all_trials(page, setup["shapes"])
+    download_csv(page, tmp_path / "clicks.csv")
     ctx.close()
     df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
     assert df.trial.astype(int).tolist() == [t for t in range(1, 5) for _ in range(3)]
     lst = order.participant_list("FR1", 2, "test")
-    assert first + [s for s, *_ in rest] == _expected_order(setup, "FR1", lst)
+    assert first + [s for s, *_ in rest] == expected_stimulus_order(setup, "FR1", lst)
 
 
 def test_right_and_middle_clicks_select_no_point(browser, setup):
     page = browser.new_page(viewport={"width": 1280, "height": 800})
-    page.goto(_url(setup["exp"], participant="RC1"))
+    page.goto(page_url(setup["exp"], participant="RC1"))
     page.click("#next")
     sid = _wait_trial(page)
-    x, y, _, _ = _client(page, _targets(setup["shapes"], sid)[0])
+    x, y, _, _ = client_xy(page, target_points(setup["shapes"], sid)[0])
     page.mouse.click(x, y, button="right")
     page.mouse.click(x, y, button="middle")
     assert page.evaluate("document.querySelectorAll('#marks .mark').length") == 0
@@ -60,8 +67,8 @@ def test_right_and_middle_clicks_select_no_point(browser, setup):
     # the context menu is not opened over the stimulus
     assert page.evaluate("""() => { const e = new MouseEvent('contextmenu', {bubbles: true, cancelable: true});
         return !document.getElementById('stimulus').dispatchEvent(e); }""")
-    for p in _targets(setup["shapes"], sid):
-        page.mouse.click(*_client(page, p)[:2])
+    for p in target_points(setup["shapes"], sid):
+        page.mouse.click(*client_xy(page, p)[:2])
     page.click("#next")
     page.wait_for_function("window.attneaveData.length === 3")
     rows = page.evaluate("window.attneaveData")
@@ -78,11 +85,11 @@ def test_a_phone_turned_mid_trial_refits_the_stimulus_and_keeps_clicks_on_their_
     ctx = browser.new_context(viewport={"width": 844, "height": 390}, has_touch=True, is_mobile=True,
                               device_scale_factor=3)
     page = ctx.new_page()
-    page.goto(_url(exp, participant="turn"))
+    page.goto(page_url(exp, participant="turn"))
     page.tap("#next")
     sid = _wait_trial(page)
-    targets = _targets(setup["shapes"], sid)
-    page.touchscreen.tap(*_client(page, targets[0])[:2])
+    targets = target_points(setup["shapes"], sid)
+    page.touchscreen.tap(*client_xy(page, targets[0])[:2])
     page.set_viewport_size({"width": 390, "height": 844})   # turned to portrait, mid-trial
     page.wait_for_function("document.getElementById('stimulus').getBoundingClientRect().width <= 390")
     box = page.evaluate("""() => { const b = document.getElementById('stimulus').getBoundingClientRect();
@@ -90,21 +97,21 @@ def test_a_phone_turned_mid_trial_refits_the_stimulus_and_keeps_clicks_on_their_
         return [b.left - s.left, b.top - s.top, s.right - b.right, s.bottom - b.bottom]; }""")
     assert min(box) >= 0, box                                 # the whole stimulus is within reach
     for p in targets[1:]:
-        page.touchscreen.tap(*_client(page, p)[:2])
+        page.touchscreen.tap(*client_xy(page, p)[:2])
     # every mark sits on its point, the one placed before the turn too
     marks = page.evaluate("""() => [...document.querySelectorAll('#marks .mark')].map(m => {
         const b = m.getBoundingClientRect(); return [b.left + b.width / 2, b.top + b.height / 2]; })""")
     for (mx, my), p in zip(marks, targets):
-        cx, cy, _, _ = _client(page, p)
+        cx, cy, _, _ = client_xy(page, p)
         assert abs(mx - cx) < 1 and abs(my - cy) < 1, (mx, my, cx, cy)
     page.tap("#next")
     page.wait_for_selector("#download")
-    _csv(page, tmp_path / "clicks.csv")
+    download_csv(page, tmp_path / "clicks.csv")
     ctx.close()
     df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
     w = df.shown_w.astype(float).to_numpy()
     assert w[0] > 390 and (w[1:] <= 390).all()                # shown_w: the size at each click
-    mapped, summary = _analyze(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
+    mapped, summary = analyze_clicks(tmp_path / "clicks.csv", setup["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0
     got = mapped.sort_values("click")[["x_image", "y_image"]].to_numpy(float)
     assert np.hypot(*(got - np.array(targets)).T).max() < 0.5
@@ -115,30 +122,30 @@ def test_the_same_participant_in_two_tabs_never_shows_a_stimulus_twice(browser, 
     ctx = browser.new_context(viewport={"width": 1280, "height": 800})
     one = ctx.new_page()
     one.on("dialog", lambda d: d.accept())
-    one.goto(_url(setup["exp"], participant="TT1"))
+    one.goto(page_url(setup["exp"], participant="TT1"))
     one.click("#next")
-    first = _one_trial(one, setup["shapes"])
+    first = do_one_trial(one, setup["shapes"])
     _wait_trial(one)                                          # trial 2 shown in the first tab
     two = ctx.new_page()
     two.on("dialog", lambda d: d.accept())
-    two.goto(_url(setup["exp"], participant="TT1"))
+    two.goto(page_url(setup["exp"], participant="TT1"))
     two.wait_for_selector("#screen:not([hidden])[data-screen=resume]")
     two.click("#next")
-    second = _one_trial(two, setup["shapes"])                 # the second tab keeps trial 2 first ...
+    second = do_one_trial(two, setup["shapes"])                 # the second tab keeps trial 2 first ...
     one.wait_for_selector("#screen:not([hidden])[data-screen=error]")  # ... so the first one stops
     assert "another tab" in one.inner_text("#screen") and one.is_hidden("#next")
     assert one.get_attribute("#stimulus", "data-stimulus-id") is None
     one.close()
     two.wait_for_selector("#screen:not([hidden])[data-screen=break]")
     two.click("#next")
-    rest = _run(two, setup["shapes"])
-    _csv(two, tmp_path / "clicks.csv")
+    rest = do_all_trials(two, setup["shapes"])
+    download_csv(two, tmp_path / "clicks.csv")
     ctx.close()
     df = pd.read_csv(tmp_path / "clicks.csv", dtype=str, keep_default_na=False)
     shown = [first, second] + [s for s, *_ in rest]
     assert df.stimulus_id.tolist()[::3] == shown and len(set(shown)) == 4
     assert df.trial.astype(int).tolist() == [t for t in range(1, 5) for _ in range(3)]
-    assert shown == _expected_order(setup, "TT1", order.participant_list("TT1", 2, "test"))
+    assert shown == expected_stimulus_order(setup, "TT1", order.participant_list("TT1", 2, "test"))
 
 
 def test_a_participant_whose_data_were_sent_sees_the_end_on_reopening(browser, setup, tmp_path):
@@ -161,7 +168,7 @@ def test_a_participant_whose_data_were_sent_sees_the_end_on_reopening(browser, s
     page.route("http://attneave.test/**", handle)
     page.goto("http://attneave.test/index.html?participant=SENT1")
     page.click("#next")
-    _one_trial(page, setup["shapes"])
+    do_one_trial(page, setup["shapes"])
     page.wait_for_selector("#submit-status[data-state=ok]")
     page.reload()                                              # opened again: the end, not a new run
     assert page.get_attribute("#screen", "data-screen") == "end"

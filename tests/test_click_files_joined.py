@@ -6,10 +6,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from attneave.cli import main
-from attneave.analysis.clicks.read import read_clicks
 from attneave.analysis.clicks.exclusions import match_stimulus_ids
 from attneave.analysis.clicks.mapping import map_clicks, predict
+from attneave.analysis.clicks.read import read_clicks
+from attneave.cli import main
 from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 
 W = H = 100

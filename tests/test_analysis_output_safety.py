@@ -6,7 +6,6 @@ silently, and power tables that cannot mean anything.
 """
 
 import json
-import os
 
 import numpy as np
 import pandas as pd
