@@ -223,8 +223,8 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
     S, G = len(su), len(pu)
     out.update(n_participants=G, n_stimuli=S)
     if G < 2 or S < 2:
-        unit, k = ("participant", G) if G < 2 else ("stimulus", S)
-        return refuse(f"only {k} {unit} with usable clicks, so the {unit}s' random slopes cannot be told apart "
+        unit, units, k = ("participant", "participants'", G) if G < 2 else ("stimulus", "stimuli's", S)
+        return refuse(f"only {k} {unit} with usable clicks, so the {units} random slopes cannot be told apart "
                       "from the mean slope (it needs at least 2 participants and 2 stimuli); see the pooled fit")
     table = CumulantTable(Z) if table is None else table
     cells, inv = np.unique(p_of * S + s_of, return_inverse=True)
