@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_number
+from attneave.stimuli.validate import as_int, as_number
 
 from attneave.analysis.argnames import arg
 from attneave.analysis.models.blurred import fit_beta_blurred
@@ -100,11 +100,13 @@ def _positive(name, value, allow_none=True, lo=None, hi=MAX_PX):
 
 def _whole(name, value, minimum, maximum=None):
     name = arg(name)
-    if isinstance(value, (bool, np.bool_)) or not (isinstance(value, (int, np.integer)) and value >= minimum):
-        raise InputError(f"{name} must be a whole number >= {minimum}, got {value!r}")
+    try:  # the one rule for integers (attneave.stimuli.validate), in this module's words
+        value = as_int(value, name, lo=minimum)
+    except InputError:
+        raise InputError(f"{name} must be a whole number >= {minimum}, got {value!r}") from None
     if maximum is not None and value > maximum:
         raise InputError(f"{name} must be at most {maximum:,}, got {value:,}")
-    return int(value)
+    return value
 
 
 def distinct_predictors(Zs, names):

@@ -115,7 +115,7 @@ def test_simulate_seeds_int_generator_none_and_refuses_others(small):
 
 @pytest.mark.parametrize("kwargs, needle", [
     (dict(participants=True), "participants must be a whole number >= 1, got True"),
-    (dict(participants=2.0), "participants must be a whole number >= 1"),
+    (dict(participants=2.5), "participants must be a whole number >= 1"),
     (dict(clicks=False), "clicks must be a whole number >= 1"),
     (dict(beta="x"), "beta must be a finite number, got 'x'"),
     (dict(beta=1e308), "beta must be from -50 to 50"),

@@ -56,7 +56,7 @@ import numpy as np
 
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.tables import describe_columns, plausible_header
-from attneave.stimuli.validate import as_number
+from attneave.stimuli.validate import parse_number
 
 __all__ = [
     "CANONICAL",
@@ -412,7 +412,7 @@ def parse_window_size(spec):
     parts = spec if isinstance(spec, (tuple, list)) else str(spec).replace("x", ",").split(",")
     if len(parts) != 2:
         raise InputError(f"--window-size: expected W,H in pixels (e.g. 1920,1080), got {spec!r}")
-    w, h = (as_number(v, "--window-size", gt=0, le=1e6) for v in parts)
+    w, h = (parse_number(v, "--window-size", gt=0, le=1e6) for v in parts)
     return w, h
 
 

@@ -19,31 +19,30 @@ from __future__ import annotations
 
 import numpy as np
 
-from attneave.stimuli.errors import InputError
-
 from attneave.analysis.argnames import arg
 from attneave.analysis.clicks.read import from_image_coords
 from attneave.analysis.models.group import mean_z_null, mean_z_test, monte_carlo_p, t_statistic
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number
 
 __all__ = ["simulate", "simulate_indices", "power", "seed_sequence"]
 
 
 def _count(name, value, minimum=1):
-    """A whole number >= `minimum` (a bool is not one), as int."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise InputError(f"{arg(name)} must be a whole number >= {minimum}, got {value!r}")
-    return int(value)
+    """A whole number >= `minimum` (:func:`attneave.stimuli.validate.as_int`'s rule), as int."""
+    try:
+        return as_int(value, arg(name), lo=minimum)
+    except InputError:
+        raise InputError(f"{arg(name)} must be a whole number >= {minimum}, got {value!r}") from None
 
 
 def _real(name, value, expected):
-    """A finite float (a bool or text is not one); `expected` completes the message."""
+    """A finite float (:func:`attneave.stimuli.validate.as_number`'s rule: a bool or text is not
+    one); `expected` completes the message."""
     try:
-        v = float(value) if not isinstance(value, (bool, np.bool_, str, bytes)) else None
-    except (TypeError, ValueError):
-        v = None
-    if v is None or not np.isfinite(v):
-        raise InputError(f"{arg(name)} must be {expected}, got {value!r}")
-    return v
+        return as_number(value, arg(name))
+    except InputError:
+        raise InputError(f"{arg(name)} must be {expected}, got {value!r}") from None
 
 
 #: Largest |beta| and beta sd (as ``attneave simulate``'s): exp(beta * z) at |z| ~ 10 stays finite,
@@ -52,14 +51,16 @@ MAX_BETA = 50.0
 
 
 def _check(participants, clicks, noise, beta, beta_sd):
-    _count("participants", participants)
-    _count("clicks", clicks)
+    """Refuse bad arguments; return (participants, clicks) as ints (10.0 is 10)."""
+    participants = _count("participants", participants)
+    clicks = _count("clicks", clicks)
     if not _real("noise", noise, "a number of pixels >= 0") >= 0:
         raise InputError(f"{arg('noise')} must be a number of pixels >= 0, got {noise!r}")
     if not abs(_real("beta", beta, "a finite number")) <= MAX_BETA:
         raise InputError(f"{arg('beta')} must be from {-MAX_BETA:g} to {MAX_BETA:g}, got {beta!r}")
     if not 0 <= _real("beta_sd", beta_sd, "a finite number >= 0") <= MAX_BETA:
         raise InputError(f"{arg('beta_sd')} must be from 0 to {MAX_BETA:g}, got {beta_sd!r}")
+    return participants, clicks
 
 
 def _prediction_ids(predictions):
@@ -158,7 +159,7 @@ def simulate_indices(Z, participants, clicks, beta, seed, beta_sd=0.0):
     rngs : list of numpy.random.Generator
         Each observer's generator, after the draws (for further draws).
     """
-    _check(participants, clicks, 0.0, beta, beta_sd)
+    participants, clicks = _check(participants, clicks, 0.0, beta, beta_sd)
     Z = np.asarray(Z, dtype=float)
     ss, _ = seed_sequence(seed)
     rngs = [np.random.Generator(np.random.PCG64(c)) for c in ss.spawn(participants)]
@@ -226,7 +227,7 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
     """
     import pandas as pd
 
-    _check(participants, clicks, noise, beta, beta_sd)
+    participants, clicks = _check(participants, clicks, noise, beta, beta_sd)
     ss, used_seed = seed_sequence(seed)
     ids = _prediction_ids(predictions)
     if not ids:
@@ -346,26 +347,25 @@ def power(predictions, beta, participants=(5, 10, 20, 40), clicks=10, simulation
     from attneave.analysis.clicks.mapping import map_clicks
 
     given = participants
-    if isinstance(participants, (int, np.integer)) and not isinstance(participants, (bool, np.bool_)):
+    if np.ndim(participants) == 0 and not isinstance(participants, (str, bytes)):
         participants = [participants]  # one design
     try:
         items = list(participants)
-    except TypeError:
-        items = None
-    if (items is None or not items or any(isinstance(p, (bool, np.bool_)) or not isinstance(p, (int, np.integer))
-                                          or p < 2 for p in items)):
+        participants = sorted({_count("participants", p, 2) for p in items})
+    except (TypeError, InputError):
+        participants = None
+    if not participants:
         raise InputError(f"{arg('participants')} needs whole numbers >= 2 (a t-test needs two), got {given!r}")
-    participants = sorted({int(p) for p in items})
-    if (isinstance(simulations, (bool, np.bool_)) or not isinstance(simulations, (int, np.integer))
-            or simulations < MIN_SIMULATIONS):
+    try:
+        simulations = _count("simulations", simulations, MIN_SIMULATIONS)
+    except InputError:
         raise InputError(f"{arg('simulations')} must be a whole number >= {MIN_SIMULATIONS} (fewer experiments give "
-                         f"no estimate of power: its Monte Carlo error would exceed 0.1), got {simulations!r}")
-    simulations = int(simulations)
+                         f"no estimate of power: its Monte Carlo error would exceed 0.1), got {simulations!r}") from None
     if not 0 < _real("alpha", alpha, "in (0, 1)") < 1:
         raise InputError(f"{arg('alpha')} must be in (0, 1), got {alpha!r}")
     if not 0 < _real("target", target, "a power in (0, 1]") <= 1:
         raise InputError(f"{arg('target')} must be a power in (0, 1], got {target!r}")
-    _check(participants[-1], clicks, noise, beta, beta_sd)
+    clicks = _check(participants[-1], clicks, noise, beta, beta_sd)[1]
     group_simulations = _count("group_simulations", group_simulations)
     ss, used_seed = seed_sequence(seed)
     R = int(group_simulations)

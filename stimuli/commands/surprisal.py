@@ -136,7 +136,7 @@ def _check_closed_shape(contour, path):
     """A closed contour's curvature sign (convex +, concave -) needs a simple curve of positive area.
 
     The area is checked where every closed `Contour` is made (the same rule for the library and
-    this command: :func:`attneave.stimuli.geometry._checks.check_area`); simplicity here, since the
+    this command: :func:`attneave.stimuli.validate.check_area`); simplicity here, since the
     library accepts a figure eight.
     """
     from attneave.stimuli.errors import InputError

@@ -9,8 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.geometry.contour import check_flag  # one rule for flags, the contours' own
-from attneave.stimuli.validate import as_int, as_number
+from attneave.stimuli.validate import as_int, as_number, check_flag
 
 __all__ = ["MAX_ARC", "MAX_RATE", "MAX_POINTS", "check_flag", "check_count", "check_samples", "check_tolerance",
            "arc_grid"]
@@ -30,19 +29,18 @@ MAX_POINTS = 10**7
 
 
 def check_count(value, name, lo=2, hi=MAX_POINTS):
-    """A whole number in ``[lo, hi]`` (floats with integer values accepted,
-    bools and strings refused), as int; an InputError naming `name` otherwise."""
+    """A whole number in ``[lo, hi]`` (:func:`attneave.stimuli.validate.as_int`'s rule:
+    integral floats accepted, bools and strings refused), as int; an InputError naming
+    `name` and the range otherwise."""
     if isinstance(value, np.generic):
-        value = value.item()
+        value = value.item()  # messages print plain numbers, never np.int64(...)
     span = f"in [{lo}, {hi:.0e}]" if hi >= 10**6 else f"in [{lo}, {hi}]"
     if hi >= 2**62:
         span = ""
-    what = f"{name}: must be an integer {span}".rstrip()
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"{what}, got {value!r}")
-    if not (np.isfinite(value) and float(value).is_integer()) or not lo <= value <= hi:
-        raise InputError(f"{what}, got {value!r}")
-    return int(value)
+    try:
+        return as_int(value, name, lo=lo, hi=hi)
+    except InputError:
+        raise InputError(f"{name}: must be an integer {span}".rstrip() + f", got {value!r}") from None
 
 
 def check_samples(samples, segments):
@@ -59,8 +57,6 @@ def check_samples(samples, segments):
 
 def check_tolerance(value, name, allow_zero=False):
     """A finite tolerance, > 0 (>= 0 with `allow_zero`)."""
-    if isinstance(value, bool):
-        raise InputError(f"{name}: must be a number, got {value!r}")
     return as_number(value, name, ge=0.0) if allow_zero else as_number(value, name, gt=0.0)
 
 

@@ -18,25 +18,25 @@ from __future__ import annotations
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.geometry._checks import (
-    MAX_COORDINATE,
-    MIN_AREA_RATIO,
-    MIN_EXTENT,
-    check_area,
-    check_flag,
-    check_int,
-    check_points,
-    check_real,
-    check_scale,
-    check_values,
-    count_distinct_upto3,
-)
 from attneave.stimuli.geometry.polyline import (
     bounds,
     edges,
     unchecked_gaussian_curvature,
     unchecked_shoelace,
     unchecked_turning_angles,
+)
+from attneave.stimuli.validate import (
+    MAX_COORDINATE,
+    MIN_AREA_RATIO,
+    MIN_EXTENT,
+    as_int,
+    as_number,
+    check_area,
+    check_flag,
+    check_points,
+    check_scale,
+    check_values,
+    count_distinct_upto3,
 )
 
 __all__ = ["Contour", "MAX_COORDINATE", "MIN_EXTENT", "MIN_AREA_RATIO"]
@@ -280,11 +280,11 @@ class Contour:
         if (n is None) == (spacing is None):
             raise InputError("give exactly one of n and spacing")
         if spacing is not None:
-            spacing = check_real(spacing, "spacing", gt=0)
+            spacing = as_number(spacing, "spacing", gt=0)
             n = int(round(self.perimeter / spacing)) + (0 if self.closed else 1)
             if n < 3:
                 raise InputError(f"spacing: {spacing:g} px gives n = {n}; resampling needs n >= 3 points")
-        n = check_int(n, "n")
+        n = as_int(n, "n")
         if n < 3:
             raise InputError(f"n: resampling needs n >= 3 points, got {n}")
         if n > _MAX_RESAMPLE:
@@ -337,7 +337,7 @@ class Contour:
         if method == "gaussian":
             if not self.closed:
                 raise InputError("gaussian curvature is for closed contours")
-            sigma = 0.01 * self.perimeter if sigma is None else check_real(sigma, "sigma", gt=0)
+            sigma = 0.01 * self.perimeter if sigma is None else as_number(sigma, "sigma", gt=0)
             # sample finely enough that sigma spans several samples
             m = int(max(self.n, np.ceil(8 * self.perimeter / sigma), 64))
             uni = self.resample(n=m)
@@ -484,7 +484,7 @@ class Contour:
             A `scale` or `offset` out of range, or a result whose size the
             :class:`Contour` rules refuse.
         """
-        scale = check_real(scale, "scale", gt=0)
+        scale = as_number(scale, "scale", gt=0)
         off = check_values(offset, "offset")
         if off.shape != (2,):
             raise InputError(f"offset: expected (dx, dy), got shape {off.shape}")

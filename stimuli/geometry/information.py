@@ -56,19 +56,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.geometry._checks import (
-    check_flag,
-    check_int,
-    check_points,
-    check_real,
-    check_values,
-)
 from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.geometry.peaks import (  # re-exported: part of this module's API
     ROUNDOFF,
     find_peaks,
 )
 from attneave.stimuli.geometry.polyline import unchecked_turning_angles
+from attneave.stimuli.validate import (
+    as_int,
+    as_number,
+    check_flag,
+    check_points,
+    check_values,
+)
 
 __all__ = [
     "surprisal_paper",
@@ -104,10 +104,10 @@ NOISE_TURN = 0.01
 
 def _check_params(n, A=None, b=None):
     """Checked ``n, A, b`` (an integer n >= 1, finite A > 0, finite b >= 0); None stays None."""
-    n = check_int(n, "n", lo=1)
+    n = as_int(n, "n", lo=1)
     # infinite A or b would give -inf or NaN surprisal in every row
-    A = None if A is None else check_real(A, "A", gt=0)
-    b = None if b is None else check_real(b, "b", ge=0)
+    A = None if A is None else as_number(A, "A", gt=0)
+    b = None if b is None else as_number(b, "b", ge=0)
     return n, A, b
 
 
@@ -441,10 +441,10 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
         raise InputError(f"unknown length_unit {length_unit!r}; expected one of {', '.join(LENGTH_UNITS)}")
     bits = check_flag(bits, "bits")
     if prominence is not None:
-        prominence = check_real(prominence, "prominence", ge=0)
-    b = None if b is None else check_real(b, "b", ge=0)
+        prominence = as_number(prominence, "prominence", ge=0)
+    b = None if b is None else as_number(b, "b", ge=0)
     b = (1.0 if model == "paper" else 4.0) if b is None else b
-    A = check_real(A, "A", gt=0)
+    A = as_number(A, "A", gt=0)
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if n is None and spacing is None:
         n = 100
@@ -518,8 +518,8 @@ def surprisal_from_points(points, model="paper", A=0.25, b=None, closed=True, bi
     if not isinstance(model, str) or model not in MODELS:
         raise InputError(f"unknown model {model!r}; expected one of {', '.join(MODELS)}")
     closed, bits = check_flag(closed, "closed"), check_flag(bits, "bits")
-    b = None if b is None else check_real(b, "b", ge=0)
-    A = check_real(A, "A", gt=0)
+    b = None if b is None else as_number(b, "b", ge=0)
+    A = as_number(A, "A", gt=0)
     p = check_points(points, "points", min_points=3)
     n = len(p)
     a = unchecked_turning_angles(p, closed)

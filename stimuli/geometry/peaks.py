@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.geometry._checks import check_flag, check_real, check_values
+from attneave.stimuli.validate import as_number, check_flag, check_values
 
 __all__ = ["find_peaks", "peaks_and_prominences", "circular_peaks_and_prominences", "ROUNDOFF"]
 
@@ -245,8 +245,8 @@ def find_peaks(u, closed=True, prominence=None, floor=0.0):
     closed = check_flag(closed, "closed")
     if prominence is not None:
         # max(nan, floor) is nan, which silently finds no peaks at all
-        prominence = check_real(prominence, "prominence", ge=0)
-    floor = check_real(floor, "floor", ge=0)
+        prominence = as_number(prominence, "prominence", ge=0)
+    floor = as_number(floor, "floor", ge=0)
     u = check_values(u, "u", nan_ends=not closed)
     if u.ndim != 1:
         raise InputError(f"u: expected a 1-D array of values along the contour, got shape {u.shape}")

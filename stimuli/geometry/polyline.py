@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.geometry._checks import check_flag, check_points, check_real
+from attneave.stimuli.validate import as_number, check_flag, check_points
 
 __all__ = ["turning_angles", "gaussian_curvature", "shoelace", "edges", "bounds"]
 
@@ -109,7 +109,7 @@ def gaussian_curvature(points, sigma):
         them, all points equal, or `sigma` not a finite number > 0.
     """
     p = check_points(points, "points", min_points=3)
-    sigma = check_real(sigma, "sigma", gt=0)
+    sigma = as_number(sigma, "sigma", gt=0)
     if not (p != p[0]).any():
         raise InputError("points: all points are equal; a curve needs at least 2 distinct points")
     return unchecked_gaussian_curvature(p, sigma)
