@@ -18,7 +18,6 @@ import sys
 import tempfile
 from pathlib import Path
 
-
 from attneave.stimuli.errors import InputError
 
 __all__ = [
@@ -34,10 +33,106 @@ __all__ = [
 MAX_TEXT_BYTES = 200 * 1000**2
 
 
-# Temporary files are named .attneave-tmp-<pid>-<random>-<final name>: no user file is named
-# so, and cleanup (which deletes only names of this form) never touches a user's file.
+# Temporary files and directories are named .attneave-tmp-<pid>-h<host>-<random>-<final name>:
+# no user file is named so, and cleanup (which deletes only names of this form) never touches a
+# user's file. The pid and host tell a temporary of a live run from one that a killed run left.
 TEMP_PREFIX = ".attneave-tmp-"
 _TEMP_RE = re.compile(r"^\.attneave-tmp-[0-9]+-[A-Za-z0-9_]+-")
+_OWNER_RE = re.compile(r"^\.attneave-tmp-([0-9]+)-(?:(h[0-9a-f]{8})-)?")
+
+
+def _host_tag():
+    import hashlib
+    import socket
+
+    # a directory on a shared (NFS) disk may hold the temporaries of runs on other machines,
+    # whose pids mean nothing here
+    return "h" + hashlib.sha256(socket.gethostname().encode("utf-8", "replace")).hexdigest()[:8]
+
+
+_HOST = _host_tag()
+
+
+def temp_prefix():
+    """The beginning of the name of every temporary this process makes.
+
+    Examples
+    --------
+    >>> temp_prefix().startswith(f".attneave-tmp-{os.getpid()}-h")
+    True
+    """
+    return f"{TEMP_PREFIX}{os.getpid()}-{_HOST}-"
+
+
+def _alive(pid):
+    """True when a process `pid` exists (or may: one we may not signal is alive)."""
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (PermissionError, OverflowError, OSError):
+        return True
+    return True
+
+
+def is_stale_temporary(name):
+    """True for a temporary of a process of this machine that is no longer running.
+
+    Names of the older form (``.attneave-tmp-<pid>-<random>-``, no host)
+    count as this machine's.
+
+    Examples
+    --------
+    >>> is_stale_temporary(f".attneave-tmp-{os.getpid()}-k3j_x9a1-a.png"), is_stale_temporary("a.png")
+    (False, False)
+    """
+    m = _OWNER_RE.match(name)
+    if not m or not is_temporary(name) or (m.group(2) and m.group(2) != _HOST):
+        return False
+    return not _alive(int(m.group(1)))
+
+
+_SWEPT = set()  # directories this process has already cleaned
+
+
+def remove_stale_temporaries(directory, again=False):
+    """Delete the temporaries that killed runs left in `directory` (not in its subdirectories).
+
+    A run stopped by ``kill -9``, a power cut or a signal that came during
+    its own cleanup leaves ``.attneave-tmp-<pid>-...`` files or directories;
+    the next run that writes in the same place removes those whose process
+    is gone (:func:`is_stale_temporary`); a live run's are left alone. Each
+    directory is swept once per process unless `again`.
+
+    Returns
+    -------
+    list of str
+        The names removed.
+    """
+    import shutil
+
+    directory = Path(directory)
+    key = os.path.realpath(directory)
+    if key in _SWEPT and not again:
+        return []
+    _SWEPT.add(key)
+    removed = []
+    try:
+        entries = list(os.scandir(directory))
+    except OSError:
+        return removed
+    for entry in entries:
+        if not is_stale_temporary(entry.name):
+            continue
+        with contextlib.suppress(OSError):
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(entry.path)
+            else:
+                os.unlink(entry.path)
+            removed.append(entry.name)
+    return removed
 
 
 def is_temporary(name):
@@ -51,7 +146,7 @@ def is_temporary(name):
     return bool(_TEMP_RE.match(name))
 
 
-__all__ += ["TEMP_PREFIX", "is_temporary"]
+__all__ += ["TEMP_PREFIX", "is_temporary", "temp_prefix", "is_stale_temporary", "remove_stale_temporaries"]
 
 
 @contextlib.contextmanager
@@ -92,9 +187,9 @@ def atomic_write(path, mode="w", fsync=False, **kwargs):
     if kind:
         # the rename would put a regular file in place of /dev/null or a FIFO (as root, of a device)
         raise InputError(f"{path}: is {kind}, not a regular file; expected a file name to write")
+    remove_stale_temporaries(path.parent)
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{path.name[:80]}",
-                                   dir=path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=temp_prefix(), suffix=f"-{path.name[:80]}", dir=path.parent)
     except OSError as exc:
         # a missing or read-only directory is the user's input, not a crash
         raise InputError(f"{path}: cannot write there ({exc.strerror or exc})") from None
@@ -252,8 +347,8 @@ def temporary_directory(out):
     check_output_spares_inputs(out, [])
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
-        return Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-", suffix=f"-{out.name[:80]}",
-                                     dir=out.parent))
+        remove_stale_temporaries(out.parent)
+        return Path(tempfile.mkdtemp(prefix=temp_prefix(), suffix=f"-{out.name[:80]}", dir=out.parent))
     except OSError as exc:
         raise InputError(f"{out}: cannot be created ({exc.strerror or exc})") from None
 
@@ -272,7 +367,7 @@ def replace_directory(tmp, out):
     if not out.exists():
         os.replace(tmp, out)
         return
-    old = Path(tempfile.mkdtemp(prefix=f"{TEMP_PREFIX}{os.getpid()}-old-", dir=out.parent))
+    old = Path(tempfile.mkdtemp(prefix=f"{temp_prefix()}old-", dir=out.parent))
     os.rmdir(old)
     os.replace(out, old)
     try:

@@ -19,19 +19,19 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import shutil
 from collections import Counter
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 
+from attneave.analysis.experiment.options import ExperimentOptions
+from attneave.analysis.experiment.order import latin_square_lists
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.io import replace_directory, temporary_directory
 
-from attneave.analysis.experiment.options import ExperimentOptions
-from attneave.analysis.experiment.order import latin_square_lists
-
-__all__ = ["Stimulus", "select_stimuli", "background_colour", "page_config", "build_experiment", "MARKER"]
+__all__ = ["Stimulus", "select_stimuli", "background_colour", "page_config", "build_experiment", "MARKER", "embedded_json", "fill_template"]
 
 #: File that marks a directory written by :func:`build_experiment`.
 MARKER = "experiment.json"
@@ -104,24 +104,24 @@ def select_stimuli(stimset, options):
         known = list(dict.fromkeys(r["condition"] for r in rows))
         for j, c in enumerate(options.conditions):
             if c not in known:
-                raise InputError(f"conditions[{j}]: no stimulus of {mpath} has condition {c!r}; "
+                raise InputError(f"{options.origin('conditions')}[{j}]: no stimulus of {mpath} has condition {c!r}; "
                                  f"conditions there: {', '.join(map(repr, known))}")
         rows = [r for r in rows if r["condition"] in options.conditions]
     if isinstance(options.practice, int):
         if options.practice >= len(rows):
-            raise InputError(f"practice: {options.practice} practice stimuli would leave no main trials "
+            raise InputError(f"{options.origin('practice')}: {options.practice} practice stimuli would leave no main trials "
                              f"({len(rows)} stimuli selected)")
         practice_ids = [r["id"] for r in rows[: options.practice]]
     else:
         practice_ids = list(options.practice)
         for j, sid in enumerate(practice_ids):
             if sid not in stimset:
-                raise InputError(f"practice[{j}]: stimulus {sid!r} is not in {mpath}")
+                raise InputError(f"{options.origin('practice')}[{j}]: stimulus {sid!r} is not in {mpath}")
     by_id = {sid: dict(id=sid, condition=_column(manifest, "condition", i), parent_id=_column(manifest, "parent_id", i),
                        index=i) for i, sid in enumerate(stimset.ids)}
     main_rows = [r for r in rows if r["id"] not in set(practice_ids)]
     if not main_rows:
-        raise InputError("practice: every selected stimulus is a practice stimulus; no main trials are left")
+        raise InputError(f"{options.origin('practice')}: every selected stimulus is a practice stimulus; no main trials are left")
     # an item is a base shape and what derives from it: the rows sharing parent_id (or the base itself)
     lists = latin_square_lists([r["id"] for r in main_rows],
                                [r["parent_id"] or r["id"] for r in main_rows],
@@ -308,17 +308,55 @@ def _static(name):
 def render_index(config):
     """index.html with `config` embedded as a JSON script block.
 
-    ``</`` is escaped inside the JSON (as ``<\\/``, still the same JSON) so
-    that no text from a config (instructions, ids) can close the script
-    element.
+    Every ``<``, ``>`` and ``&`` inside the JSON is written as a ``\\u`` escape
+    (still the same JSON, as Django's ``json_script`` does): inside a script
+    element the HTML tokenizer looks for ``</script`` and, after ``<!--``,
+    for ``<script`` too, so a title or an instruction holding them could
+    close or swallow the element and leave a blank page. The placeholders
+    of the template are substituted in one pass, so a placeholder's name in
+    the participant-facing text (``{{CONFIG}}`` in a title) stays text.
+
+    Examples
+    --------
+    >>> "<" in embedded_json({"title": "<!--<script>"})
+    False
     """
     import html
 
-    blob = json.dumps(config, indent=1, ensure_ascii=False, allow_nan=False).replace("</", "<\\/")
     template = _static("index.html").read_text(encoding="utf-8")
-    return (template.replace("{{TITLE}}", html.escape(config["title"]))
-            .replace("{{BACKGROUND}}", config["background"])
-            .replace("{{CONFIG}}", blob))
+    return fill_template(template, {"{{TITLE}}": html.escape(config["title"]),
+                                    "{{BACKGROUND}}": config["background"],
+                                    "{{CONFIG}}": embedded_json(config)})
+
+
+_HTML_UNSAFE = {"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028", "\u2029": "\\u2029"}
+
+
+def embedded_json(value):
+    """`value` as JSON that is safe inside an HTML ``<script>`` element.
+
+    Examples
+    --------
+    >>> embedded_json({"t": "a</script>&"})
+    '{\\n "t": "a\\\\u003c/script\\\\u003e\\\\u0026"\\n}'
+    """
+    blob = json.dumps(value, indent=1, ensure_ascii=False, allow_nan=False)
+    return re.sub("[<>&\u2028\u2029]", lambda m: _HTML_UNSAFE[m.group()], blob)
+
+
+def fill_template(template, values):
+    """`template` with each key of `values` replaced by its value, in one pass.
+
+    A value is never searched for placeholders again, so user text holding
+    a placeholder's name is kept as it is.
+
+    Examples
+    --------
+    >>> fill_template("<b>{{A}}</b>{{B}}", {"{{A}}": "{{B}}", "{{B}}": "x"})
+    '<b>{{B}}</b>x'
+    """
+    pattern = re.compile("|".join(re.escape(k) for k in sorted(values, key=len, reverse=True)))
+    return pattern.sub(lambda m: values[m.group()], template)
 
 
 def _listing(directory):

@@ -14,7 +14,7 @@ import re
 from pathlib import Path
 from typing import Literal, Optional, Union
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator, model_validator
 
 from attneave.stimuli.errors import InputError
 
@@ -36,6 +36,9 @@ DEFAULT_INSTRUCTIONS = (
     "Press Next (or the space bar) when you have placed your points."
 )
 
+#: submit_url: an absolute http(s) URL with a host, or a path on the page's host
+_ABSOLUTE_URL = re.compile(r"^https?://[A-Za-z0-9.\-\[\]:@%_~!$&'()*+,;=]+(?:[/?#][^\s\\]*)?$")
+_RELATIVE_URL = re.compile(r"^(?:/|\./|\.\./)[^\s]*$")
 _HEX = re.compile(r"^#(?:[0-9a-fA-F]{3}|[0-9a-fA-F]{6})$")
 
 
@@ -128,6 +131,8 @@ class ExperimentOptions(BaseModel):
     """
 
     model_config = ConfigDict(extra="forbid", validate_assignment=False)
+    #: where each setting was given, for messages found later (``'exp.yaml: line 4: conditions'``)
+    _origins: dict = PrivateAttr(default_factory=dict)
 
     title: str = "Points on shapes"
     instructions: str = DEFAULT_INSTRUCTIONS
@@ -238,8 +243,11 @@ class ExperimentOptions(BaseModel):
     @field_validator("submit_url")
     @classmethod
     def _url(cls, v):
-        if v is not None and not re.match(r"^(https?://|/|\./|\.\./)\S*$", v):
-            raise ValueError(f"expected an http(s) URL or a path on the same host, got {v!r}")
+        # '//host/x' and '/\\host/x' are paths to a browser's eye only: it sends them to another origin
+        if v is not None and not (_ABSOLUTE_URL.match(v) or (_RELATIVE_URL.match(v) and "//" not in v
+                                                             and "\\" not in v)):
+            raise ValueError(f"expected an http(s) URL (https://host/path) or a path on the same host without "
+                             f"'//' or '\\' (/collect, ./save.php), got {v!r}")
         return v
 
     @model_validator(mode="after")
@@ -256,6 +264,19 @@ class ExperimentOptions(BaseModel):
         if self.size_px is None and self.size_deg is None:
             self.size_deg = DEFAULT_SIZE_DEG
         return self
+
+    def origin(self, key):
+        """Where setting `key` was given, to begin a message about its value.
+
+        ``'--conditions'`` for a flag, ``'exp.yaml: line 4: conditions'`` for
+        a key of the config file, the key alone otherwise.
+
+        Examples
+        --------
+        >>> ExperimentOptions().origin("conditions")
+        'conditions'
+        """
+        return self._origins.get(key, key)
 
     @property
     def grey(self):
@@ -319,9 +340,15 @@ def load_options(config=None, overrides=None):
     overrides = {k: v for k, v in (overrides or {}).items() if v is not None}
     merged = {**data, **overrides}
     try:
-        return ExperimentOptions(**{str(k): v for k, v in merged.items()})
+        options = ExperimentOptions(**{str(k): v for k, v in merged.items()})
     except ValidationError as exc:
         raise InputError(_message(exc, config, lines, overrides)) from None
+    for key in data:
+        line = lines.get(key)
+        options._origins[str(key)] = f"{config}:{f' line {line}:' if line else ''} {key}"
+    for key in overrides:
+        options._origins[key] = f"--{key.replace('_', '-')}"
+    return options
 
 
 def _message(exc, config, lines, overrides):

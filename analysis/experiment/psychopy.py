@@ -34,6 +34,7 @@ import pprint
 from importlib import resources
 from pathlib import Path
 
+from attneave.analysis.experiment.build import fill_template
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.io import atomic_write
 
@@ -108,10 +109,11 @@ def script_text(options, config):
     text_height = {"deg": "0.8", "pix": "24", "height": "0.035"}[options.psychopy_units]
     wrap = {"deg": "30", "pix": "1000", "height": "1.2"}[options.psychopy_units]
     template = resources.files("attneave.analysis.experiment").joinpath("static", "attneave_task.py.in").read_text("utf-8")
-    return (template.replace("__SETTINGS__", pprint.pformat(settings, indent=4, width=100, sort_dicts=False))
-            .replace("__DISTANCE__", repr(float(options.viewing_distance_cm)))
-            .replace("__TEXT_HEIGHT__", text_height)
-            .replace("__WRAP_WIDTH__", wrap))
+    # one pass: a placeholder's name in the title or instructions stays text
+    return fill_template(template, {
+        "__SETTINGS__": pprint.pformat(settings, indent=4, width=100, sort_dicts=False),
+        "__DISTANCE__": repr(float(options.viewing_distance_cm)), "__TEXT_HEIGHT__": text_height,
+        "__WRAP_WIDTH__": wrap})
 
 
 def write_psychopy(directory, options, practice, main, config):

@@ -8,16 +8,31 @@ assembles them. Heavy imports happen inside ``run`` so that ``attneave
 --help`` stays fast.
 
 Exit status: 0 on success, 1 when a batch finished but some items failed or
-the disk was full, 2 on bad input (one line on stderr, no traceback), 130 on
-Ctrl-C.
+the disk was full, 2 on bad input (one line on stderr, no traceback), and
+128 + the signal's number when stopped by SIGINT (Ctrl-C, 130), SIGTERM (what
+``timeout``, SLURM and systemd send, 143) or SIGHUP (a closed terminal, 129).
+
+The three signals are handled alike: the command stops where it is, removes
+its temporaries and says so in one line, without a traceback. Every output is
+then complete or absent (directories are built aside and swapped in, files
+written under a temporary name and renamed); ``generate`` and ``extract``
+keep what they completed and a rerun completes it. A signal that arrives
+after the output was written still exits with 128 + its number (the line
+says the output is complete). A second signal during that cleanup is
+ignored; ``kill -9`` is not catchable, and the temporaries it leaves
+(``.attneave-tmp-<pid>-...``) are removed by the next run in that place.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
+import os
 import re
+import signal
 import sys
+import threading
 
 from attneave.stimuli.errors import InputError
 
@@ -32,6 +47,7 @@ COMMANDS = {
     "simulate": "attneave.analysis.commands.simulate",
     "power": "attneave.analysis.commands.power",
     "experiment": "attneave.analysis.commands.experiment",
+    "info": "attneave.info",
 }
 
 
@@ -71,20 +87,109 @@ def build_parser():
     return parser
 
 
+#: The signals that stop a command as Ctrl-C does.
+STOP_SIGNALS = tuple(getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name))
+
+
+#: Commands that keep the outputs they completed when stopped, and complete them when rerun.
+RESUMABLE = frozenset({"generate", "extract"})
+
+
+class Interrupted(KeyboardInterrupt):
+    """Raised in the main thread by SIGINT, SIGTERM or SIGHUP; `signum` says which.
+
+    A :class:`KeyboardInterrupt`, so that every ``except BaseException:
+    cleanup; raise`` of the library removes its temporaries as for Ctrl-C.
+    """
+
+    def __init__(self, signum):
+        super().__init__(signum)
+        self.signum = signum
+
+
+class _Stopper:
+    """Signal handlers of one command: the first stop signal raises :class:`Interrupted`;
+    later ones (during the cleanup it starts) are remembered, not raised."""
+
+    def __init__(self, command):
+        self.command = command
+        self.signum = None
+
+    def during(self, signum, frame):
+        if self.signum is None:
+            self.signum = signum
+            raise Interrupted(signum)
+
+    def after(self, signum, frame):
+        # the command has returned: its output is complete. Raising now would land in an
+        # interpreter shutdown hook (tqdm's, concurrent.futures') as a traceback; say it and go.
+        self.signum = self.signum or signum
+        with contextlib.suppress(Exception):
+            sys.stdout.flush()
+            print(f"attneave {self.command}: {signal.Signals(signum).name} after the command had finished; "
+                  "its output is complete", file=sys.stderr)
+            sys.stderr.flush()
+        os._exit(128 + signum)
+
+
+def _install(handler):
+    """Set `handler` for every stop signal; return the previous handlers (None outside the main thread)."""
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return {s: signal.signal(s, handler) for s in STOP_SIGNALS}
+
+
+def _restore(previous):
+    for s, h in (previous or {}).items():
+        signal.signal(s, h)
+
+
 def main(argv=None):
+    """Run one ``attneave`` command; return its exit status.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments; None reads ``sys.argv`` and means this process is the
+        command (the console script): the signal handlers then stay in place
+        until the process exits. With `argv` given (a caller running commands
+        in its own process) the caller's handlers are restored on return.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
+    stopper = _Stopper(args.command)
+    previous = _install(stopper.during)
+    try:
+        return _run(args, stopper)
+    finally:
+        if argv is None and previous is not None:
+            _install(stopper.after)
+        else:
+            _restore(previous)
+
+
+def _interrupted(args, stopper, exc):
+    signum = getattr(exc, "signum", None) or stopper.signum or signal.SIGINT
+    name = {signal.SIGINT: "interrupted"}.get(signum, f"stopped by {signal.Signals(signum).name}")
+    fate = ("what was completed is kept; rerun the same command to complete it" if args.command in RESUMABLE
+            else "nothing was left half-written")
+    print(f"attneave {args.command}: {name}; {fate}", file=sys.stderr)
+    return 128 + signum
+
+
+def _run(args, stopper):
     from attneave.analysis.argnames import cli_names
 
     try:
         with cli_names():  # library messages name the flags, not the Python parameters
             status = args.func(args)
     except InputError as exc:
+        if stopper.signum is not None:  # a signal during the error's own cleanup: stopped all the same
+            return _interrupted(args, stopper, exc)
         print(f"attneave {args.command}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print(f"attneave {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:
+        return _interrupted(args, stopper, exc)
     except OSError as exc:
         # a full, over-quota or failing disk is neither bad input nor a bug: one line, exit 1
         # (outputs are written atomically, so nothing is left half-written); anything else is raised
@@ -92,6 +197,8 @@ def main(argv=None):
 
         return disk_error_exit(args.command, getattr(exc, "filename", None) or "output", exc,
                                note="nothing was left half-written")
+    if stopper.signum is not None:  # a signal that a library swallowed (a worker pool's wait)
+        return _interrupted(args, stopper, None)
     return int(status or 0)
 
 

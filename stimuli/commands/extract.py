@@ -141,12 +141,32 @@ def _expand_directories(paths):
     return out
 
 
+def _check_output_outside_input_dirs(output, paths):
+    """Refuse ``-o`` that is an input directory or lies inside one (one line).
+
+    The outputs would be mixed with the images: the overlays and silhouettes
+    are PNG files that the next ``extract DIR`` would take for new images.
+    """
+    from attneave.stimuli.errors import InputError
+
+    out = Path(os.path.realpath(Path(output).expanduser()))
+    for p in paths:
+        if not Path(p).is_dir():
+            continue
+        d = Path(os.path.realpath(p))
+        if out == d or d in out.parents:
+            where = "is" if out == d else "is inside"
+            raise InputError(f"-o {output}: {where} the input directory {p}; the outputs (PNG overlays and "
+                             "silhouettes among them) would be read as images by the next run; choose another -o")
+
+
 def run(args):
     import sys
 
     from attneave.stimuli.extraction.pipeline import extract_images
 
     _check_args(args)
+    _check_output_outside_input_dirs(args.output, args.images)
     # `attneave extract photos/ -o out`: a folder of images, as people keep them (a directory was
     # one failed input before)
     args.images = _expand_directories(args.images)

@@ -41,6 +41,12 @@ may be the outputs of an input named ``STEM.K.png`` and are left, and
 (the command says so on stderr). Every file is written under a
 temporary name and renamed.
 
+``summary.csv`` is written last: a directory without it is the output of a
+run that was stopped (a signal, ``kill -9``, a power cut); running the same
+command again completes it, with files byte-identical to those of an
+uninterrupted run (the earlier summary is removed when a run starts, so a
+stopped rerun never leaves an old summary beside new files).
+
 Option mistakes are refused before any image is processed (one line, an
 :class:`~attneave.stimuli.errors.InputError`): an option for another method
 (``threshold`` without method threshold or alpha, ``rect`` without
@@ -179,6 +185,10 @@ def extract_images(images, output, workers=1, progress=None, **options):
     out = make_output_dir(output)
     _check_spares_inputs(out, stems, inputs)
     ours = _earlier_objects(out, stems)
+    # summary.csv is written last and marks a complete directory: the earlier run's goes first,
+    # so that a run stopped midway leaves a directory without one (rerun to complete it), not an
+    # old summary beside new files
+    (out / "summary.csv").unlink(missing_ok=True)
     tasks = [(str(img), stem, str(out), {**opts, "_earlier": ours.get(stem, 0)}) for img, stem in zip(images, stems)]
     rows = [None] * len(tasks)
     bar = tqdm(total=len(tasks), desc="extract", unit="image", disable=None if progress is None else not progress)
