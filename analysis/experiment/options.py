@@ -9,7 +9,6 @@ receives an :class:`ExperimentOptions`.
 from __future__ import annotations
 
 import difflib
-import math
 import re
 from pathlib import Path
 from typing import Literal, Optional, Union
@@ -17,6 +16,7 @@ from typing import Literal, Optional, Union
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator, model_validator
 
 from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number
 
 __all__ = ["ExperimentOptions", "load_options", "DEFAULT_INSTRUCTIONS", "DEFAULT_SIZE_DEG"]
 
@@ -51,11 +51,10 @@ def _whole(value, name, low):
         if not re.fullmatch(r"[+-]?\d+", value):
             raise ValueError(f"expected a whole number >= {low}, got {value!r}")
         value = int(value)
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    if not isinstance(value, int) or value < low:
-        raise ValueError(f"expected a whole number >= {low}, got {value!r}")
-    return value
+    try:  # the library's rule for integers (attneave.stimuli.validate); text above is a flag's
+        return as_int(value, name or "value", lo=low)
+    except InputError:
+        raise ValueError(f"expected a whole number >= {low}, got {value!r}") from None
 
 
 def _refuse_repeats(values, what):
@@ -211,16 +210,14 @@ class ExperimentOptions(BaseModel):
     @field_validator("size_deg", "size_px", "px_per_deg", "viewing_distance_cm", mode="before")
     @classmethod
     def _finite(cls, v):
+        # the library's rule (attneave.stimuli.validate): these flags are read as numbers
+        # (type=float), so text here is a quoted YAML value, refused like r0: "50" of a batch config;
         # NaN fails every bound, and pydantic would name the bound rather than the NaN
-        if isinstance(v, float) and not math.isfinite(v):
-            raise ValueError(f"must be a finite number, got {v!r}")
-        if isinstance(v, str):
+        if v is not None:
             try:
-                f = float(v)
-            except ValueError:
-                return v  # pydantic says it is not a number
-            if not math.isfinite(f):
-                raise ValueError(f"must be a finite number, got {v!r}")
+                as_number(v, "value")
+            except InputError as exc:
+                raise ValueError(str(exc).removeprefix("value: ")) from None
         return v
 
     @field_validator("background", mode="before")

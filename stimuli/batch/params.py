@@ -9,16 +9,73 @@ get, so nothing is parsed twice. :class:`Style` says how items are drawn.
 
 from __future__ import annotations
 
+import typing
 from typing import Annotated, Any, Literal, Optional, Union
 
-from pydantic import (BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo, field_serializer, field_validator,
-                      model_validator)
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    Field,
+    ValidationInfo,
+    field_serializer,
+    field_validator,
+    model_validator,
+)
+
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int, as_number
 
 __all__ = [
     "Style", "RecipeParams", "ShapeParams", "AttneavePolygonParams", "AttneaveCurvedParams",
     "RadialFrequencyParams", "FourierParams", "SuperformulaParams", "BlobParams", "FromCsvParams",
-    "FromImageParams", "SHAPES", "BaseShape", "DeformationParams",
+    "FromImageParams", "SHAPES", "BaseShape", "DeformationParams", "LibraryNumbers",
 ]
+
+
+def _number_check(tp):
+    """:func:`~attneave.stimuli.validate.as_number` or :func:`~attneave.stimuli.validate.as_int` for a
+    field of type float or int (optional, or a list of them), with whether it is a list; else None."""
+    if typing.get_origin(tp) is Annotated:
+        tp = typing.get_args(tp)[0]
+    if tp is float:
+        return as_number, False
+    if tp is int:
+        return as_int, False
+    if typing.get_origin(tp) is Union:
+        found = [_number_check(a) for a in typing.get_args(tp) if a is not type(None)]
+        return found[0] if len(found) == 1 else None
+    if typing.get_origin(tp) is list and typing.get_args(tp):
+        inner = _number_check(typing.get_args(tp)[0])
+        return None if inner is None or inner[1] else (inner[0], True)
+    return None
+
+
+class LibraryNumbers(BaseModel):
+    """A config schema whose numbers follow the library's rule (:mod:`attneave.stimuli.validate`).
+
+    Every float or int field (optional, or a list of them) is first checked by
+    the function that checks the same argument of the Python API, so that a
+    quoted ``r0: "50"`` or ``n: true`` is refused in the API's words (pydantic
+    alone would take them as 50 and 1); the field's own bounds follow.
+    """
+
+    @field_validator("*", mode="before")
+    @classmethod
+    def _library_rule(cls, v, info: ValidationInfo):
+        field = cls.model_fields.get(info.field_name)
+        found = None if field is None or v is None else _number_check(field.annotation)
+        if found is None:
+            return v
+        check, many = found
+        items = v if many and isinstance(v, (list, tuple)) else [v]
+        for item in items:
+            try:
+                check(item, info.field_name)
+            except InputError as exc:
+                # the key is named by the config's error line (file, line, key path)
+                raise ValueError(str(exc).removeprefix(f"{info.field_name}: ")) from None
+        return v
 
 
 def _check_colour(v):
@@ -39,7 +96,7 @@ Unit = Annotated[float, Field(ge=0, le=1)]
 Colour = Annotated[Union[Unit, tuple[Unit, Unit, Unit]], BeforeValidator(_check_colour)]
 
 
-class Style(BaseModel):
+class Style(LibraryNumbers):
     """How items are drawn; shared by a whole condition.
 
     Attributes
@@ -75,7 +132,7 @@ class Style(BaseModel):
 # --------------------------------------------------------------------------- params models
 
 
-class RecipeParams(BaseModel):
+class RecipeParams(LibraryNumbers):
     """Base of every recipe's parameters: unknown keys are errors."""
 
     model_config = ConfigDict(extra="forbid")
