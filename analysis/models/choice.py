@@ -95,25 +95,62 @@ def point_index(t, n):
     return np.mod(np.rint(np.asarray(t, dtype=float) * n).astype(np.int64), n)
 
 
-def _moments(beta, Z):
+#: Most elements of a (rows, n) block of contour values held at once: the pairs of a fit are
+#: processed in blocks of rows so that memory stays O(pairs + block), whatever clicks x n.
+BLOCK_ELEMENTS = 1 << 20
+
+
+def _moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
     """log-sum-exp, E and Var of z under p ∝ exp(beta z), row by row.
 
-    beta (P,), Z (P, n) -> lse (P,), E (P,), V (P,).
+    beta (P,), Z (S, n), rows (P,) indices into Z (default ``arange(S)``) -> lse (P,), E (P,), V (P,).
+    Row r uses ``Z[rows[r]]``: the pairs of one stimulus share its n values, and only a block of
+    rows is expanded at a time.
     """
-    x = beta[:, None] * Z
-    mx = x.max(axis=1, keepdims=True)
-    w = np.exp(x - mx)
-    sw = w.sum(axis=1)
-    E = np.einsum("pn,pn->p", w, Z) / sw
-    E2 = np.einsum("pn,pn->p", w, Z * Z) / sw
-    lse = np.log(sw) + mx[:, 0]
-    return lse, E, np.maximum(E2 - E * E, 0.0)
+    Z = np.asarray(Z, dtype=float)
+    beta = np.asarray(beta, dtype=float)
+    rows = np.arange(len(beta)) if rows is None else np.asarray(rows)
+    P = len(rows)
+    lse, E, V = np.empty(P), np.empty(P), np.empty(P)
+    step = max(1, block // max(Z.shape[1], 1))
+    for a in range(0, P, step):
+        sl = slice(a, min(a + step, P))
+        Zb = Z[rows[sl]]
+        x = beta[sl, None] * Zb
+        mx = x.max(axis=1, keepdims=True)
+        w = np.exp(x - mx, out=x)
+        sw = w.sum(axis=1)
+        e = np.einsum("pn,pn->p", w, Zb) / sw
+        e2 = np.einsum("pn,pn,pn->p", w, Zb, Zb) / sw
+        lse[sl] = np.log(sw) + mx[:, 0]
+        E[sl] = e
+        V[sl] = np.maximum(e2 - e * e, 0.0)
+    return lse, E, V
 
 
 def _pairs(M):
-    """The (group, stimulus, count) triples of the non-zero counts of M (G, S)."""
+    """The (group, stimulus, count) triples of the non-zero counts of M (G, S), dense or scipy.sparse."""
+    import scipy.sparse
+
+    if scipy.sparse.issparse(M):
+        c = scipy.sparse.coo_matrix(M)
+        keep = c.data != 0
+        return c.row[keep].astype(np.int64), c.col[keep].astype(np.int64), c.data[keep].astype(float)
     g, s = np.nonzero(M)
     return g, s, M[g, s]
+
+
+def _as_counts(M):
+    """M as a 2-d (G, S) array or scipy.sparse matrix of floats (a (S,) vector is one group)."""
+    import scipy.sparse
+
+    if scipy.sparse.issparse(M):
+        return scipy.sparse.csr_matrix(M, dtype=float)
+    return np.atleast_2d(np.asarray(M, dtype=float))
+
+
+def _row_sums(M):
+    return np.asarray(M.sum(axis=1), dtype=float).ravel()
 
 
 def loglik(beta, Z, A, M):
@@ -126,19 +163,20 @@ def loglik(beta, Z, A, M):
         Standardised predictions at the n points of each stimulus.
     A : float or (G,) array_like
         Sum of z over each group's clicks.
-    M : (S,) or (G, S) array_like
-        Number of clicks of each group on each stimulus.
+    M : (S,) or (G, S) array_like or scipy.sparse matrix
+        Number of clicks of each group on each stimulus (sparse for many
+        groups and stimuli: only the non-zero counts are used).
 
     Returns
     -------
     float or (G,) ndarray
     """
     scalar = np.ndim(beta) == 0 and np.ndim(A) == 0 and np.ndim(M) == 1
-    M = np.atleast_2d(np.asarray(M, dtype=float))
+    M = _as_counts(M)
     G = M.shape[0]
     beta = np.broadcast_to(np.atleast_1d(np.asarray(beta, dtype=float)), (G,))
     g, s, m = _pairs(M)
-    lse, _, _ = _moments(beta[g], np.asarray(Z, dtype=float)[s])
+    lse, _, _ = _moments(beta[g], Z, s)
     ll = beta * np.broadcast_to(np.atleast_1d(A), (G,)) - np.bincount(g, weights=m * lse, minlength=G)
     return float(ll[0]) if scalar else ll
 
@@ -152,8 +190,10 @@ def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
         Standardised predictions (see :func:`standardize`).
     A : float or (G,) array_like
         Sum of z at each group's clicks.
-    M : (S,) or (G, S) array_like
-        Clicks of each group on each stimulus.
+    M : (S,) or (G, S) array_like or scipy.sparse matrix
+        Clicks of each group on each stimulus (sparse, e.g. ``diags(M_s)``
+        for one group per stimulus: memory grows with the non-zero counts,
+        not with groups x stimuli).
     bound : float
         Search interval ``[-bound, bound]``; when the likelihood still rises
         at the bound (e.g. every click of a group on its highest-z point), the
@@ -180,9 +220,9 @@ def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
     Z = np.asarray(Z, dtype=float)
     scalar = np.ndim(A) == 0 and np.ndim(M) == 1
     A = np.atleast_1d(np.asarray(A, dtype=float))
-    M = np.atleast_2d(np.asarray(M, dtype=float))
+    M = _as_counts(M)
     G = len(A)
-    N = M.sum(axis=1)
+    N = _row_sums(M)
     # only the (group, stimulus) pairs with clicks enter the likelihood: memory
     # grows with them, not with groups x stimuli
     pg, ps, pm = _pairs(M)
@@ -195,7 +235,7 @@ def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
         where[sel] = np.arange(len(sel))
         keep = where[pg] >= 0
         gi = where[pg[keep]]
-        _, E, V = _moments(b[gi], Z[ps[keep]])
+        _, E, V = _moments(b[gi], Z, ps[keep])
         k = len(sel)
         return (A[sel] - np.bincount(gi, weights=pm[keep] * E, minlength=k),
                 np.bincount(gi, weights=pm[keep] * V, minlength=k))

@@ -19,7 +19,9 @@ class Design:
     ``t`` its arc position, ``zc`` the z of the tested prediction there;
     ``Z`` (S, n) that prediction standardised, ``Zs`` every predictor's z;
     ``Ms`` (S,) clicks per stimulus, ``Mgs`` (G, S) per participant and
-    stimulus, ``Cs`` (S, n) per stimulus and point.
+    stimulus (a scipy.sparse CSR matrix: a participant sees few of many
+    stimuli, and G x S dense would not fit for large designs), ``Cs`` (S, n)
+    per stimulus and point.
     """
 
     ids: list
@@ -67,6 +69,7 @@ def mean_by(index, size, values, mask=None):
 def design(mapped, predictions, ids):
     """Index the used clicks of `mapped` (from :func:`map_clicks`)."""
     import pandas as pd
+    import scipy.sparse
 
     used = ~mapped["excluded"].to_numpy()
     sindex = {s: i for i, s in enumerate(ids)}
@@ -86,6 +89,7 @@ def design(mapped, predictions, ids):
         Zs={k: np.stack([predictions[s].z[k] for s in ids]) for k in PREDICTORS},
         sign=np.stack([predictions[s].sign for s in ids]),
         Ms=np.bincount(sidx, minlength=S).astype(float),
-        Mgs=np.bincount(pidx * S + sidx, minlength=G * S).reshape(G, S).astype(float),
+        # duplicates (several clicks of a participant on a stimulus) are summed by the conversion
+        Mgs=scipy.sparse.csr_matrix((np.ones(len(sidx)), (pidx, sidx)), shape=(G, S)),
         Cs=np.bincount(sidx * npts + j, minlength=S * npts).reshape(S, npts).astype(float),
     )

@@ -49,7 +49,7 @@ def participant_table(d, mapped, pct, feats, level=0.95):
         participant=d.participants,
         n_clicks=[int(all_counts.get(q, 0)) for q in d.participants],
         n_used=ng.astype(int),
-        n_stimuli=(d.Mgs > 0).sum(axis=1),
+        n_stimuli=np.diff(d.Mgs.indptr),
         mean_z=np.where(informative, mean_by(p, G_, d.zc), np.nan),
         beta_hat=fg["beta"] if G else [],
         beta_se=fg["se"] if G else [],
@@ -96,9 +96,12 @@ def correlation(d, bw_px, grid, permutations, seed):
 def stimulus_table(d, mapped, predictions, stimset, pct, feats, corr, bw_px, pk_px, level=0.95):
     """One row per stimulus of the set (also those without a used click)."""
     import pandas as pd
+    import scipy.sparse
 
     S, ids = d.S, d.ids
-    fs = fit_beta(d.Z, np.bincount(d.sidx, weights=d.zc, minlength=S), np.diag(d.Ms), level=level)
+    # one group per stimulus: a sparse diagonal, never an S x S matrix
+    fs = fit_beta(d.Z, np.bincount(d.sidx, weights=d.zc, minlength=S), scipy.sparse.diags(d.Ms, format="csr"),
+                  level=level)
     n_rows = mapped["stimulus_id"].value_counts()
     G1 = max(d.G, 1)
     parts = np.bincount(np.unique(d.sidx * G1 + d.pidx) // G1, minlength=S)
