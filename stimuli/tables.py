@@ -18,6 +18,9 @@ from attneave.stimuli.io import MAX_TEXT_BYTES, atomic_write, check_regular_file
 
 __all__ = [
     "write_table",
+    "neutralise_cell",
+    "restore_cell",
+    "FORMULA_STARTS",
     "describe_columns",
     "plausible_header",
     "shorten",
@@ -25,6 +28,68 @@ __all__ = [
     "read_table",
     "read_points",
 ]
+
+
+#: First characters that make a spreadsheet (Excel, LibreOffice, Google Sheets) evaluate a cell
+FORMULA_STARTS = ("=", "+", "-", "@", "\t", "\r")
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def neutralise_cell(value):
+    """A text cell that a spreadsheet would evaluate, made inert by a leading ``'``.
+
+    OWASP's rule against CSV (formula) injection [1]_: a text beginning with
+    ``=``, ``+``, ``-``, ``@``, tab or carriage return gets a ``'`` before
+    it, which spreadsheets read as "text" and do not show. A number
+    (``-3.5``, ``+1e3``) is left as it is, and so is anything that is not a
+    ``str``. :func:`restore_cell` undoes it.
+
+    References
+    ----------
+    .. [1] OWASP, "CSV Injection", https://owasp.org/www-community/attacks/CSV_Injection
+
+    Examples
+    --------
+    >>> neutralise_cell("=1+2"), neutralise_cell("@SUM(A1)"), neutralise_cell("-3.5"), neutralise_cell("P01")
+    ("'=1+2", "'@SUM(A1)", '-3.5', 'P01')
+    """
+    if isinstance(value, str) and value[:1] in FORMULA_STARTS and value and not _PLAIN_NUMBER.fullmatch(value):
+        return "'" + value
+    return value
+
+
+def restore_cell(value):
+    """`value` without the ``'`` that :func:`neutralise_cell` put before it.
+
+    Exactly one leading ``'`` is removed, and only when what follows begins
+    with one of :data:`FORMULA_STARTS`; any other text is returned as it is.
+
+    Examples
+    --------
+    >>> restore_cell("'=1+2"), restore_cell("'quoted'"), restore_cell("''=x")
+    ('=1+2', "'quoted'", "''=x")
+    """
+    if isinstance(value, str) and value[:1] == "'" and value[1:2] and value[1:2] in FORMULA_STARTS:
+        return value[1:]
+    return value
+
+
+def _neutralise_frame(table):
+    """A copy of DataFrame `table` whose text cells and column names are neutralised (numbers untouched)."""
+    from pandas.api.types import is_object_dtype, is_string_dtype
+
+    text = [c for c in table.columns if is_object_dtype(table[c].dtype) or is_string_dtype(table[c].dtype)]
+    names = [neutralise_cell(c) for c in table.columns]
+    if not text and names == list(table.columns):
+        return table
+    out = table.copy(deep=False)
+    for c in text:
+        col = out[c]
+        hit = col.map(lambda v: isinstance(v, str) and v[:1] in FORMULA_STARTS and neutralise_cell(v) != v)
+        if hit.any():
+            out[c] = col.map(neutralise_cell).astype(col.dtype)
+    out.columns = names
+    return out
 
 
 def write_table(table, path, float_format="%.10g"):
@@ -36,15 +101,21 @@ def write_table(table, path, float_format="%.10g"):
     A mapping of columns is written with the csv module (no pandas import:
     commands that write one table start faster); a DataFrame with its own
     ``to_csv``, with the same formatting.
+
+    A text cell (or column name) that a spreadsheet would evaluate as a
+    formula, such as a participant id ``=HYPERLINK(...)`` from an untrusted
+    file, is written with a leading ``'`` (:func:`neutralise_cell`);
+    numbers, and numeric columns, are written as they are.
     """
     if hasattr(table, "to_csv"):
+        table = _neutralise_frame(table)
         with atomic_write(path, "w", newline="") as fh:
             table.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
         return
     import csv
 
-    names = list(table)
-    columns = [_format_column(table[name], float_format) for name in names]
+    names = [neutralise_cell(str(n)) for n in table]
+    columns = [_format_column(table[name], float_format) for name in table]
     with atomic_write(path, "w", newline="") as fh:
         writer = csv.writer(fh, lineterminator="\n")
         writer.writerow(names)
@@ -61,7 +132,8 @@ def _format_column(values, float_format):
     if a.dtype.kind in "iub":
         return [str(v) for v in a.tolist()]
     return ["" if v is None or (isinstance(v, float) and v != v) else
-            (float_format % v if isinstance(v, float) else str(v)) for v in a.tolist()]
+            (float_format % v if isinstance(v, float) else
+             neutralise_cell(v) if isinstance(v, str) else str(v)) for v in a.tolist()]
 
 
 def shorten(text, limit=30):

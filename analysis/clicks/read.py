@@ -55,7 +55,7 @@ from pathlib import Path
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.tables import describe_columns, plausible_header
+from attneave.stimuli.tables import describe_columns, plausible_header, restore_cell
 from attneave.stimuli.validate import parse_number
 
 __all__ = [
@@ -156,6 +156,11 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     missing coordinate; lists of unequal lengths are left as written and
     excluded with reason ``coordinate_list``.
 
+    A cell written as ``'=...``, ``'+...``, ``'-...``, ``'@...`` (a leading
+    ``'`` that CSV writers put before a text a spreadsheet would evaluate as
+    a formula; :func:`attneave.stimuli.tables.neutralise_cell`) is read
+    without that ``'``, so ids come back as they were.
+
     Several files joined into one (``cat P01.csv P02.csv``) repeat the header
     line: such a line is kept, with ``row_error`` saying so, and analysis
     excludes it with reason ``repeated_header``.
@@ -211,6 +216,10 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
         raise InputError(f"--decimal: expected '.' or ',', got {decimal!r}")
     df, lines, row_error, _ = read_tolerant_csv(path, sep=sep, what="a CSV click file",
                                                 empty=f"expected a header with {', '.join(CANONICAL)}")
+    # the ' that a CSV writer (ours, the experiment page's, PsychoPy's) put before a cell a spreadsheet
+    # would run as a formula is no part of the value: '=P01 is the participant =P01
+    df = df.map(restore_cell)
+    df.columns = [restore_cell(c) for c in df.columns]
     # files joined one after another (cat P01.csv P02.csv) repeat the header: such a line is no click;
     # it is kept and flagged (analysis excludes it as repeated_header), not mistaken for a click with
     # non-numeric coordinates

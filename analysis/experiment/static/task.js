@@ -4,7 +4,10 @@
  *
  * PAGE CONTRACT (stable; hosts, scripts and tests rely on it)
  *   URL parameters
- *     ?participant=ID   participant id (else PROLIFIC_PID=, else a screen asks for it)
+ *     ?participant=ID   participant id (else PROLIFIC_PID=, else a screen asks for it); an id
+ *                       must match PARTICIPANT_ID: 1-64 letters, digits, _ . @ -, beginning
+ *                       with a letter or digit (Prolific, SONA and MTurk ids do); another is
+ *                       refused with a message (the screen "error", or on the id screen)
  *     ?list=N           counterbalancing list 1..K (else derived from the participant id)
  *     ?px_per_mm=F      CSS px per mm: skips the card calibration
  *     ?px_per_deg=F     CSS px per degree: skips the calibration and the viewing distance
@@ -26,6 +29,9 @@
  *     CSV columns: participant, stimulus_id, x, y, click, trial, rt_ms, condition, list,
  *       parent_id, shown_w, shown_h, px_per_deg, px_per_mm, viewing_distance_cm, screen_w,
  *       screen_h, device_pixel_ratio, pointer_type, user_agent, timestamp
+ *     A text cell beginning with = + - @ tab or CR (a formula to a spreadsheet) is written
+ *       with a ' before it (OWASP's rule against CSV injection); numbers are written as they
+ *       are. `attneave analyze` removes that ' when it reads the file.
  *     x, y are in the stimulus IMAGE's pixels (x = column, y = row, y down, pixel centres at
  *     integers: pixel i spans [i - 0.5, i + 0.5]) whatever the CSS size:
  *       x = (clientX - rect.left) * naturalWidth / rect.width - 0.5
@@ -111,9 +117,19 @@
     };
   }
 
+  /** Participant ids the page accepts (the same rule as options.PARTICIPANT_ID). */
+  var PARTICIPANT_ID = /^[A-Za-z0-9][A-Za-z0-9_.@-]{0,63}$/;
+  var PLAIN_NUMBER = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
+
+  /** A text a spreadsheet would run as a formula, with a ' before it (numbers as they are). */
+  function neutralise(value) {
+    if (typeof value !== 'string' || !/^[=+\-@\t\r]/.test(value) || PLAIN_NUMBER.test(value)) return value;
+    return "'" + value;
+  }
+
   /** One CSV field (RFC 4180): quoted when it holds a comma, quote, line break or edge space. */
   function csvField(value) {
-    var s = value === null || value === undefined ? '' : String(value);
+    var s = value === null || value === undefined ? '' : String(neutralise(value));
     if (/[",\r\n]/.test(s) || /^\s|\s$/.test(s)) return '"' + s.replace(/"/g, '""') + '"';
     return s;
   }
@@ -129,6 +145,7 @@
   var COLUMNS = ['participant', 'stimulus_id', 'x', 'y', 'click', 'trial', 'rt_ms', 'condition', 'list',
     'parent_id', 'shown_w', 'shown_h', 'px_per_deg', 'px_per_mm', 'viewing_distance_cm', 'screen_w',
     'screen_h', 'device_pixel_ratio', 'pointer_type', 'user_agent', 'timestamp'];
+  var ID_RULE = 'A participant id is 1 to 64 letters, digits, _ . @ or -, beginning with a letter or digit.';
   var CARD_WIDTH_MM = 85.60;  // ISO/IEC 7810 ID-1 (credit card)
 
   /** CSS px per degree: the central degree as a linear scale (PsychoPy 'deg'; calibration.py). */
@@ -139,7 +156,7 @@
   var api = {
     fnv1a32: fnv1a32, mulberry32: mulberry32, shuffle: shuffle, trialOrder: trialOrder,
     participantList: participantList, toImagePx: toImagePx, toCSV: toCSV, csvField: csvField,
-    pxPerDegree: pxPerDegree, COLUMNS: COLUMNS
+    pxPerDegree: pxPerDegree, COLUMNS: COLUMNS, PARTICIPANT_ID: PARTICIPANT_ID, neutralise: neutralise
   };
   if (typeof module === 'object' && module.exports) {
     module.exports = api;
@@ -243,9 +260,15 @@
 
   function askParticipant(done) {
     var input = el('input', { type: 'text', id: 'participant-input', autocomplete: 'off', 'aria-label': 'participant id' });
-    showScreen([el('h1', { text: cfg.title }), el('p', { text: 'Please enter your participant ID.' }), input], 'participant');
+    var why = el('p', { id: 'participant-error', 'class': 'error', text: '' });
+    showScreen([el('h1', { text: cfg.title }), el('p', { text: 'Please enter your participant ID.' }), input, why],
+      'participant');
     waitNext(function () { done(input.value.trim()); }, false);
-    input.addEventListener('input', function () { nextBtn.disabled = input.value.trim() === ''; });
+    input.addEventListener('input', function () {
+      var v = input.value.trim();
+      why.textContent = v === '' || PARTICIPANT_ID.test(v) ? '' : ID_RULE;
+      nextBtn.disabled = !PARTICIPANT_ID.test(v);
+    });
     input.focus();
   }
 
@@ -581,6 +604,9 @@
       else if (cfg.px_per_deg !== null) session.pxPerDeg = cfg.px_per_deg;
     } catch (err) { fail(err.message); return; }
     var id = (params.get('participant') || params.get('PROLIFIC_PID') || '').trim();
+    // the id comes from the address, which anyone can write: it goes into file names, storage keys
+    // and the CSV, so only ids of the documented form are taken
+    if (id && !PARTICIPANT_ID.test(id)) { fail('This participant id cannot be used. ' + ID_RULE); return; }
     if (id) withParticipant(id); else askParticipant(withParticipant);
   }
 
