@@ -98,7 +98,7 @@ PAPER_FIGURES = [
     "fig1_u_vs_curvature.png",
     "fig2_u_exp_curvature.png",
     "fig3_u_cusp.png",
-    "fig4_u_log_spiral.png",
+    "fig4_u_clothoid.png",
     "fig5_eq7_curvature_pos.png",
     "fig6_eq7_curvature_neg.png",
 ]
@@ -127,23 +127,23 @@ def test_figures_writes_paper_figures(tmp_path, capsys):
     assert str(out / "figures.md") in printed
 
 
-def test_make_figures_hook(tmp_path):
-    from attneave.papers import ziatdinov as figures
+def test_make_figures_writes_the_named_figures(tmp_path):
+    from attneave.papers.draw import make_figures
 
-    def extra(outdir):
-        import matplotlib
+    files = make_figures(tmp_path / "f", ["fig5", "fig1"])
+    assert [p.name for p in files] == ["fig5_eq7_curvature_pos.png", "fig1_u_vs_curvature.png", "figures.md"]
+    note = (tmp_path / "f" / "figures.md").read_text()
+    assert note.index("Fig. 5.") < note.index("Fig. 1.") and "Fig. 2." not in note
+    assert "The paper's caption: Curvature function (7)" in note
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
 
-        fig, ax = plt.subplots()
-        ax.plot([0, 1], [0, 1])
-        return [(figures.save_png(fig, outdir / "fig10.png"), "Fig. 10 analogue.")]
+def test_make_figures_unknown_name(tmp_path):
+    from attneave.papers.draw import make_figures
+    from attneave.stimuli.errors import InputError
 
-    files = figures.make_figures(tmp_path / "f", makers=[figures.fig5, extra])
-    assert [p.name for p in files] == ["fig5_eq7_curvature_pos.png", "fig10.png", "figures.md"]
-    assert "Fig. 10 analogue." in (tmp_path / "f" / "figures.md").read_text()
-    assert figures.fig1 in figures.FIGURE_MAKERS
+    with pytest.raises(InputError, match="no figure named fig7"):
+        make_figures(tmp_path / "f", ["fig1", "fig7"])
+    assert not (tmp_path / "f").exists()
 
 
 def test_figures_bad_output(tmp_path, capsys):
@@ -157,9 +157,10 @@ def test_figures_bad_output(tmp_path, capsys):
 def test_fig2_amplitude_grows_with_arc_length(b):
     # the paper: "the amplitudes of (5) increase with an arc length (Fig. 2)", which holds
     # with ds = s/n: u = -ln A' - b (s/n)^2 cos(exp(s) s/n - 2 pi/n), A' = 1/4, n = 10
-    from attneave.papers.ziatdinov import fig2_curve
+    from attneave.papers.ziatdinov import fig2
 
-    s, u = fig2_curve(b)
+    line = next(line for line in fig2().panels[0].lines if line.label == f"b = {b:g}")
+    s, u = line.x, line.y
     n, level = 10, -np.log(0.25)
     expected = level - b * (s / n) ** 2 * np.cos(np.exp(s) * s / n - 2 * np.pi / n)
     np.testing.assert_allclose(u, expected, rtol=0, atol=1e-12)
@@ -173,8 +174,8 @@ def test_fig2_amplitude_grows_with_arc_length(b):
 
 
 def test_fig2_note_says_ds_is_s_over_n(tmp_path):
-    from attneave.papers import ziatdinov as figures
+    from attneave.papers.draw import make_figures
 
-    figures.make_figures(tmp_path, makers=[figures.fig2])
+    make_figures(tmp_path, ["fig2"])
     note = (tmp_path / "figures.md").read_text()
-    assert "ds = s/n" in note and "We follow the text" in note
+    assert "ds = s/n" in note and "We follow the text" in note and "ds = L/n = 10" in note

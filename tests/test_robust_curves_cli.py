@@ -10,7 +10,7 @@ from scipy.special import exp1
 
 from attneave.cli import main
 from attneave.stimuli.curves.lac.aesthetic import log_aesthetic
-from attneave.stimuli.curves.natural import pseudospiral
+from attneave.stimuli.curves.pseudospiral import pseudospiral
 from attneave.stimuli.curves.superspiral import superspiral
 
 
@@ -223,13 +223,12 @@ def test_figures_unwritable_output(capsys, out):
 
 def test_figures_names_replaced_files(tmp_path, capsys, monkeypatch):
     from attneave.papers import ziatdinov as figures
+    from attneave.papers.base import FigureData, Line, Panel
 
-    def maker(outdir):
-        p = outdir / "fig1_u_vs_curvature.png"
-        p.write_bytes(b"png")
-        return [(p, "test")]
+    def fig1():
+        return FigureData("fig1", "fig1_u_vs_curvature.png", "test", (Panel((Line(np.zeros(2), np.ones(2)),)),))
 
-    monkeypatch.setattr(figures, "FIGURE_MAKERS", [maker])
+    monkeypatch.setattr(figures, "FIGURES", {"fig1": fig1})
     (tmp_path / "figures.md").write_text("mine")
     (tmp_path / "fig1.png").write_text("mine")
     assert main(["figures", "-o", str(tmp_path)]) == 0

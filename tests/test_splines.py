@@ -334,7 +334,8 @@ def test_metrics_on_known_samples():
 
 def test_bird30_fig10_analogue(tmp_path):
     # the shipped 30-point bird: QIC adds no extrema, the polynomial splines do
-    from attneave.papers.spline_plots import FIG10_NAME, fig10_analogue, load_bird30
+    from attneave.papers.draw import make_figures
+    from attneave.papers.spline_plots import load_bird30
 
     P = load_bird30()
     assert P.shape == (30, 2)
@@ -342,8 +343,8 @@ def test_bird30_fig10_analogue(tmp_path):
     assert qic.metrics(64)["interior_extrema"] == 0 and qic.loops == 0
     for deg in (3, 4, 5):
         assert polynomial_spline(P, deg).metrics(64)["interior_extrema"] >= 10
-    files = fig10_analogue(tmp_path)
-    assert [f.name for f in files] == [FIG10_NAME] and files[0].stat().st_size > 10000
+    files = make_figures(tmp_path, ["fig10"])
+    assert [f.name for f in files] == ["fig10_bird_splines.png", "figures.md"] and files[0].stat().st_size > 10000
 
 
 # ---------------------------------------------------------------------------

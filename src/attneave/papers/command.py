@@ -9,8 +9,10 @@ def add_parser(sub):
         help="the paper's Figs. 1-6 and a Fig. 10 analogue as PNG files, with a note of what each shows",
         description=(
             "Write the seed paper's Figs. 1-6 into DIR: eq. 5 with A' = 1/4, L = 100, n = 10, "
-            "b = 1/2, 1, 2 over curvature k in [-1, 1] (Fig. 1) and along k = exp(s) (Fig. 2), "
-            "k = 1/(1 - s) with its cusp at s = 1 (Fig. 3) and k = 2*pi/(n*s) (Fig. 4); eq. 7's "
+            "b = 1/2, 1, 2 over curvature k in [-1, 1] (Fig. 1) and along k = exp(s) with ds = s/n, "
+            "beside the caption's ds = 10 (Fig. 2), "
+            "k = 1/(1 - s) with its cusp at s = 1 (Fig. 3) and the clothoid k = (2*pi/n)*s, beside "
+            "k = 2*pi/(n*s), the other reading of the caption's 2*pi/ns (Fig. 4); eq. 7's "
             "curvature for C = 0, +-0.01, +-0.02, +-0.03, n = 10 (Figs. 5-6). Also the constant u "
             "along eq. 7, a gallery of the curve families, a Fig. 10 analogue (a bird outline reduced to 30 "
             "points: polynomial splines of degree 3-5 against the QIC spline, with the curvature "
@@ -28,7 +30,7 @@ def add_parser(sub):
 def run(args):
     import sys
 
-    from attneave.papers.ziatdinov import make_figures
+    from attneave.papers.draw import make_figures
     from attneave.stimuli.io import make_output_dir
 
     out = make_output_dir(args.output, what="-o")

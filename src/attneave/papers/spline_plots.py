@@ -1,7 +1,6 @@
-"""Plots for splines: curvature along arc length, and the Fig. 10 analogue
-(a bird outline through 30 points: polynomial splines of degree 3, 4, 5
-beside the QIC spline, with the curvature extrema each adds between the
-points).
+"""Plots for splines (curvature along arc length, a spline with its
+points) and the 30 points of the Fig. 10 analogue
+(:func:`attneave.papers.companions.fig10`): a bird outline.
 
 The 30 points ship as package data (``stimuli/data/bird30.csv``, columns
 ``x, y`` in image pixels, y down, counter-clockwise on the screen), so the
@@ -11,8 +10,6 @@ that made them from ``bird-1.png`` of the MPEG-7 CE-Shape-1 set (part B).
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 __all__ = [
@@ -20,16 +17,7 @@ __all__ = [
     "load_bird30",
     "plot_curvature",
     "plot_spline",
-    "fig10_analogue",
-    "fig10_maker",
-    "FIG10_NAME",
 ]
-
-FIG10_NAME = "fig10_bird_splines.png"
-FIG10_METHODS = (("poly3", "cubic (periodic)"), ("poly4", "quartic (periodic)"),
-                 ("poly5", "quintic (periodic)"), ("qic-g2", "QIC spline (G2 clothoids)"))
-FIG10_SAMPLES = 64
-
 
 def bird_points_from_silhouette(path, n=30, smooth=1 / 150):
     """Reduce a silhouette's outer contour to `n` points.
@@ -64,12 +52,18 @@ def bird_points_from_silhouette(path, n=30, smooth=1 / 150):
 
 def load_bird30():
     """The shipped 30-point bird outline (image pixels, y down, counter-
-    clockwise on the screen)."""
+    clockwise on the screen).
+
+    Examples
+    --------
+    >>> load_bird30().shape
+    (30, 2)
+    """
     from importlib.resources import files
 
     from attneave.stimuli.tables import read_points
 
-    return read_points(files("stimuli") / "data" / "bird30.csv")
+    return read_points(files("attneave.stimuli") / "data" / "bird30.csv")
 
 
 def plot_curvature(ax, curve, color="k", mark_extrema=True, label=None, rtol=1e-9):
@@ -79,7 +73,7 @@ def plot_curvature(ax, curve, color="k", mark_extrema=True, label=None, rtol=1e-
     Parameters
     ----------
     ax : matplotlib Axes
-    curve : stimuli.curve_metrics.SampledCurve
+    curve : attneave.stimuli.curves.metrics.SampledCurve
     """
     from attneave.stimuli.curves.metrics import extrema_indices, segment_slices
 
@@ -113,58 +107,3 @@ def plot_spline(ax, curve, points, color="k", mark_extrema=True, rtol=1e-9):
     ax.set_xticks([])
     ax.set_yticks([])
     return ax
-
-
-def _fig10(outdir):
-    from attneave.analysis.report.figure_files import pyplot, save_png
-    from attneave.stimuli.curves.metrics import curve_metrics
-    from attneave.stimuli.curves.splines import fit_spline
-
-    plt = pyplot()
-    P = load_bird30()
-    curves, counts = [], []
-    for method, _ in FIG10_METHODS:
-        c = fit_spline(P, method).sample(FIG10_SAMPLES)
-        curves.append(c)
-        counts.append(curve_metrics(c)["interior_extrema"])
-    qk = np.abs(curves[-1].curvature).max()
-    fig, axes = plt.subplots(2, 4, figsize=(16, 7), gridspec_kw={"height_ratios": [1.3, 1]})
-    for j, ((method, title), c, n) in enumerate(zip(FIG10_METHODS, curves, counts)):
-        plot_spline(axes[0, j], c, P)
-        axes[0, j].set_title(f"{title}\n{n} curvature extrema between the points", fontsize=10)
-        plot_curvature(axes[1, j], c)
-        lim = 1.5 * qk
-        axes[1, j].set_ylim(-lim, lim)
-        clipped = np.abs(c.curvature).max() > lim
-        if clipped:
-            axes[1, j].text(0.02, 0.95, f"max |k| = {np.abs(c.curvature).max():.3g} (clipped)",
-                            transform=axes[1, j].transAxes, fontsize=8, va="top")
-    fig.suptitle("Fig. 10 analogue: a bird outline through 30 points (MPEG-7 bird-1); "
-                 "red dots: curvature extrema between the points", fontsize=11)
-    fig.tight_layout()
-    path = save_png(fig, Path(outdir) / FIG10_NAME)
-    text = (
-        "Analogue of the paper's Fig. 10 (the duck that turns into a pterosaur). Thirty points on "
-        "the outline of a real silhouette (MPEG-7 CE-Shape-1 `bird-1.png`: outer contour smoothed "
-        "by a Gaussian of 1/150 of the perimeter, 30 points equally spaced in arc length from the "
-        "beak tip; shipped as `stimuli/data/bird30.csv`) interpolated by "
-        "periodic polynomial splines of degree 3, 4 and 5 with chord-length parameters and by the "
-        "QIC spline (G2 spline of clothoid segments). Top: the curves (blue circles: the points; "
-        "red dots: curvature extrema strictly between points). Bottom: curvature along arc length "
-        f"(grey lines: the points; {FIG10_SAMPLES} samples per segment). Curvature extrema added "
-        "between the points: " + ", ".join(f"{t.split(' (')[0]} {n}" for (_, t), n in zip(FIG10_METHODS, counts))
-        + ". The QIC spline adds none by construction: curvature is linear in arc length on "
-        "every segment and continuous at the points."
-    )
-    return [(path, text)], counts
-
-
-def fig10_maker(outdir):
-    """Figure maker for :data:`attneave.papers.ziatdinov.FIGURE_MAKERS`:
-    ``[(path, description)]``."""
-    return _fig10(outdir)[0]
-
-
-def fig10_analogue(outdir):
-    """Write the Fig. 10 analogue PNG into `outdir`; return ``[path]``."""
-    return [p for p, _ in _fig10(outdir)[0]]
