@@ -13,6 +13,7 @@
  * BLOCK columns are recomputed (every column where most blocks are).
  */
 #include "coverage_kernel.h"
+#include "coverage_api.h"
 
 /* An 8-bit image's layout and colours: channels interleaved (pix_step
  * bytes apart), luts channels x 256 levels, or NULL for grey black on white. */

@@ -23,6 +23,7 @@
  * C99 compiler and its loading cannot break the interpreter.
  */
 #include "coverage_kernel.h"
+#include "coverage_api.h"
 
 /* One piece inside pixel (r, c) (`cells`: the buffer's row r): deposit
  * it. Cutting knows the pixel, and the area is added per segment (the

@@ -27,33 +27,20 @@ from attneave.stimuli.render.workspace import scratch
 _HERE = Path(__file__).resolve().parent
 
 
-def _load():
-    lib = load_library(_HERE, "coverage_kernel", "ATTNEAVE_NUMPY_RENDER")
-    if lib is None:
-        return None
-    try:
-        return _declare(lib)
-    except AttributeError:  # a stale build without every entry: use numpy
-        return None
+_D, _L, _P, _I = ctypes.c_double, ctypes.c_long, ctypes.c_void_p, ctypes.c_int
+_IMAGE = [_P, _L, _L, _L, _L, _L, _P]  # img, h, w, row_step, pix_step, channels, luts
+#: The kernel's interface as Python calls it: name -> (restype, argtypes), one
+#: entry per prototype of ``coverage_api.h`` (checked by tests/test_kernel_interface.py).
+SIGNATURES = {
+    "attneave_deposit": (_D, [_P, _P, _L, _P, _L, _L, _L, _L, _L, _L, _P]),
+    "attneave_integrate": (None, [_P, _L, _L]),
+    "attneave_paint_u8": (None, [_P, _L, _L, _I, _P, _L, _L, _P, _P, _P]),
+    "attneave_ring_u8": (_D, [_P, _L, _I, *_IMAGE]),
+    "attneave_stream_u8": (_D, [_P, _P, _L, _P, *_IMAGE]),
+}
 
 
-def _declare(lib):
-    dp, lg, vp = ctypes.c_void_p, ctypes.c_long, ctypes.c_void_p
-    lib.attneave_deposit.restype = ctypes.c_double
-    lib.attneave_deposit.argtypes = [dp, dp, lg, vp, lg, lg, lg, lg, lg, lg, dp]
-    lib.attneave_integrate.restype = None
-    lib.attneave_integrate.argtypes = [dp, lg, lg]
-    lib.attneave_paint_u8.restype = None
-    lib.attneave_paint_u8.argtypes = [dp, lg, lg, ctypes.c_int, vp, lg, lg, vp, vp, dp]
-    image = [vp, lg, lg, lg, lg, lg, vp]  # img, h, w, row_step, pix_step, channels, luts
-    lib.attneave_ring_u8.restype = ctypes.c_double
-    lib.attneave_ring_u8.argtypes = [dp, lg, ctypes.c_int, *image]
-    lib.attneave_stream_u8.restype = ctypes.c_double
-    lib.attneave_stream_u8.argtypes = [dp, dp, lg, vp, *image]
-    return lib
-
-
-LIB = _load()
+LIB = load_library(_HERE, "coverage_kernel", "ATTNEAVE_NUMPY_RENDER", SIGNATURES)
 #: Which rasteriser runs: ``'c'`` (the compiled kernel) or ``'numpy'``.
 KERNEL = "numpy" if LIB is None else "c"
 

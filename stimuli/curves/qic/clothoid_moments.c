@@ -10,6 +10,8 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "qic_api.h"
+
 /* Gauss-Legendre rules on [0, 1] with 6, 7, 8, 9, 10, 12 and 14 nodes, bit for bit as
    stimuli/curves/euler.py builds them from numpy's leggauss: nodes t, t^2 / 2, weights w / 2. */
 static const int GL_Q[7] = {6, 7, 8, 9, 10, 12, 14};

@@ -29,7 +29,7 @@ import numpy as np
 from attneave.stimuli.compiled import address as _address
 from attneave.stimuli.compiled import load_library
 
-__all__ = ["KERNEL", "LIB", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments",
+__all__ = ["KERNEL", "LIB", "SIGNATURES", "NO_START", "NO_CONVERGENCE", "DEGENERATE", "solve_piece", "clothoid_xy", "sample_segments",
            "turn_samples"]
 
 _HERE = Path(__file__).resolve().parent
@@ -38,23 +38,19 @@ NO_START, NO_CONVERGENCE, DEGENERATE = 1, 2, 3
 _NO_MEMORY = 4
 
 
-def _load():
-    lib = load_library(_HERE, "qic_solve", "ATTNEAVE_NUMPY_SPLINE")
-    if lib is None:
-        return None
-    vp, lg, db = ctypes.c_void_p, ctypes.c_long, ctypes.c_double
-    lib.attneave_qic_piece.restype = lg
-    lib.attneave_qic_piece.argtypes = [vp, lg, lg, db, db, vp, db, lg, lg, vp]
-    lib.attneave_clothoid_points.restype = None
-    lib.attneave_clothoid_points.argtypes = [lg] + [vp] * 8
-    lib.attneave_sample_segments.restype = lg
-    lib.attneave_sample_segments.argtypes = [lg, vp, db, lg] + [vp] * 8 + [db, lg, vp]
-    lib.attneave_turn_samples.restype = lg
-    lib.attneave_turn_samples.argtypes = [lg, db, lg, lg, vp, lg, vp, vp, vp]
-    return lib
+_D, _L, _P, _I = ctypes.c_double, ctypes.c_long, ctypes.c_void_p, ctypes.c_int
+#: The kernel's interface as Python calls it: name -> (restype, argtypes), one
+#: entry per prototype of ``qic_api.h`` that Python calls (checked by
+#: tests/test_kernel_interface.py).
+SIGNATURES = {
+    "attneave_qic_piece": (_L, [_P, _L, _L, _D, _D, _P, _D, _L, _L, _P]),
+    "attneave_clothoid_points": (None, [_L] + [_P] * 8),
+    "attneave_sample_segments": (_L, [_L, _P, _D, _L] + [_P] * 8 + [_D, _L, _P]),
+    "attneave_turn_samples": (_L, [_L, _D, _L, _L, _P, _L, _P, _P, _P]),
+}
 
 
-LIB = _load()
+LIB = load_library(_HERE, "qic_solve", "ATTNEAVE_NUMPY_SPLINE", SIGNATURES)
 #: Which QIC solver runs: ``'c'`` (the compiled kernel) or ``'numpy'``.
 KERNEL = "numpy" if LIB is None else "c"
 _NAN = float("nan")

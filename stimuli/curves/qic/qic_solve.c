@@ -14,10 +14,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "qic_api.h"
+
 #define PI 3.14159265358979323846
 
-/* clothoid_moments.c: X[k] + i Y[k] = I_k(a, b) exp(ic), k < nk (1 or 3) */
-void attneave_moments(double a, double b, double c, int nk, double *X, double *Y);
+/* attneave_moments (clothoid_moments.c, declared in qic_api.h):
+   X[k] + i Y[k] = I_k(a, b) exp(ic), k < nk (1 or 3) */
 
 /* wrap to (-pi, pi], as euler.wrap_angle: pi - mod(pi - a, 2 pi) with a floored mod */
 static double wrap(double a)
