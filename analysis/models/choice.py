@@ -48,7 +48,7 @@ import numpy as np
 import scipy.optimize
 import scipy.stats
 
-__all__ = ["BETA_BOUND", "standardize", "point_index", "loglik", "fit_beta", "profile_ci", "fit_choice"]
+__all__ = ["BETA_BOUND", "standardize", "point_index", "block_moments", "loglik", "fit_beta", "profile_ci", "fit_choice"]
 
 #: The search bound of every fitted coefficient, pooled, per participant, per stimulus or joint:
 #: on standardised predictors, beta = 20 makes a point one sd above another e^20 times as likely
@@ -100,7 +100,7 @@ def point_index(t, n):
 BLOCK_ELEMENTS = 1 << 20
 
 
-def _moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
+def block_moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
     """log-sum-exp, E and Var of z under p ∝ exp(beta z), row by row.
 
     beta (P,), Z (S, n), rows (P,) indices into Z (default ``arange(S)``) -> lse (P,), E (P,), V (P,).
@@ -176,7 +176,7 @@ def loglik(beta, Z, A, M):
     G = M.shape[0]
     beta = np.broadcast_to(np.atleast_1d(np.asarray(beta, dtype=float)), (G,))
     g, s, m = _pairs(M)
-    lse, _, _ = _moments(beta[g], Z, s)
+    lse, _, _ = block_moments(beta[g], Z, s)
     ll = beta * np.broadcast_to(np.atleast_1d(A), (G,)) - np.bincount(g, weights=m * lse, minlength=G)
     return float(ll[0]) if scalar else ll
 
@@ -235,7 +235,7 @@ def fit_beta(Z, A, M, bound=BETA_BOUND, level=0.95, tol=1e-10, max_iter=200):
         where[sel] = np.arange(len(sel))
         keep = where[pg] >= 0
         gi = where[pg[keep]]
-        _, E, V = _moments(b[gi], Z, ps[keep])
+        _, E, V = block_moments(b[gi], Z, ps[keep])
         k = len(sel)
         return (A[sel] - np.bincount(gi, weights=pm[keep] * E, minlength=k),
                 np.bincount(gi, weights=pm[keep] * V, minlength=k))

@@ -13,21 +13,27 @@ treats stimuli as fixed, and is too liberal when slopes vary across stimuli
 Estimation: the Laplace approximation of the marginal likelihood. Given
 (u, v) the log-likelihood is a sum over cells (p, s) of
 ``l_ps(b) = b A_ps - M_ps log sum_i exp(b z_si)`` (A: sum of z at the cell's
-clicks, M: their number), so the mode over (u, v) is found by Newton's
-method whose Hessian is diagonal in u and in v apart from the (G, S) block of
-cell curvatures; the u block is eliminated by its Schur complement, so each
-step costs one S x S solve. ``log sum_i exp(b z_si)`` and its first three
-derivatives in b are tabulated per stimulus on a fine grid and interpolated
-by cubic Hermite polynomials (relative error below 1e-9 for the fits here),
-so an evaluation costs O(cells) whatever n. The approximate marginal
-log-likelihood is maximised over (log sd_participant, log
-sd_stimulus) with :func:`scipy.optimize.minimize`, beta being integrated
-out with a flat prior (the Laplace analogue of REML: beta is found jointly
-with the random effects at the mode, so the outer problem has two
-dimensions). The interval of beta is Wald's, from the beta element of the
-inverse curvature at the mode, with t quantiles on ``min(G, S) - 1`` degrees
-of freedom (the smaller set of random units limits what is known about the
-mean slope).
+clicks, M: their number), so the mode over (u, v, beta) is found by Newton's
+method whose Hessian is diagonal in u and in v apart from the sparse (G, S)
+block of cell curvatures (a participant meets only the stimuli they saw).
+The larger of the two blocks is eliminated by its Schur complement, so each
+step costs one dense solve of size ``min(G, S) + 1`` and memory grows with
+the cells, never with G x S or (G + S)^2. ``log sum_i exp(b z_si)`` and its
+first three derivatives in b are tabulated per stimulus on a fine grid, in
+blocks computed only where slopes fall, and interpolated by cubic Hermite
+polynomials (relative error below 1e-9 for the fits here), so an evaluation
+costs O(cells) whatever n. The approximate marginal log-likelihood is
+maximised over (log sd_participant, log sd_stimulus) with
+:func:`scipy.optimize.minimize` (L-BFGS-B) and its analytic gradient: the
+envelope theorem for the mode, and ``d log det H = tr(H^-1 dH)`` for the
+curvature, whose change through the mode is carried by the third cumulant
+at each cell (selected elements of ``H^-1`` come from the Schur complement).
+beta is integrated out with a flat prior (the Laplace analogue of REML:
+beta is found jointly with the random effects at the mode, so the outer
+problem has two dimensions). The interval of beta is Wald's, from the beta
+element of the inverse curvature at the mode, with t quantiles on
+``min(G, S) - 1`` degrees of freedom (the smaller set of random units limits
+what is known about the mean slope).
 
 References
 ----------
@@ -42,6 +48,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from attneave.analysis.models.choice import block_moments
+
 __all__ = ["CumulantTable", "fit_mixed"]
 
 _LOG_SD_BOUNDS = (-7.0, np.log(5.0))
@@ -49,6 +57,10 @@ _LOG_SD_BOUNDS = (-7.0, np.log(5.0))
 
 class CumulantTable:
     """``K_s(b) = log sum_i exp(b z_si)`` and its derivatives, tabulated per stimulus.
+
+    The grid is split into blocks of `block` steps, each computed for all
+    stimuli the first time a slope falls in it: a fit touches a few units of
+    slope, so memory is ``S x (a few hundred)`` values, not the whole grid.
 
     Parameters
     ----------
@@ -60,107 +72,231 @@ class CumulantTable:
         concave and bounded.
     step : float
         Grid step.
+    block : int
+        Grid steps per block.
     """
 
-    def __init__(self, Z, bound=12.0, step=0.01):
-        Z = np.asarray(Z, dtype=float)
-        self.bound, self.step = float(bound), float(step)
-        b = np.arange(-bound, bound + step / 2, step)
-        S, n = Z.shape
-        self.K = np.empty((S, len(b)))
-        self.E = np.empty((S, len(b)))
-        self.V = np.empty((S, len(b)))
-        self.T = np.empty((S, len(b)))
-        for s in range(S):  # (grid, n) at a time: memory stays small
-            x = b[:, None] * Z[s][None, :]
-            mx = x.max(axis=1, keepdims=True)
-            w = np.exp(x - mx)
-            sw = w.sum(axis=1)
-            p = w / sw[:, None]
-            E = np.einsum("gn,n->g", p, Z[s])
-            d = Z[s][None, :] - E[:, None]
-            self.K[s] = np.log(sw) + mx[:, 0]
-            self.E[s] = E
-            self.V[s] = (p * d * d).sum(axis=1)
-            self.T[s] = (p * d * d * d).sum(axis=1)
+    def __init__(self, Z, bound=12.0, step=0.01, block=100):
+        self.Z = np.asarray(Z, dtype=float)
+        self.bound, self.step, self.block = float(bound), float(step), int(block)
+        self.grid = np.arange(-bound, bound + step / 2, step)
+        self.blocks = {}
 
-    def __call__(self, s, b):
-        """K, E = K', V = K'' at slopes `b` of stimuli `s` (arrays of one shape)."""
+    @property
+    def nbytes(self):
+        """Memory held by the blocks computed so far."""
+        return sum(a.nbytes for a in self.blocks.values())
+
+    def _block(self, k):
+        """The (4, S, block + 1) values K, E, V, T at the nodes of block k (computed once)."""
+        if k not in self.blocks:
+            b = self.grid[k * self.block:(k + 1) * self.block + 1]
+            S, n = self.Z.shape
+            out = np.empty((4, S, len(b)))
+            rows = max(1, (1 << 20) // max(n * len(b), 1))  # (rows, nodes, n) values at a time
+            chunk = max(1, (1 << 20) // max(n, 1))  # nodes at a time when one stimulus is already large
+            for s0 in range(0, S, rows):
+                z = self.Z[s0:s0 + rows]
+                for g0 in range(0, len(b), chunk):
+                    bb = b[g0:g0 + chunk]
+                    x = bb[None, :, None] * z[:, None, :]
+                    mx = x.max(axis=2, keepdims=True)
+                    p = np.exp(x - mx)
+                    sw = p.sum(axis=2)
+                    p /= sw[:, :, None]
+                    E = np.einsum("sgn,sn->sg", p, z)
+                    d = z[:, None, :] - E[:, :, None]
+                    p *= d * d
+                    sl = (slice(s0, s0 + rows), slice(g0, g0 + chunk))
+                    out[0][sl] = np.log(sw) + mx[:, :, 0]
+                    out[1][sl] = E
+                    out[2][sl] = p.sum(axis=2)
+                    out[3][sl] = np.einsum("sgn,sgn->sg", p, d)
+            self.blocks[k] = out
+        return self.blocks[k]
+
+    def __call__(self, s, b, dV=False):
+        """K, E = K', V = K'' at slopes `b` of stimuli `s` (arrays of one shape); with `dV` also V'
+        (the derivative of the interpolated V, so that it is exactly consistent with it)."""
+        s = np.asarray(s)
+        b = np.asarray(b, dtype=float)
         bc = np.clip(b, -self.bound, self.bound)
         x = (bc + self.bound) / self.step
-        i = np.minimum(np.floor(x).astype(np.int64), self.K.shape[1] - 2)
+        i = np.minimum(np.floor(x).astype(np.int64), len(self.grid) - 2)
         t = x - i
         h = self.step
         t2, t3 = t * t, t * t * t
         h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
+        K, E, V, D = (np.empty(b.shape) for _ in range(4))
+        k_of = i // self.block
+        for k in np.unique(k_of):
+            sel = np.flatnonzero(k_of == k)
+            F = self._block(int(k))
+            ss, il = s[sel], i[sel] - k * self.block
 
-        def herm(F, dF):
-            return h00 * F[s, i] + h10 * h * dF[s, i] + h01 * F[s, i + 1] + h11 * h * dF[s, i + 1]
+            def herm(f, df, sel=sel, ss=ss, il=il):
+                return (h00[sel] * F[f][ss, il] + h10[sel] * h * F[df][ss, il] + h01[sel] * F[f][ss, il + 1]
+                        + h11[sel] * h * F[df][ss, il + 1])
 
-        K, E, V = herm(self.K, self.E), herm(self.E, self.V), herm(self.V, self.T)
+            K[sel], E[sel], V[sel] = herm(0, 1), herm(1, 2), herm(2, 3)
+            if dV:
+                tt = t[sel]
+                D[sel] = ((6 * tt * tt - 6 * tt) * (F[2][ss, il] - F[2][ss, il + 1]) / h
+                          + (3 * tt * tt - 4 * tt + 1) * F[3][ss, il] + (3 * tt * tt - 2 * tt) * F[3][ss, il + 1])
         out = b != bc
         if out.any():
             K = np.where(out, K + E * (b - bc), K)
             V = np.where(out, 0.0, V)
-        return K, E, V
+            D = np.where(out, 0.0, D)
+        return (K, E, V, D) if dV else (K, E, V)
 
 
-def _mode(table, ts, cs, cp, A, M, G, S, sp, ss, u, v, beta, iters=100, tol=1e-9):
-    """Joint mode of (u, v, beta) of the penalised log-likelihood, given the two sds.
+#: Big-block units per dense chunk of the Schur complement (chunk x (small + 1) values at a time).
+_CHUNK = 4096
 
-    Cells: stimulus `cs` (row `ts` of the table), participant `cp`, sum of z
-    `A` and clicks `M`. Newton steps, halved until the (concave) objective
-    rises, so that any start converges. The u block of the Hessian is
-    diagonal and is eliminated by its Schur complement, leaving an
-    (S + 1) x (S + 1) system in (v, beta).
 
-    Returns u, v, beta, the objective at the mode, the log-determinant of
-    minus its Hessian, and the variance of beta (the beta element of the
-    inverse of minus the Hessian).
+class _Cells:
+    """The cells of a crossed design, the larger set of units ("big", eliminated) first.
+
+    ``cb, cs`` big and small unit of each cell (sorted by big unit), ``ts`` its table row, ``A, M``
+    its sum of z and clicks; ``nb, ns`` the sizes; ``big_is_participant`` which set is which.
+    """
+
+    def __init__(self, cp, cs, ts, A, M, G, S):
+        self.big_is_participant = G >= S
+        big, small = (cp, cs) if self.big_is_participant else (cs, cp)
+        self.nb, self.ns = (G, S) if self.big_is_participant else (S, G)
+        order = np.lexsort((small, big))
+        self.cb, self.cs, self.ts, self.A, self.M = big[order], small[order], ts[order], A[order], M[order]
+        self.ptr = np.searchsorted(self.cb, np.arange(self.nb + 1))
+
+
+def _dense_rows(cells, w, b0, b1):
+    """Rows b0:b1 of C (big x (small + 1)): cell curvatures, and the beta column."""
+    R = cells.ns + 1
+    c0, c1 = cells.ptr[b0], cells.ptr[b1]
+    rows = cells.cb[c0:c1] - b0
+    out = np.zeros((b1 - b0, R))
+    out[rows, cells.cs[c0:c1]] = w[c0:c1]  # one cell per (big, small) pair
+    out[:, R - 1] = np.bincount(rows, weights=w[c0:c1], minlength=b1 - b0)
+    return out
+
+
+def _mode(table, cells, lam_b, lam_s, xb, xs, beta, iters=100, tol=1e-9):
+    """Joint mode of (big, small, beta) effects of the penalised log-likelihood, given the precisions.
+
+    Newton steps, halved until the (concave) objective rises, so that any
+    start converges. The big block of the Hessian is diagonal and is
+    eliminated by its Schur complement, leaving a dense
+    ``(small + 1) x (small + 1)`` system; the cross block is formed in chunks
+    of big units, so no big x small array is held.
+
+    Returns a dict: ``xb, xs, beta``, the objective ``f`` at the mode, ``logdet`` of minus its
+    Hessian, ``D`` (the big diagonal), ``chol`` (of the Schur complement) and ``w`` (cell
+    curvatures), for the variance of beta and the gradient.
     """
     import scipy.linalg
 
-    def parts(u, v, beta):
-        b = beta + u[cp] + v[cs]
-        K, E, V = table(ts, b)
-        f = float((b * A - M * K).sum() - (u @ u) / (2 * sp**2) - (v @ v) / (2 * ss**2))
-        w = M * V
-        hu = np.bincount(cp, weights=w, minlength=G)
-        hv = np.bincount(cs, weights=w, minlength=S)
-        C = np.empty((G, S + 1))
-        C[:, :S] = np.bincount(cp * S + cs, weights=w, minlength=G * S).reshape(G, S)
-        C[:, S] = hu
-        huu = hu + 1 / sp**2
-        B = np.diag(np.r_[hv + 1 / ss**2, w.sum()])
-        B[:S, S] = B[S, :S] = hv
-        # the Schur complement of the diagonal u block (einsum rather than a BLAS product:
-        # multithreaded BLAS on these small matrices is 10x slower on a busy machine)
-        schur = B - np.einsum("pa,pb->ab", C, C / huu[:, None])
-        return f, A - M * E, huu, C, scipy.linalg.cho_factor(schur)
+    c = cells
+    R = c.ns + 1
 
-    f, g, huu, C, chol = parts(u, v, beta)
+    def parts(xb, xs, beta):
+        bv = beta + xb[c.cb] + xs[c.cs]
+        K, E, V = table(c.ts, bv)
+        f = float((bv * c.A - c.M * K).sum() - lam_b * (xb @ xb) / 2 - lam_s * (xs @ xs) / 2)
+        w = c.M * V
+        D = np.bincount(c.cb, weights=w, minlength=c.nb) + lam_b
+        hs = np.bincount(c.cs, weights=w, minlength=c.ns)
+        B = np.diag(np.r_[hs + lam_s, w.sum()])
+        B[:c.ns, c.ns] = B[c.ns, :c.ns] = hs
+        for b0 in range(0, c.nb, _CHUNK):
+            b1 = min(b0 + _CHUNK, c.nb)
+            Cb = _dense_rows(c, w, b0, b1)
+            B -= Cb.T @ (Cb / D[b0:b1, None])
+        return dict(f=f, g=c.A - c.M * E, D=D, w=w, chol=scipy.linalg.cho_factor(B))
+
+    def solve(st, rb, rr):
+        """H^-1 (rb, rr) by the Schur complement."""
+        t = rb / st["D"]
+        rhs = rr.copy()
+        for b0 in range(0, c.nb, _CHUNK):
+            b1 = min(b0 + _CHUNK, c.nb)
+            rhs -= _dense_rows(c, st["w"], b0, b1).T @ t[b0:b1]
+        dr = scipy.linalg.cho_solve(st["chol"], rhs)
+        cd = np.empty(c.nb)
+        for b0 in range(0, c.nb, _CHUNK):
+            b1 = min(b0 + _CHUNK, c.nb)
+            cd[b0:b1] = _dense_rows(c, st["w"], b0, b1) @ dr
+        return (rb - cd) / st["D"], dr
+
+    st = parts(xb, xs, beta)
     for _ in range(iters):
-        gu = np.bincount(cp, weights=g, minlength=G) - u / sp**2
-        gw = np.r_[np.bincount(cs, weights=g, minlength=S) - v / ss**2, g.sum()]
-        # Cholesky solves: numpy's general solve wakes multithreaded LAPACK, 100x slower here
-        dw = scipy.linalg.cho_solve(chol, gw - np.einsum("p,pa->a", gu / huu, C))
-        du = (gu - np.einsum("pa,a->p", C, dw)) / huu
+        g = st["g"]
+        gb = np.bincount(c.cb, weights=g, minlength=c.nb) - lam_b * xb
+        gr = np.r_[np.bincount(c.cs, weights=g, minlength=c.ns) - lam_s * xs, g.sum()]
+        db, dr = solve(st, gb, gr)
         step = 1.0
         while step > 1e-6:
-            nu, nv, nb = u + step * du, v + step * dw[:S], beta + step * dw[S]
-            nf, ng, nhuu, nC, nchol = parts(nu, nv, nb)
-            if nf >= f - 1e-12 * abs(f):
+            nb_, ns_, nbeta = xb + step * db, xs + step * dr[:c.ns], beta + step * dr[c.ns]
+            nst = parts(nb_, ns_, nbeta)
+            if nst["f"] >= st["f"] - 1e-12 * abs(st["f"]):
                 break
             step /= 2
-        done = step * max(np.abs(du).max(initial=0), np.abs(dw).max()) < tol
-        u, v, beta, f, g, huu, C, chol = nu, nv, nb, nf, ng, nhuu, nC, nchol
+        done = step * max(np.abs(db).max(initial=0), np.abs(dr).max()) < tol
+        xb, xs, beta, st = nb_, ns_, nbeta, nst
         if done:
             break
-    logdet = np.log(huu).sum() + 2 * np.log(np.diag(chol[0])).sum()
-    e = np.zeros(S + 1)
-    e[S] = 1.0
-    var_beta = float(scipy.linalg.cho_solve(chol, e)[S])
-    return u, v, beta, f, logdet, var_beta
+    st.update(xb=xb, xs=xs, beta=beta, solve=lambda rb, rr: solve(st, rb, rr),
+              logdet=np.log(st["D"]).sum() + 2 * np.log(np.diag(st["chol"][0])).sum())
+    e = np.zeros(R)
+    e[c.ns] = 1.0
+    st["var_beta"] = float(scipy.linalg.cho_solve(st["chol"], e)[c.ns])
+    return st
+
+
+def _logdet_gradient(table, cells, st, lam_b, lam_s):
+    """d log det H / d (log sd_big, log sd_small) at the mode `st` of :func:`_mode`.
+
+    ``d log det H = tr(H^-1 dH)``: the prior precisions change directly
+    (``d lam / d log sd = -2 lam``), and every cell's curvature ``M V(b_c)``
+    changes through the mode, ``dx / d theta = H^-1 d grad / d theta``, by
+    ``M V'(b_c) a_c' dx`` with ``a_c`` the cell's indicator of (big, small,
+    beta); ``h_c = a_c' H^-1 a_c`` comes from the Schur complement, in
+    chunks of big units.
+    """
+    import scipy.linalg
+
+    c = cells
+    R = c.ns + 1
+    Sig = scipy.linalg.cho_solve(st["chol"], np.eye(R))
+    D, w = st["D"], st["w"]
+    h = np.empty(len(c.cb))
+    diag_b = np.empty(c.nb)
+    for b0 in range(0, c.nb, _CHUNK):
+        b1 = min(b0 + _CHUNK, c.nb)
+        Q = _dense_rows(c, w, b0, b1) / D[b0:b1, None]
+        Y = Q @ Sig
+        y2 = np.einsum("br,br->b", Y, Q)
+        diag_b[b0:b1] = 1 / D[b0:b1] + y2
+        c0, c1 = c.ptr[b0], c.ptr[b1]
+        r, s = c.cb[c0:c1] - b0, c.cs[c0:c1]
+        # (q_b - e_s - e_beta)' Sig (q_b - e_s - e_beta) + 1 / D_b
+        h[c0:c1] = (diag_b[b0:b1][r] - 2 * Y[r, s] - 2 * Y[r, R - 1] + Sig[s, s] + 2 * Sig[s, R - 1]
+                    + Sig[R - 1, R - 1])
+    bv = st["beta"] + st["xb"][c.cb] + st["xs"][c.cs]
+    dV = table(c.ts, bv, dV=True)[3]
+    out = []
+    for which in ("big", "small"):
+        if which == "big":
+            rb, rr = 2 * lam_b * st["xb"], np.zeros(R)
+            direct = -2 * lam_b * diag_b.sum()
+        else:
+            rb, rr = np.zeros(c.nb), np.r_[2 * lam_s * st["xs"], 0.0]
+            direct = -2 * lam_s * np.trace(Sig[:c.ns, :c.ns])
+        xb_d, xr_d = st["solve"](rb, rr)
+        db = xb_d[c.cb] + xr_d[c.cs] + xr_d[c.ns]
+        out.append(direct + float((c.M * dV * db * h).sum()))
+    return out
 
 
 def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None, start=None):
@@ -235,33 +371,42 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
     # near-separation: if the likelihood of a common slope still rises at the edge of the table (or
     # falls at its other edge) the mode lies beyond it (or at infinity) and the curvature vanishes there
     B = table.bound
-    rising = A.sum() - (M * table(ts, np.full(len(ts), B))[1]).sum() >= 0
-    falling = A.sum() - (M * table(ts, np.full(len(ts), -B))[1]).sum() <= 0
+    # the score at the edges, exactly (the table's value at its end nodes) without tabulating them
+    rising = A.sum() - (M * block_moments(np.full(len(ts), B), table.Z, ts)[1]).sum() >= 0
+    falling = A.sum() - (M * block_moments(np.full(len(ts), -B), table.Z, ts)[1]).sum() <= 0
     if rising or falling:
         return refuse(f"the likelihood of the mean slope still {'rises' if rising else 'falls'} at beta = "
                       f"{B if rising else -B:g} (near-separation: clicks almost only on each contour's "
                       f"{'most' if rising else 'least'} surprising points), so it has no finite estimate; the "
                       "effect (top share) and the group test do not depend on it")
     b0 = 0.0 if start is None or not np.isfinite(start) else float(np.clip(start, -10, 10))
-    state = dict(u=np.zeros(G), v=np.zeros(S), beta=b0, var=np.nan)
+    cells = _Cells(cp, cs, ts, A, M, G, S)
+    state = dict(xb=np.zeros(cells.nb), xs=np.zeros(cells.ns), beta=b0, var=np.nan)
 
-    def wrapped(theta):
-        """Minus the Laplace log-likelihood of the two log sds; the modes warm-start the next call."""
+    def objective(theta):
+        """Minus the Laplace log-likelihood of the two log sds and its gradient; the modes
+        warm-start the next call."""
         lsp, lss = theta
-        sp, ss = np.exp(lsp), np.exp(lss)
-        u, v, beta, ll, logdet, var = _mode(table, ts, cs, cp, A, M, G, S, sp, ss, state["u"], state["v"],
-                                            state["beta"])
-        if np.isfinite(u).all() and np.isfinite(v).all() and np.isfinite(beta):
-            state.update(u=u, v=v, beta=beta, var=var)
-        return -(ll - G * lsp - S * lss - 0.5 * logdet)
+        lb, ls = (lsp, lss) if cells.big_is_participant else (lss, lsp)
+        lam_b, lam_s = np.exp(-2 * lb), np.exp(-2 * ls)
+        st = _mode(table, cells, lam_b, lam_s, state["xb"], state["xs"], state["beta"])
+        xb, xs, beta = st["xb"], st["xs"], st["beta"]
+        if np.isfinite(xb).all() and np.isfinite(xs).all() and np.isfinite(beta):
+            state.update(xb=xb, xs=xs, beta=beta, var=st["var_beta"])
+        value = -(st["f"] - cells.nb * lb - cells.ns * ls - 0.5 * st["logdet"])
+        d_b, d_s = _logdet_gradient(table, cells, st, lam_b, lam_s)
+        # envelope theorem: at the mode only the explicit dependence on the sds counts
+        g_b = -(lam_b * (xb @ xb) - cells.nb - 0.5 * d_b)
+        g_s = -(lam_s * (xs @ xs) - cells.ns - 0.5 * d_s)
+        grad = np.array([g_b, g_s] if cells.big_is_participant else [g_s, g_b])
+        return value, grad
 
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            res = scipy.optimize.minimize(wrapped, np.log([0.3, 0.3]), method="L-BFGS-B",
+            res = scipy.optimize.minimize(objective, np.log([0.3, 0.3]), jac=True, method="L-BFGS-B",
                                           bounds=[_LOG_SD_BOUNDS, _LOG_SD_BOUNDS],
-                                          # finite-difference steps well above the inner solution's rounding
-                                          options=dict(maxiter=200, ftol=1e-11, gtol=1e-5, eps=1e-5))
-            wrapped(res.x)  # the modes at the optimum
+                                          options=dict(maxiter=200, ftol=1e-12, gtol=1e-7))
+            objective(res.x)  # the modes at the optimum
     except (np.linalg.LinAlgError, FloatingPointError, ValueError) as exc:
         return refuse(f"its curvature matrix became singular during the fit ({exc}), as it does near "
                       "separation or when the clicks barely constrain the slopes")
