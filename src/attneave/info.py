@@ -9,8 +9,8 @@ the numpy path; this is where a user sees it.
 from __future__ import annotations
 
 import importlib
-import importlib.util
 import importlib.metadata
+import importlib.util
 import platform
 
 __all__ = ["kernel_status", "installation", "add_parser", "run"]
