@@ -5,22 +5,25 @@ splines through points (QIC, log-aesthetic and polynomial), two-point G1
 Hermite curves, and the metrics that compare them.
 
 The curve families are available directly (``attneave.stimuli.curves.clothoid(...)``);
-the rest lives in the sub-modules: ``natural`` (the integrator, clothoid,
-pseudospiral), ``aesthetic`` (LAC, GLAC), ``lac_gamma`` (the LAC's closed
-form), ``superspiral``, ``constant_info``, ``euler`` (clothoid segments),
-``lac`` (LAC segments, G1 LAC spline), ``lac_arc``, ``lac_quadrature``, ``lac_newton`` and
-``lac_spline`` (the G2 LAC spline), ``points``, ``qic_newton``, ``qic``,
-``polynomial``, ``splines`` (:func:`fit_spline`), ``biangular`` and
-``metrics``.
+the rest lives in the sub-modules: ``natural`` (:class:`Curve` and the integrator),
+``clothoid``, ``pseudospiral``, ``superspiral``, ``constant_info``, ``checks``
+(argument limits and the arc-length grid), ``euler`` and ``fresnel`` (clothoid
+segments and their Fresnel moments), ``lac/`` (``aesthetic``: LAC and GLAC; ``gamma``:
+the LAC's closed form; ``g1``: the G1 LAC spline; ``arc``, ``newton``, ``spline``:
+the G2 LAC spline), ``qic/`` (the QIC spline: ``spline``, ``robust``, ``newton``,
+``rule``, ``kernel``, ``result``), ``points``, ``polynomial``, ``splines``
+(:func:`~attneave.stimuli.curves.splines.fit_spline`), ``biangular`` and ``metrics``.
 """
 
-from attneave.stimuli.curves.lac.aesthetic import glac, log_aesthetic  # noqa: F401  (the families are the package's face)
+from attneave.stimuli.curves.clothoid import clothoid  # noqa: F401
 from attneave.stimuli.curves.constant_info import (  # noqa: F401
     constant_info,
     constant_info_curvature,
     constant_info_domain,
 )
-from attneave.stimuli.curves.natural import FAMILIES, Curve, clothoid, integrate_natural, pseudospiral  # noqa: F401
+from attneave.stimuli.curves.lac.aesthetic import glac, log_aesthetic  # noqa: F401  (the families are the package's face)
+from attneave.stimuli.curves.natural import FAMILIES, Curve, integrate_natural  # noqa: F401
+from attneave.stimuli.curves.pseudospiral import pseudospiral  # noqa: F401
 from attneave.stimuli.curves.superspiral import superspiral  # noqa: F401
 
 __all__ = [

@@ -1,9 +1,13 @@
 """Plane curves from their natural equations (curvature as a function of arc length).
 
-The families of the seed paper (Ziatdinov, sections 2.2 and 3): clothoids,
-pseudospirals (eq. 8), log-aesthetic curves (eq. 9), superspirals (eq. 10)
-and the constant-information curves of eq. 7, plus a generic integrator for
-any natural equation ``kappa(s)``.
+The result of every family of the seed paper (Ziatdinov, sections 2.2 and 3),
+:class:`Curve`, and a generic integrator for any natural equation
+``kappa(s)``. The families, each in its own module and all available from
+:mod:`attneave.stimuli.curves`: clothoids (:mod:`~attneave.stimuli.curves.clothoid`),
+pseudospirals (eq. 8, :mod:`~attneave.stimuli.curves.pseudospiral`), log-aesthetic
+curves (eq. 9, :mod:`~attneave.stimuli.curves.lac.aesthetic`), superspirals (eq. 10,
+:mod:`~attneave.stimuli.curves.superspiral`) and the constant-information curves of
+eq. 7 (:mod:`~attneave.stimuli.curves.constant_info`).
 
 Coordinates
 -----------
@@ -53,7 +57,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from attneave.stimuli.curves.checks import (  # noqa: F401  (re-exported: the families import them from here)
+from attneave.stimuli.curves.checks import (  # noqa: F401  (re-exported: the limits of the families, documented here)
     MAX_ARC,
     MAX_POINTS,
     MAX_RATE,
@@ -64,7 +68,6 @@ from attneave.stimuli.curves.checks import (  # noqa: F401  (re-exported: the fa
     check_tolerance,
 )
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_number
 
 __all__ = [
     "Curve",
@@ -73,8 +76,6 @@ __all__ = [
     "arc_grid",
     "relabel",
     "integrate_natural",
-    "clothoid",
-    "pseudospiral",
     "EPS",
     "MAX_POINTS",
 ]
@@ -350,171 +351,3 @@ def integrate_natural(
 def relabel(curve, family, **params):
     """Re-label an integrated curve and prepend the family's parameters."""
     return Curve(family, curve.s, curve.x, curve.y, curve.theta, curve.curvature, {**params, **curve.params})
-
-
-# --------------------------------------------------------------------------- clothoid
-
-
-def clothoid(k0=0.0, c=1.0, s_start=0.0, s_end=1.0, num=201, *, s=None):
-    """Clothoid (Euler/Cornu spiral) with curvature ``kappa = k0 + c*s``.
-
-    Parameters
-    ----------
-    k0 : float
-        Curvature at ``s = 0``.
-    c : float
-        Rate of change of curvature (any sign; 0 gives a circle of radius
-        ``1/|k0|``, or a line when ``k0 = 0``).
-    s_start, s_end, num, s
-        Output arc lengths, see :func:`integrate_natural`.
-
-    Returns
-    -------
-    Curve
-        y-UP coordinates, starting at the origin with ``theta = 0`` at
-        ``s_start``. ``params['method']`` is ``'fresnel'``, ``'circle'`` or,
-        when ``|c|`` is so small beside ``k0`` that the Fresnel arguments
-        lose precision, ``'DOP853'`` (the integrator with the exact tangent
-        angle).
-
-    Notes
-    -----
-    Evaluated by :func:`attneave.stimuli.curves.euler.clothoid_points` (the one
-    clothoid evaluator of the package): the generalised Fresnel integral
-    ``int_0^d exp(i (k(s0) u + c u**2 / 2)) du`` through the Fresnel
-    integrals :func:`scipy.special.fresnel` after completing the square, or
-    power series where those lose precision.
-
-    Examples
-    --------
-    >>> cl = clothoid(k0=0, c=np.pi, s_start=0, s_end=1, num=3)  # t = s
-    >>> from scipy.special import fresnel
-    >>> S, C = fresnel(1.0)
-    >>> bool(np.allclose(cl.points[-1], (C, S)))
-    True
-    """
-    from attneave.stimuli.curves.euler import clothoid_points
-
-    k0 = as_number(k0, "k0", ge=-MAX_RATE, le=MAX_RATE)
-    c = as_number(c, "c", ge=-MAX_RATE, le=MAX_RATE)
-    grid = arc_grid(s_start, s_end, num, s)
-    s0 = grid[0]
-    theta = k0 * (grid - s0) + 0.5 * c * (grid - s0) * (grid + s0)
-    kappa = k0 + c * grid
-    base = dict(k0=k0, c=c, s_start=float(s0), s_end=float(grid[-1]), num=len(grid))
-
-    if c == 0.0:
-        d = grid - s0
-        # (exp(i k0 d) - 1)/(i k0) written with sinc so that k0 -> 0 is a line
-        z = d * np.sinc(k0 * d / (2 * np.pi)) * np.exp(0.5j * k0 * d)
-        return Curve("clothoid", grid, z.real, z.imag, theta, kappa, {**base, "method": "circle"})
-
-    v = grid + k0 / c
-    scale = np.sqrt(abs(c) / np.pi)
-    t = v * scale
-    # Rounding of t (relative eps) is amplified by sqrt(pi/|c|) and by the
-    # phase pi*t0**2/2; this estimate is ~100x pessimistic (measured).
-    with np.errstate(over="ignore"):  # an overflowing estimate is inf: the integrator takes over
-        err = EPS * np.max(t * t) * np.sqrt(np.pi / abs(c))
-    if err > 1e-10 * max(1.0, grid[-1] - s0):
-        curve = integrate_natural(
-            lambda u: k0 + c * u, s=grid, theta_fn=lambda u: k0 * (u - s0) + 0.5 * c * (u - s0) * (u + s0)
-        )
-        return relabel(curve, "clothoid", k0=k0, c=c)
-
-    # one clothoid evaluator for the whole package: the segments' own
-    # (Fresnel integrals, or their series where those lose precision)
-    x, y, _, _ = clothoid_points(0.0, 0.0, 0.0, k0 + c * s0, c, grid - s0)
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-        # the compiled evaluator gives up (NaN) on a clothoid turning by more than about 8000 rad
-        # (never a spline's segment); the numpy evaluator's Fresnel closed form has no such bound
-        x, y, _, _ = clothoid_points(0.0, 0.0, 0.0, k0 + c * s0, c, grid - s0, compiled=False)
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y)) and np.all(np.isfinite(theta))):
-        raise InputError(
-            f"clothoid: the points overflow for k0={k0:g}, c={c:g} on [{s0:g}, {grid[-1]:g}]; "
-            "use smaller |k0|, |c| or a shorter interval"
-        )
-    return Curve("clothoid", grid, x, y, theta, kappa, {**base, "method": "fresnel"})
-
-
-# --------------------------------------------------------------------------- pseudospirals (eq. 8)
-
-
-def pseudospiral(a=1.0, m=1.0, s_start=1.0, s_end=2.0, num=201, *, s=None, rtol=RTOL):
-    """Pseudospiral with radius of curvature ``rho = a * s**m`` (paper eq. 8).
-
-    ``m = 1`` is a logarithmic spiral (``rho`` proportional to the arc
-    length from its pole), ``m = -1`` the Cornu spiral (clothoid through
-    its inflection), ``m = 1/2`` an involute of a circle (see Notes),
-    ``m = 0`` a circle of radius ``|a|``.
-
-    Parameters
-    ----------
-    a : float
-        Scale, nonzero; ``a < 0`` turns right (negative curvature).
-    m : float
-        Exponent.
-    s_start, s_end, num, s
-        Output arc lengths. Need ``s >= 0`` (``s**m`` is not real for
-        ``s < 0``), and ``s > 0`` when ``m > 0`` (``rho = 0``, infinite
-        curvature, at ``s = 0``).
-    rtol : float
-        Tolerance of :func:`integrate_natural`.
-
-    Returns
-    -------
-    Curve
-        y-UP coordinates, from the origin with ``theta = 0`` at ``s_start``;
-        curvature ``s**(-m) / a``; the tangent angle is in closed form
-        (``(s**(1-m) - s0**(1-m)) / (a (1-m))``, or ``ln(s/s0)/a`` for m = 1).
-
-    Raises
-    ------
-    InputError
-        ``a == 0`` or arc lengths outside the domain.
-
-    Notes
-    -----
-    The paper writes ``d theta / d s = rho``; the curvature is
-    ``d theta / d s = 1/rho``, which is what is integrated here. For
-    ``m = 1/2``, ``rho = a sqrt(s)`` is the involute of a circle of radius
-    ``R = a**2 / 2`` (``rho**2 = 2 R s``), unwound from the circle at s = 0.
-    """
-    a = as_number(a, "a")
-    m = as_number(m, "m")
-    if a == 0:
-        raise InputError("pseudospiral: a must be nonzero (rho = a*s^m)")
-    grid = arc_grid(s_start, s_end, num, s)
-    s0 = float(grid[0])
-    if s0 < 0 or (m > 0 and s0 <= 0):
-        need = "s > 0" if m > 0 else "s >= 0"
-        raise InputError(f"pseudospiral: s_start={s0:g} is outside the domain; rho = a*s^m with m={m:g} needs {need}")
-
-    def kappa(u):
-        return np.power(u, -m) / a
-
-    if m == 1:
-
-        def theta(u):
-            return np.log(np.asarray(u) / s0) / a
-
-    elif s0 > 0:
-        p = 1.0 - m
-        # (u**p - s0**p) / (a p) cancels when p = 1 - m is small (m near 1: every
-        # digit is lost below p ~ 1e-16 and the integrator stalls on the noise);
-        # s0**p expm1(p ln(u/s0)) / (a p) is the same, exact to rounding, and
-        # tends to the m = 1 form ln(u/s0)/a as p -> 0
-        with np.errstate(over="ignore"):  # an overflow (inf) is refused by integrate_natural
-            front = np.float64(s0) ** p / (a * p)
-
-        def theta(u):
-            return front * np.expm1(p * np.log(np.asarray(u) / s0))
-
-    else:  # s0 = 0 (m < 0 here, p > 1): no cancellation
-        p = 1.0 - m
-
-        def theta(u):
-            return np.power(u, p) / (a * p)
-
-    curve = integrate_natural(kappa, s=grid, theta_fn=theta, rtol=rtol)
-    return relabel(curve, "pseudospiral", a=a, m=m)

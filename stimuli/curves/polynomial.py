@@ -10,12 +10,12 @@ pixels (y down); reported curvature follows the project's geometric sign.
 
 from __future__ import annotations
 
-from attneave.stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from attneave.stimuli.curves.checks import check_samples
 from attneave.stimuli.curves.metrics import SampledCurve, curve_metrics
 from attneave.stimuli.curves.points import geometric_sign, spline_points
 from attneave.stimuli.errors import InputError

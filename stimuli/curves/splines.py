@@ -10,8 +10,8 @@ from dataclasses import replace
 
 from attneave.stimuli.curves.polynomial import PolynomialSpline, polynomial_spline
 from attneave.stimuli.curves.qic.spline import ConvergenceError, QICSpline, qic_spline
-from attneave.stimuli.curves.natural import check_flag
 from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import check_flag
 
 __all__ = [
     "ConvergenceError",

@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from attneave.stimuli.curves.natural import Curve, check_count, check_tolerance
+from attneave.stimuli.curves.checks import check_count, check_tolerance
+from attneave.stimuli.curves.natural import Curve
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.validate import as_number
 

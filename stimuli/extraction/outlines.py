@@ -96,15 +96,13 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_int, as_number
 from attneave.stimuli.extraction.imageio import load_image
 from attneave.stimuli.extraction.segment import METHODS, POLARITIES, NoObject, check_method_options, segment
-from attneave.stimuli.extraction.trace import LOCAL_RADIUS, finish_ring, ring_area, trace_grey, trace_mask
+from attneave.stimuli.extraction.trace import Extraction, trace_objects  # Extraction: re-exported (its public home)
+from attneave.stimuli.validate import as_int, as_number
 
 __all__ = ["MASK_SIGMA", "GRABCUT_ITERATIONS", "MAX_GRABCUT_ITERATIONS", "Extraction", "extract", "extract_contours"]
 
@@ -114,52 +112,6 @@ MASK_SIGMA = 1.0
 #: iteration costs about a second per megapixel).
 GRABCUT_ITERATIONS = 5
 MAX_GRABCUT_ITERATIONS = 1000
-
-
-@dataclass
-class Extraction:
-    """Contours extracted from one image, with everything that was resolved.
-
-    Attributes
-    ----------
-    contours : list of Contour
-        Outer contours, largest object first (one with
-        ``objects='largest'``); ``(x, y)`` image pixels, y down, closed,
-        counter-clockwise on the screen.
-    holes : list of list of Contour
-        For each contour, the contours of its holes (empty lists unless
-        ``holes=True``); also counter-clockwise on the screen.
-    mask : (H, W) bool ndarray
-        The pixels inside the chosen objects' outer contours (holes
-        filled); with ``holes=True``, the objects' own pixels (holes, and
-        anything inside them, cleared).
-    params : dict
-        Every resolved parameter: method, polarity, threshold (Otsu's split
-        or the value given), class_medians (Otsu), frame_line (the width
-        in px of a frame line drawn along the image's edge that was set
-        aside, 0 for none; 'otsu', 'threshold', 'mask'), level (the global
-        contour level, in image units), subpixel ('grey': traced on grey
-        levels, or 'mask': a two-valued image), presmooth and local_level
-        (per object, whether each refinement was used), objects, min_area,
-        min_hole_area, holes, holes_dropped, mask_sigma, object_areas (pixel
-        counts, holes filled), candidate_areas (the largest object and
-        those of at least half its size: they compete), n_objects_found
-        (separate objects in the image; islands inside holes are part of
-        their object), shape, source; with ``method='auto'`` resolved (the
-        method chosen); with the photo method mode, box (boxes), scale,
-        iterations, agreement and competing (see
-        :func:`attneave.stimuli.extraction.photo.segment_photo`).
-    """
-
-    contours: list
-    holes: list
-    mask: np.ndarray
-    params: dict = field(default_factory=dict)
-
-    @property
-    def contour(self):
-        """The first (largest) contour."""
-        return self.contours[0]
 
 
 def extract(
@@ -312,8 +264,6 @@ def extract(
         min_hole_area = as_number(min_hole_area, "min_hole_area", ge=0)
     if grabcut_iterations is None:
         grabcut_iterations = GRABCUT_ITERATIONS
-    elif isinstance(grabcut_iterations, (bool, np.bool_)):
-        raise InputError(f"grabcut_iterations: must be a whole number >= 1, got {grabcut_iterations!r}")
     else:
         grabcut_iterations = as_int(grabcut_iterations, "grabcut_iterations", lo=1, hi=MAX_GRABCUT_ITERATIONS)
     img, default_name = load_image(image_or_path)
@@ -324,12 +274,12 @@ def extract(
     try:
         if not boxes:
             seg = segment(img, method, threshold, polarity, name, rect, grabcut_iterations, None, scribbles, model)
-            return _extract(seg, name, *opts)
+            return trace_objects(seg, name, *opts)
         # one outline per box, in box order
         parts = []
         for b in boxes:
             seg = segment(img, method, threshold, polarity, name, rect, grabcut_iterations, b, scribbles, model)
-            parts.append(_extract(seg, name, "largest", *opts[1:]))
+            parts.append(trace_objects(seg, name, "largest", *opts[1:]))
     except NoObject as exc:
         raise NoObject(f"{name}: {exc}") from None
     first = parts[0]
@@ -338,117 +288,6 @@ def extract(
                   agreement=min(p.params.get("agreement", 1.0) for p in parts), candidate_areas=None)
     mask = np.logical_or.reduce([p.mask for p in parts])
     return Extraction([p.contour for p in parts], [p.holes[0] for p in parts], mask, params)
-
-
-def _extract(seg, name, objects, min_area, holes, min_hole_area, mask_sigma, presmooth, local_level):
-    import cv2
-
-    on, params, field_, level = seg.on, seg.params, seg.field, seg.level
-    h, w = on.shape
-    if min_area is None:
-        min_area = max(9.0, 1e-4 * h * w)
-    if not np.isfinite(min_area) or min_area < 0:
-        raise InputError(f"min_area must be >= 0, got {min_area}")
-    min_hole_area = float(min_area if min_hole_area is None else min_hole_area)
-    n_on = int(np.count_nonzero(on))
-    if n_on == 0:
-        raise NoObject("no object: no pixel belongs to the object class")
-    if n_on == on.size:
-        raise NoObject("everything is object: no background pixel")
-
-    # outer boundaries of the 8-connected objects (far faster than labelling
-    # every pixel); an object's size is its pixel count with holes filled
-    on8 = np.ascontiguousarray(on, dtype=np.uint8)
-    outlines, _ = cv2.findContours(on8, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    # Pick's theorem: pixels = polygon area + boundary pixels / 2 + 1 (exact
-    # for a simple outline; only a pre-filter, exact counts follow)
-    approx = np.array([cv2.contourArea(c) + 0.5 * len(c) + 1.0 for c in outlines])
-
-    # the grey path measures local grey levels up to LOCAL_RADIUS px away
-    margin = 2 + (LOCAL_RADIUS if field_ is not None and local_level else 0)
-
-    def silhouette(k):
-        x, y, bw, bh = cv2.boundingRect(outlines[k])
-        r0, c0 = max(y - margin, 0), max(x - margin, 0)
-        r1, c1 = min(y + bh + margin, h), min(x + bw + margin, w)
-        filled = np.zeros((r1 - r0, c1 - c0), np.uint8)
-        cv2.drawContours(filled, outlines, k, 1, thickness=-1, offset=(-c0, -r0))
-        return (r0, r1, c0, c1), filled.view(bool)
-
-    order = np.argsort(-approx, kind="stable")
-    if objects == "largest":
-        # objects of half the largest's size or more are measured too: they compete (verdict)
-        cand = [k for k in order if approx[k] >= 0.5 * approx[order[0]] - 4]
-    else:
-        cand = [k for k in order if approx[k] >= 0.5 * min_area - 4]
-    sil = {k: silhouette(k) for k in cand}
-    size = {k: int(np.count_nonzero(sil[k][1])) for k in cand}
-    cand.sort(key=lambda k: -size[k])  # stable: ties keep the scan order
-    chosen = [k for k in cand if size[k] >= min_area]
-    if not chosen:
-        biggest = max(size.values()) if size else int(max(approx))
-        raise NoObject(f"no object of at least {min_area:g} px (largest has {biggest} px)")
-    if objects == "largest":
-        chosen = chosen[:1]
-
-    contours, hole_lists, dropped, presmoothed, localised = [], [], 0, [], []
-    mask = np.zeros((h, w), bool)
-    for k in chosen:
-        (r0, r1, c0, c1), filled = sil[k]
-        obj = filled
-        if holes:
-            # the object itself: the 8-connected part of the filled outline
-            # that holds the outline (islands inside holes are not part of it)
-            part = (on[r0:r1, c0:c1] & filled).view(np.uint8)
-            _, lab = cv2.connectedComponents(part, connectivity=8)
-            x0, y0 = outlines[k][0, 0]
-            obj = lab == lab[y0 - r0, x0 - c0]
-        mask[r0:r1, c0:c1] |= obj
-        n_filled = size[k]
-        if field_ is not None:
-            rings, smoothed_ok, was_local = trace_grey(
-                field_(r0, r1, c0, c1), level, obj, on[r0:r1, c0:c1], n_filled, (c0, r0),
-                presmooth, local_level, seg.near_mask,
-            )
-            presmoothed.append(smoothed_ok)
-            localised.append(was_local)
-        else:
-            rings = trace_mask(obj, (c0, r0))
-        if not rings:
-            raise NoObject(f"object of {n_filled} px gave no closed contour")
-        areas_r = np.array([ring_area(r) for r in rings])
-        k_out = int(np.argmax(np.abs(areas_r)))
-        outer_sign = np.sign(areas_r[k_out])
-        hole_rings = [r for i, r in enumerate(rings) if i != k_out and np.sign(areas_r[i]) != outer_sign]
-        debias = field_ is not None and presmoothed[-1]
-        sigma_m = mask_sigma if field_ is None else 0.0
-        contours.append(finish_ring(rings[k_out], name, sigma_m, debias, (h, w)))
-        hl = []
-        if holes:
-            for r in hole_rings:
-                if abs(ring_area(r)) < min_hole_area:
-                    dropped += 1
-                    continue
-                hl.append(finish_ring(r, name, sigma_m, debias, (h, w)))
-        hole_lists.append(hl)
-
-    params.update(
-        subpixel="grey" if field_ is not None else "mask",
-        presmooth=presmoothed if field_ is not None else None,
-        local_level=localised if field_ is not None else None,
-        objects=objects,
-        min_area=float(min_area),
-        min_hole_area=min_hole_area,
-        holes=bool(holes),
-        holes_dropped=dropped,
-        mask_sigma=float(mask_sigma) if field_ is None else None,
-        n_objects_found=len(outlines),
-        object_areas=[size[k] for k in chosen],
-        candidate_areas=[size[k] for k in cand if size[k] >= min_area],
-        shape=[int(h), int(w)],
-        source=name,
-    )
-    return Extraction(contours, hole_lists, mask, params)
 
 
 def extract_contours(image_or_path, method="otsu", threshold=None, polarity="auto", objects="largest",

@@ -21,7 +21,9 @@ from attneave.stimuli.errors import InputError
 from attneave.stimuli.geometry.polyline import (
     bounds,
     edges,
+    unchecked_crossings,
     unchecked_gaussian_curvature,
+    unchecked_nearest,
     unchecked_shoelace,
     unchecked_turning_angles,
 )
@@ -375,40 +377,7 @@ class Contour:
         except ValueError:  # ragged rows: check_points names them
             one = False
         q = check_points(np.atleast_2d(points) if one else points, "points", min_points=0)
-        p = self._points
-        d = self._segments()
-        a = p[: len(d)]
-        # x and y apart: (M, N) arrays of each, rather than (M, N, 2) arrays
-        # reduced over a last axis of 2, which numpy does several times slower
-        ax, ay, dx, dy = (np.ascontiguousarray(v) for v in (a[:, 0], a[:, 1], d[:, 0], d[:, 1]))
-        L2 = dx * dx + dy * dy
-        cum = self._cumulative()
-        seglen = np.sqrt(L2)
-        nearest = np.empty_like(q)
-        tt = np.empty(len(q))
-        dist = np.empty(len(q))
-        step = max(1, chunk // max(len(d), 1))
-        for lo in range(0, len(q), step):
-            qq = q[lo : lo + step]
-            rx = qq[:, :1] - ax
-            ry = qq[:, 1:] - ay
-            u = rx * dx
-            u += ry * dy
-            u /= L2
-            np.clip(u, 0.0, 1.0, out=u)
-            rx -= u * dx
-            ry -= u * dy
-            d2 = rx * rx
-            d2 += ry * ry
-            j = np.argmin(d2, axis=1)
-            r = np.arange(len(qq))
-            uj = u[r, j]
-            nearest[lo : lo + step] = a[j] + uj[:, None] * d[j]
-            dist[lo : lo + step] = np.sqrt(d2[r, j])
-            tt[lo : lo + step] = (cum[j] + uj * seglen[j]) / cum[-1]
-        if self.closed:
-            tt = np.mod(tt, 1.0)
-        return nearest, tt, dist
+        return unchecked_nearest(q, self._points, self._segments(), self._cumulative(), self.closed, chunk)
 
     # ------------------------------------------------------------- simplicity
     def self_intersections(self):
@@ -421,25 +390,7 @@ class Contour:
         (K, 2) ndarray
             ``(x, y)`` of the crossings found.
         """
-        import shapely
-
-        ring = np.vstack([self._points, self._points[:1]]) if self.closed else self._points
-        line = shapely.LineString(ring)
-        if shapely.is_simple(line):
-            return np.empty((0, 2))
-        # self-noding the line yields the crossing points as shared nodes
-        noded = shapely.node(line)
-        coords = [np.asarray(g.coords) for g in shapely.get_parts(noded)]
-        ends = np.vstack([np.vstack([c[0], c[-1]]) for c in coords])
-        uniq, counts = np.unique(ends.round(9), axis=0, return_counts=True)
-        start = ring[0].round(9)
-        mask = counts > 2
-        if not self.closed:
-            mask |= (counts >= 2) & ~np.all(uniq == start, axis=1) & ~np.all(uniq == ring[-1].round(9), axis=1)
-        out = uniq[mask]
-        if len(out) == 0:  # touching without a node (e.g. overlap); report a vertex of it
-            out = ends[:1]
-        return out
+        return unchecked_crossings(self._points, self.closed)
 
     def is_simple(self):
         """True when the curve does not cross or touch itself."""

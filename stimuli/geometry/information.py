@@ -30,7 +30,9 @@ in every result:
   applied to the turning angle, ``u = -ln A' - b*cos(a - 2*pi/n)``: ``b`` is
   the concentration of turning angles and u lies in
   ``[-ln A' - b, -ln A' + b]`` whatever the size of the shape.
-* ``'perimeter'``: lengths in perimeters, ``ds = 1/n``; scale-free too, but
+* ``'perimeter'``: lengths in perimeters, ``ds = 1/n`` on a closed contour
+  and ``ds = 1/(n-1)`` on an open one (its n points, both ends included,
+  span n - 1 intervals: ``ds = L/(n-1)`` in pixels); scale-free too, but
   the shape-dependent part shrinks to ``b/n**2`` (1e-4 nats at n = 100).
 * ``'radius'``: lengths in radii of the circle of equal area (closed only),
   ``ds = L/(n*R)``, ``2*pi/n`` on a circle; scale-free, larger for
@@ -51,8 +53,6 @@ of a shape a few pixels across or more, and means no more than that.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 import numpy as np
 
 from attneave.stimuli.errors import InputError
@@ -62,6 +62,7 @@ from attneave.stimuli.geometry.peaks import (  # re-exported: part of this modul
     find_peaks,
 )
 from attneave.stimuli.geometry.polyline import unchecked_turning_angles
+from attneave.stimuli.geometry.surprisal_result import SurprisalResult  # re-exported: part of this module's API
 from attneave.stimuli.validate import (
     as_int,
     as_number,
@@ -202,8 +203,9 @@ def surprisal_paper(turning_angle, ds, n, A=0.25, b=1.0, closed=True, bits=False
     ds : float
         Spacing between points, ``L / n``, in the unit of length chosen (see
         :func:`length_scale`): 1 in units of the spacing (``'sample'``),
-        ``1/n`` in perimeters, ``L/n`` in pixels (the paper's literal
-        reading, whose values scale with the square of the drawing size).
+        ``1/n`` in perimeters (``1/(n-1)`` on an open curve, whose spacing
+        is ``L/(n-1)``), ``L/n`` in pixels (the paper's literal reading,
+        whose values scale with the square of the drawing size).
     n : int
         Number of equally spaced points on the contour.
     A : float
@@ -319,64 +321,6 @@ def _log_i0(b):
     return float(b - 0.5 * np.log(2 * np.pi * b) + np.log1p(t + 4.5 * t * t + 37.5 * t**3))
 
 
-@dataclass
-class SurprisalResult:
-    """Per-point information along a resampled contour, with its parameters.
-
-    Attributes
-    ----------
-    contour : Contour
-        The contour resampled at `n` equally spaced points from the input's
-        first point (image pixels, y down).
-    s, t : ndarray
-        Arc length (px) and arc position in [0, 1) of each point.
-    turning_angle, curvature, surprisal : ndarray
-        Per point; curvature in 1/px (turning angle / ds), surprisal in nats
-        or bits.
-    peaks : ndarray of int
-        Peak indices, highest first.
-    params : dict
-        Every resolved parameter: model, n, ds (spacing in px), length (px),
-        length_unit, unit_px (pixels per unit of length), ds_in_unit (the ds
-        of eq. 4-5), A, b, closed, bits, units, prominence.
-    """
-
-    contour: Contour
-    s: np.ndarray
-    t: np.ndarray
-    turning_angle: np.ndarray
-    curvature: np.ndarray
-    surprisal: np.ndarray
-    peaks: np.ndarray
-    params: dict = field(default_factory=dict)
-
-    def is_peak(self):
-        """(N,) int array, 1 on peaks."""
-        flag = np.zeros(len(self.s), dtype=int)
-        flag[self.peaks] = 1
-        return flag
-
-    def table(self):
-        """Columns ``i, s, t, x, y, turning_angle, curvature, surprisal, peak, length_unit``.
-
-        ``length_unit`` repeats ``params['length_unit']`` on every row, so a
-        file carries the unit its surprisal values are in.
-        """
-        p = self.contour.points
-        return {
-            "i": np.arange(len(p)),
-            "s": self.s,
-            "t": self.t,
-            "x": p[:, 0],
-            "y": p[:, 1],
-            "turning_angle": self.turning_angle,
-            "curvature": self.curvature,
-            "surprisal": self.surprisal,
-            "peak": self.is_peak(),
-            "length_unit": np.full(len(p), self.params.get("length_unit", ""), dtype=object),
-        }
-
-
 def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits=False, prominence=None,
               length_unit=DEFAULT_LENGTH_UNIT):
     """Surprisal at `n` equally spaced points of a contour.
@@ -407,7 +351,7 @@ def surprisal(contour, n=None, spacing=None, model="paper", A=0.25, b=None, bits
     length_unit : {'sample', 'perimeter', 'radius', 'px'}
         Unit of ``ds`` in eq. 4-5 (the 'paper' model only; the von Mises form
         has no ``ds``). The default, ``'sample'`` (ds = 1), and
-        ``'perimeter'`` (ds = 1/n) and ``'radius'`` give the same values for
+        ``'perimeter'`` (ds = 1/n closed, 1/(n-1) open) and ``'radius'`` give the same values for
         a shape at any size; ``'px'`` is the paper's literal pixels. Recorded
         in ``params['length_unit']``; see the module docstring for what a
         negative value means.

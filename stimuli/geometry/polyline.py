@@ -1,5 +1,6 @@
 """Functions of point arrays: turning angles, Gaussian-derivative curvature,
-the shoelace area and segment vectors.
+the shoelace area, segment vectors, the nearest point on a polyline and its
+self-crossings.
 
 Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down).
 :class:`~attneave.stimuli.geometry.contour.Contour` is built on these.
@@ -12,7 +13,8 @@ import numpy as np
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.validate import as_number, check_flag, check_points
 
-__all__ = ["turning_angles", "gaussian_curvature", "shoelace", "edges", "bounds"]
+__all__ = ["turning_angles", "gaussian_curvature", "shoelace", "edges", "bounds", "unchecked_nearest",
+           "unchecked_crossings"]
 
 
 def turning_angles(points, closed=True):
@@ -226,3 +228,64 @@ def bounds(points):
     """
     x, y = points[:, 0], points[:, 1]
     return float(x.min()), float(y.min()), float(x.max()), float(y.max())
+
+
+def unchecked_nearest(q, p, d, cum, closed, chunk=2_000_000):
+    """Nearest point of the polyline `p` (segment vectors `d`, cumulative lengths `cum`)
+    to each of the checked points `q`: ``(nearest, t, distance)``, as
+    :meth:`~attneave.stimuli.geometry.contour.Contour.project` documents."""
+    a = p[: len(d)]
+    # x and y apart: (M, N) arrays of each, rather than (M, N, 2) arrays
+    # reduced over a last axis of 2, which numpy does several times slower
+    ax, ay, dx, dy = (np.ascontiguousarray(v) for v in (a[:, 0], a[:, 1], d[:, 0], d[:, 1]))
+    L2 = dx * dx + dy * dy
+    seglen = np.sqrt(L2)
+    nearest = np.empty_like(q)
+    tt = np.empty(len(q))
+    dist = np.empty(len(q))
+    step = max(1, chunk // max(len(d), 1))
+    for lo in range(0, len(q), step):
+        qq = q[lo : lo + step]
+        rx = qq[:, :1] - ax
+        ry = qq[:, 1:] - ay
+        u = rx * dx
+        u += ry * dy
+        u /= L2
+        np.clip(u, 0.0, 1.0, out=u)
+        rx -= u * dx
+        ry -= u * dy
+        d2 = rx * rx
+        d2 += ry * ry
+        j = np.argmin(d2, axis=1)
+        r = np.arange(len(qq))
+        uj = u[r, j]
+        nearest[lo : lo + step] = a[j] + uj[:, None] * d[j]
+        dist[lo : lo + step] = np.sqrt(d2[r, j])
+        tt[lo : lo + step] = (cum[j] + uj * seglen[j]) / cum[-1]
+    if closed:
+        tt = np.mod(tt, 1.0)
+    return nearest, tt, dist
+
+
+def unchecked_crossings(p, closed):
+    """``(x, y)`` where the polyline `p` (closed: joined back to its first point) crosses or
+    touches itself, as :meth:`~attneave.stimuli.geometry.contour.Contour.self_intersections` documents."""
+    import shapely
+
+    ring = np.vstack([p, p[:1]]) if closed else p
+    line = shapely.LineString(ring)
+    if shapely.is_simple(line):
+        return np.empty((0, 2))
+    # self-noding the line yields the crossing points as shared nodes
+    noded = shapely.node(line)
+    coords = [np.asarray(g.coords) for g in shapely.get_parts(noded)]
+    ends = np.vstack([np.vstack([c[0], c[-1]]) for c in coords])
+    uniq, counts = np.unique(ends.round(9), axis=0, return_counts=True)
+    start = ring[0].round(9)
+    mask = counts > 2
+    if not closed:
+        mask |= (counts >= 2) & ~np.all(uniq == start, axis=1) & ~np.all(uniq == ring[-1].round(9), axis=1)
+    out = uniq[mask]
+    if len(out) == 0:  # touching without a node (e.g. overlap); report a vertex of it
+        out = ends[:1]
+    return out

@@ -12,13 +12,12 @@ import math
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_number, as_points
 from attneave.stimuli.render import kernel, raster
 from attneave.stimuli.render.discs import disc_accumulation
-from attneave.stimuli.render.raster import (
-    box_coverage, ring_accumulation, ring_area, ring_stream, stream_box, sum_dtype, winding,
-)
+from attneave.stimuli.render.grid_cut import ring_area, stream_box
+from attneave.stimuli.render.raster import box_coverage, ring_accumulation, ring_stream, sum_dtype, winding
 from attneave.stimuli.render.rings import MAX_PIXELS, MAX_SIDE, as_rings, resolve_shape
+from attneave.stimuli.validate import as_number, as_points
 
 # ---------------------------------------------------------------------------
 # Images

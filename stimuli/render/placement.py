@@ -7,8 +7,8 @@ import math
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_number, as_points
 from attneave.stimuli.render.rings import resolve_shape
+from attneave.stimuli.validate import as_number, as_points
 
 #: Smallest bounding-box extent (in the points' units) that is scaled to an
 #: image: far below any unit a shape is drawn in, far above the subnormal

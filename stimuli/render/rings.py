@@ -7,7 +7,6 @@ centres at integer coordinates).
 
 from __future__ import annotations
 
-
 import numpy as np
 
 from attneave.stimuli.errors import InputError

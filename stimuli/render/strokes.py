@@ -12,10 +12,10 @@ import math
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_number, as_points
 from attneave.stimuli.render.paint import colours, paint_image, resolve_dtype, result_record
 from attneave.stimuli.render.raster import ring_accumulation, sum_dtype
 from attneave.stimuli.render.rings import is_single_ring, resolve_shape, rings_from_geometry
+from attneave.stimuli.validate import as_number, as_points
 
 # Largest departure of shapely's polygonised round joins/caps from the arc.
 _ARC_TOLERANCE = 1e-3

@@ -70,8 +70,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.shapes.deformation_checks import check_deformation  # re-exported: this module is its public home
 from attneave.stimuli.validate import as_int, as_number, as_rng
 
 __all__ = [
@@ -91,7 +92,6 @@ MODES = ("edge", "vertex", "bump")
 _BUMP_POWER = 6
 # curvature of the profile (1 - u^2)^6 at its centre, times width^2
 _BUMP_CENTRE = 2.0 * _BUMP_POWER
-_EPS = 1e-9  # turning angles within this of 0 count as straight
 
 
 @dataclass
@@ -328,75 +328,6 @@ def deform_at(contour, index, displacement, mode="vertex", width=None):
     else:
         raise InputError(f"mode: expected one of {', '.join(MODES)}, got {mode!r}")
     return concave, convex, dict(direction=[float(n0[0]), float(n0[1])], moved=moved, area_change=predicted)
-
-
-def check_deformation(base, concave, convex, index, window=None, min_turn=0.0):
-    """Whether a concave/convex pair meets the conditions of a valid place.
-
-    Parameters
-    ----------
-    base, concave, convex : Contour
-        Same number of points.
-    index : int
-        The moved vertex.
-    window : array of bool, optional
-        Vertices moved by a bump (where the dent may turn several vertices
-        concave). Default: only `index`.
-    min_turn : float
-        The moved vertex's turning angle must be below ``-min_turn`` in the
-        concave version and above ``min_turn`` in the convex one (radians).
-
-    Returns
-    -------
-    ok : bool
-    reason : str
-        Empty when valid, else why not.
-    """
-    tb, tc, tv = base.turning_angles(), concave.turning_angles(), convex.turning_angles()
-    thr = max(_EPS, float(min_turn))
-    if not tc[index] < -thr:
-        return False, "the concave version's vertex is not concave"
-    if not tv[index] > thr:
-        return False, "the convex version's vertex is not convex"
-    nb, nc, nv = tb < -_EPS, tc < -_EPS, tv < -_EPS
-    others = np.ones(len(tb), bool)
-    others[index] = False
-    if np.any(nv[others] != nb[others]):
-        return False, "the convex version changes the sign of another vertex"
-    if window is None:
-        if np.any(nc[others] != nb[others]):
-            return False, "the concave version changes the sign of another vertex"
-    else:
-        window = np.asarray(window, bool)
-        outside = ~window
-        if np.any(nc[outside] != nb[outside]):
-            return False, "the concave version changes the sign of a vertex outside the bump"
-        if np.any(nb[window]):
-            return False, "the bump would overlap a concavity of the base"
-        # the dent's concave vertices must be one run through the centre
-        run = _run_through(nc, index)
-        if np.any(nc & window & ~run):
-            return False, "the dent is concave in more than one place"
-    if not concave.is_simple():
-        return False, "the concave version crosses itself"
-    if not convex.is_simple():
-        return False, "the convex version crosses itself"
-    return True, ""
-
-
-def _run_through(flags, index):
-    """Boolean mask of the circular run of True in `flags` containing `index`."""
-    n = len(flags)
-    out = np.zeros(n, bool)
-    if not flags[index]:
-        return out
-    out[index] = True
-    for step in (1, -1):
-        j = (index + step) % n
-        while flags[j] and not out[j]:
-            out[j] = True
-            j = (j + step) % n
-    return out
 
 
 def _auto_width(contour, index, d, cum_turn, s, L):

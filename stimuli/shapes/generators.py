@@ -35,11 +35,12 @@ import math
 
 import numpy as np
 
-from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.validate import as_int, as_number, as_rng
+from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.shapes._limits import MAX_POINTS, MAX_TERMS
 from attneave.stimuli.shapes.attneave import SMOOTH_METHODS, attneave_curved, attneave_polygon, smooth_closed
+from attneave.stimuli.shapes.from_csv import contour_from_csv  # re-exported: this module is its public home
+from attneave.stimuli.validate import as_int, as_number, as_rng
 
 __all__ = [
     "attneave_polygon",
@@ -465,43 +466,3 @@ def blob(rng, r0=100.0, sigma=0.2, width=0.6, n=1024):
     c = Contour(_polar(r, th), simple=True)
     coefs = [[int(kk), float(a), float(b)] for kk, a, b in zip(k, z[0], z[1])]
     return c, dict(r0=r0, sigma=sigma, width=width, n=n, centre=[0.0, 0.0], coefficients=coefs)
-
-
-# ------------------------------------------------------------ files
-
-
-def contour_from_csv(path, resample=None):
-    """A closed contour from a CSV file with columns ``x, y``.
-
-    The points are taken as they are (image pixels, y down); the recipes
-    rescale and centre them onto the canvas.
-
-    Parameters
-    ----------
-    path : str or Path
-        The CSV file.
-    resample : int, optional
-        Resample to this many equally spaced points (e.g. a pixel-traced
-        contour); by default the points are kept.
-
-    Returns
-    -------
-    contour : Contour
-    params : dict
-        ``n_points`` (as read), ``n`` (as returned), ``centre`` (the centre
-        of the bounding box).
-
-    Raises
-    ------
-    InputError
-        Unreadable file, missing columns, non-finite values, fewer than 3
-        distinct points, or a contour that crosses itself.
-    """
-    c = Contour.from_csv(path, closed=True, simple=True)
-    n_read = c.n
-    if resample is not None:
-        c = c.resample(n=as_int(resample, "resample", lo=3))
-        if not c.is_simple():
-            raise InputError(f"{path}: resampled to {c.n} points the contour crosses itself; use more points")
-    x0, y0, x1, y1 = c.bbox
-    return c, dict(n_points=int(n_read), n=int(c.n), centre=[(x0 + x1) / 2.0, (y0 + y1) / 2.0])

@@ -49,12 +49,12 @@ import math
 
 import numpy as np
 
-from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.geometry.information import surprisal
 from attneave.stimuli.shapes._limits import MAX_POINTS
-from attneave.stimuli.validate import as_int, as_number
 from attneave.stimuli.shapes.selection import rank_by_prominence, rank_candidates, select_separated
+from attneave.stimuli.validate import as_int, as_number
 
 __all__ = [
     "information",

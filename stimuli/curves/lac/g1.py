@@ -33,13 +33,13 @@ References
 
 from __future__ import annotations
 
-from attneave.stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq
 
+from attneave.stimuli.curves.checks import check_samples
 from attneave.stimuli.curves.euler import clothoid_points, g1_hermite
 from attneave.stimuli.curves.lac.gamma import lac_position, lac_theta
 from attneave.stimuli.curves.metrics import SampledCurve, curve_metrics

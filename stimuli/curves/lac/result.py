@@ -9,13 +9,13 @@ modules for the mathematics.
 
 from __future__ import annotations
 
-from attneave.stimuli.curves.natural import check_samples
 import time
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
+from attneave.stimuli.curves.checks import check_samples
 from attneave.stimuli.curves.lac.arc import (
     arc_curvature,
     arc_singular_point,

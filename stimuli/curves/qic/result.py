@@ -10,12 +10,12 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from functools import cached_property
 
-from attneave.stimuli.curves.natural import check_samples
 import numpy as np
 
-from attneave.stimuli.curves.qic import kernel as qic_kernel
+from attneave.stimuli.curves.checks import check_samples
 from attneave.stimuli.curves.euler import clothoid_points
 from attneave.stimuli.curves.metrics import SampledCurve, SplineMeasures
+from attneave.stimuli.curves.qic import kernel as qic_kernel
 from attneave.stimuli.curves.qic.newton import tangent_range
 
 __all__ = ["QICSpline"]
