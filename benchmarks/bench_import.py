@@ -1,7 +1,8 @@
 """Start-up cost of the command line against a bare interpreter.
 
 Anchor: ``python -c pass`` (the interpreter and ``site``). Project, each in a
-fresh process: ``import stimuli``, ``import analysis``, ``attneave --help``,
+fresh process: ``import attneave``, ``import attneave.stimuli``, ``import
+attneave.analysis``, ``attneave --help``,
 and ``attneave surprisal`` on a 200-point contour (the whole call: import,
 read, compute, write). For every case the script prints the median wall time
 of repeated runs and the median import time beyond the anchor's, read from
@@ -10,6 +11,10 @@ less sensitive to machine load than wall time.
 
 Target (issue 13): ``attneave --help`` and a ``surprisal`` call in well under
 0.3 s of import time.
+Issue 24: as fast after the move into one ``attneave`` namespace as before;
+``--root`` measures an older checkout (one from before the move, with its
+``stimuli`` and ``analysis`` top-level packages, is measured under its own
+names) in the same run.
 Usage: python benchmarks/bench_import.py [--repeats 7] [--root OTHER_CHECKOUT]
 """
 
@@ -64,11 +69,14 @@ def main():
         src = os.path.join(d, "c.csv")
         np.savetxt(src, np.c_[100 + 50 * np.cos(th), 100 + 30 * np.sin(th)], delimiter=",",
                    header="x,y", comments="")
-        cli = ["-c", "import sys; from attneave.cli import main; sys.exit(main())"]
+        legacy = bool(args.root) and os.path.exists(os.path.join(args.root, "analysis", "cli.py"))
+        prefix = "" if legacy else "attneave."
+        cli = ["-c", f"import sys; from {prefix}{'analysis.' if legacy else ''}cli import main; sys.exit(main())"]
         cases = [
             ("python -c pass (anchor)", ["-c", "pass"]),
-            ("import stimuli", ["-c", "import stimuli"]),
-            ("import analysis", ["-c", "import analysis"]),
+            *([] if legacy else [("import attneave", ["-c", "import attneave"])]),
+            (f"import {prefix}stimuli", ["-c", f"import {prefix}stimuli"]),
+            (f"import {prefix}analysis", ["-c", f"import {prefix}analysis"]),
             ("attneave --help", [*cli, "--help"]),
             ("attneave surprisal (200 points)", [*cli, "surprisal", src, "-o", os.path.join(d, "u.csv")]),
         ]

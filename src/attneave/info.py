@@ -9,9 +9,6 @@ the numpy path; this is where a user sees it.
 from __future__ import annotations
 
 import importlib
-import importlib.metadata
-import importlib.util
-import platform
 
 __all__ = ["kernel_status", "installation", "add_parser", "run"]
 
@@ -51,6 +48,8 @@ def kernel_status():
 
 
 def _version(dist):
+    import importlib.metadata  # here, not at the top: `attneave --help` imports this module
+
     try:
         return importlib.metadata.version(dist)
     except importlib.metadata.PackageNotFoundError:
@@ -59,6 +58,9 @@ def _version(dist):
 
 def installation():
     """Versions, kernels and optional extras of this installation, as a dict."""
+    import importlib.util
+    import platform
+
     from attneave import __version__
 
     core = {name: _version(dist) for name, dist in [
