@@ -1,7 +1,7 @@
 """attneave.stimuli: shapes, curvature and the information they carry.
 
 Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down,
-pixel centres at integer coordinates). See DESIGN.md for every convention.
+pixel centres at integer coordinates). See docs/design.md ("Coordinates", "Units") for every convention.
 
 Sub-packages, each named after what it holds:
 

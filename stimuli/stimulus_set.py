@@ -1,6 +1,6 @@
 """Reading (and writing by hand) a stimulus-set directory.
 
-A stimulus set is a directory in the format of DESIGN.md ("Files"), whether
+A stimulus set is a directory in the format of docs/design.md ("Files"), whether
 ``attneave generate`` wrote it or a person built it by hand:
 
 ``manifest.csv``

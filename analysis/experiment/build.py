@@ -144,7 +144,7 @@ def _stimulus(stimset, mpath, row, lists):
                          f"shows the images)")
     root = Path(stimset.directory).resolve()
     if root not in Path(source).resolve().parents:
-        # a manifest path must not lead outside the set (DESIGN.md, Files)
+        # a manifest path must not lead outside the set (docs/design.md, Files)
         raise InputError(f"{where}: image path leads outside the stimulus set {stimset.directory}")
     suffix = Path(source).suffix.lower()
     if suffix not in (".png", ".jpg", ".jpeg", ".gif", ".webp", ".svg"):

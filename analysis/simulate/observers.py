@@ -250,7 +250,7 @@ def simulate(predictions, participants, clicks, beta, seed, noise=0.0, beta_sd=0
         pr = predictions[sid]
         pts = pr.contour.point_at(t[:, s, :].ravel()).reshape(P, K, 2)
         xi, yi = pts[..., 0] + disp[:, s, :, 0], pts[..., 1] + disp[:, s, :, 1]
-        # the image covers pixel centres 0 .. width-1, i.e. [-0.5, width - 0.5] (DESIGN.md, Conventions)
+        # the image covers pixel centres 0 .. width-1, i.e. [-0.5, width - 0.5] (docs/design.md, Coordinates)
         outside += int(((xi < -0.5) | (xi > pr.width - 0.5) | (yi < -0.5) | (yi > pr.height - 0.5)).sum())
         x, y = from_image_coords(xi, yi, pr.width, pr.height, coords, scale)
         xy[:, s, :, 0], xy[:, s, :, 1] = x, y

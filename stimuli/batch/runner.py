@@ -1,6 +1,6 @@
 """Run a batch config: plan recipe calls, run them, write a stimulus set.
 
-The output directory (see DESIGN.md, "Files", and :mod:`attneave.stimuli.stimulus_set`)
+The output directory (see docs/design.md, "Files", and :mod:`attneave.stimuli.stimulus_set`)
 ends up holding exactly::
 
     manifest.csv            one row per stimulus, sorted by stimulus_id

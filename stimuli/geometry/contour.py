@@ -1,7 +1,7 @@
 """The `Contour`: an ordered curve of points in image pixels.
 
-Conventions (see DESIGN.md)
----------------------------
+Conventions (see docs/design.md, "Coordinates")
+-----------------------------------------------
 * Points are ``(x, y)`` floats in image pixels: x is the column, y the row,
   y points down, pixel centres at integer coordinates (OpenCV's convention).
 * A closed contour never repeats its first point at the end.

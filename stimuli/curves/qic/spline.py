@@ -1,7 +1,7 @@
 """The QIC spline: a spline of clothoid segments through points, G2 wherever
 that adds no information the points do not carry.
 
-The **QIC spline** (quantity-of-information continuous; Ziatdinov, DESIGN.md)
+The **QIC spline** (quantity-of-information continuous; Ziatdinov; docs/design.md, "QIC splines")
 passes through the given points; every segment between two consecutive
 points is a clothoid (Euler spiral), whose curvature is linear in arc length
 and so monotone: no curvature extremum, hence no spurious information,
