@@ -17,7 +17,7 @@ def add_parser(sub):
             "experiment that runs from file:// or any static host (JATOS, Pavlovia, a web server) and gives "
             "each participant a CSV of clicks in image pixels that 'attneave analyze' reads as it is. "
             "Settings come from --config YAML (keys = the flags' names with underscores) and flags, which "
-            "win. See the README for the page contract (URL parameters, element ids)."
+            "win. See docs/experiment.md for the page contract (URL parameters, element ids)."
         ),
     )
     p.add_argument("stimuli", metavar="SET", help="stimulus-set directory (manifest.csv, images/, contours/)")

@@ -67,7 +67,7 @@ def _refuse_repeats(values, what):
 
 
 class ExperimentOptions(BaseModel):
-    """Everything that shapes the experiment page (see the README for the page contract).
+    """Everything that shapes the experiment page (see docs/experiment.md for the page contract).
 
     Attributes
     ----------
