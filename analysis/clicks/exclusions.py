@@ -30,6 +30,7 @@ _HINTS = {
     "repeated_header": "header lines inside the file, as when files are joined together; not clicks",
     "malformed_row": "rows whose field count differs from the header's; see row_error in clicks.csv",
     "coordinate_list": "x and y lists of different lengths",
+    "off_drawn_part": "clicks in the gaps of stimuli that showed only fragments, dots or a polygon",
 }
 
 

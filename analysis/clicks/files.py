@@ -135,21 +135,50 @@ def participants_in_several_files(clicks):
             f"{names}{more}; if they are different people, give them different ids")
 
 
-def repeated_rows(clicks):
-    """A warning counting rows that repeat an earlier row in every column but ``line`` ('' if none).
+#: Words in a column name that make it an index or a time stamp: rows that differ there are different clicks.
+INDEX_WORDS = frozenset({"trial", "click", "index", "idx", "number", "order", "seq", "sequence", "rep", "time",
+                         "timestamp", "rt", "onset", "ms"})
 
-    The browser page and the PsychoPy script stamp each click with its time,
-    so such rows are a file (or part of one) added twice, not clicks; they
-    are still analysed (nothing is dropped on a guess), and the warning says
-    so. Repeated header lines and rows of separators only are not counted.
+
+def _index_columns(cols):
+    """The columns whose names say they number or time the clicks (``trial``, ``click``, ``rt_ms``...)."""
+    import re
+
+    return [c for c in cols if set(re.split(r"[^a-z0-9]+", str(c).lower())) & INDEX_WORDS]
+
+
+def repeated_rows(clicks):
+    """A warning counting rows that look like copies of earlier rows ('' if none).
+
+    With a column that numbers or times the clicks (:data:`INDEX_WORDS`:
+    ``trial``, ``click``, ``timestamp``, ``rt_ms``...), as the browser page
+    and the PsychoPy script write, a row equal to an earlier one in every
+    column (but ``line``) is a copy: two real clicks differ there. Without
+    such a column, a participant who clicks one point twice writes the same
+    row twice; so a repeat is only reported when it is part of a block: at
+    least two consecutive rows repeating consecutive earlier rows, as a file
+    (or part of one) added twice gives. The rows are still analysed (nothing
+    is dropped on a guess), and the warning says so. Repeated header lines
+    and rows of separators only are not counted.
     """
-    cols = [c for c in clicks.columns if c not in ("line", "row_error", SOURCE)]
+    import pandas as pd
+
+    from attneave.analysis.clicks.read import READER_COLUMNS
+
+    cols = [c for c in clicks.columns if c not in READER_COLUMNS]
     if not cols or len(clicks) < 2:
         return ""
     dup = clicks[cols].duplicated().to_numpy() & ~repeated_header_rows(clicks)
     rows = np.flatnonzero(dup)
     if len(rows):  # rows of separators only are equal too, and no clicks (empty_row)
         dup[rows] = ~blank_rows(clicks, rows)
+    if dup.any() and not _index_columns(cols):
+        # the first row each row repeats; a row counts when a neighbour repeats the neighbour of its twin
+        h = pd.util.hash_pandas_object(clicks[cols].astype(str), index=False).to_numpy()
+        twin = pd.Series(np.arange(len(h))).groupby(h).transform("min").to_numpy()
+        nxt = np.zeros(len(h), bool)
+        nxt[:-1] = dup[:-1] & dup[1:] & (twin[1:] == twin[:-1] + 1)
+        dup &= nxt | np.r_[False, nxt[:-1]]
     k = int(dup.sum())
     if k == 0:
         return ""

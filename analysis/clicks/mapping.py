@@ -44,6 +44,12 @@ in this order:
     5% of the image diagonal (36 px on a 512 x 512 image), or a fixed number
     of pixels (``tolerance``). People aim at the contour; a click that far
     away is a slip or a click on something else.
+``off_drawn_part``
+    The stimulus showed only part of its contour (fragments, dots or
+    Attneave's cat; see :mod:`attneave.analysis.clicks.drawn`) and the click
+    lies farther than the tolerance from everything that was drawn (in a gap
+    between fragments, say). The choice set stays the whole contour's n
+    points; that module's docstring gives the reasons.
 
 Excluded rows that have coordinates and a known stimulus still get their
 mapping (t, distance, ...), so one can see where they were.
@@ -88,6 +94,7 @@ REASONS = (
     "missing_participant",
     "outside_image",
     "far_from_contour",
+    "off_drawn_part",
 )
 #: Reasons of rows that are no clicks (not counted in the share of excluded clicks that is reported).
 NOT_CLICKS = ("repeated_header", "empty_row")
@@ -118,6 +125,9 @@ class StimulusPrediction:
         The same, standardised over the n points.
     sign : (n,) ndarray of int
         +1 convex, -1 concave, 0 straight, at each point.
+    drawn : DrawnParts or None
+        What was shown when it was not the whole contour
+        (:func:`attneave.analysis.clicks.drawn.drawn_parts`).
     """
 
     stimulus_id: str
@@ -128,6 +138,7 @@ class StimulusPrediction:
     predictors: dict = field(default_factory=dict)
     z: dict = field(default_factory=dict)
     sign: np.ndarray = None
+    drawn: object = None
 
     @property
     def n(self):
@@ -193,6 +204,9 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
     if unit and "length_unit" not in inspect.signature(surprisal).parameters:
         raise InputError(f"{arg('length_unit')} is not supported by this version of "
                          "attneave.stimuli.geometry.information.surprisal")
+    from attneave.analysis.clicks.drawn import drawn_parts
+
+    shown = drawn_parts(stimset)
     out = {}
     for sid in stimset.ids:
         c = stimset.contours[sid]
@@ -202,7 +216,7 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
         sign = np.where(a > _FLAT, 1, np.where(a < -_FLAT, -1, 0))
         w, h = stimset.sizes[sid]
         out[sid] = StimulusPrediction(
-            sid, c, w, h, r, raw, {k: standardize(v) for k, v in raw.items()}, sign
+            sid, c, w, h, r, raw, {k: standardize(v) for k, v in raw.items()}, sign, shown.get(sid)
         )
     return out
 
@@ -350,6 +364,10 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
         r = reason[rows]
         r[(r == "") & outside] = "outside_image"
         r[(r == "") & (dist > tol)] = "far_from_contour"
+        if pr.drawn is not None:
+            from attneave.analysis.clicks.drawn import distance_to_drawn
+
+            r[(r == "") & (distance_to_drawn(pr.drawn, np.column_stack([xi, yi])) > tol)] = "off_drawn_part"
         reason[rows] = r
     for k, v in cols.items():
         df[k] = v

@@ -1,14 +1,19 @@
 """Figures of an analysis (PNG bytes; matplotlib's object API, no pyplot state).
 
 * :func:`stimulus_page`: for each stimulus, the image (when its file exists)
-  with the contour coloured by surprisal (yellow high, purple low), the
-  predicted peaks, the used clicks (black) and the excluded ones that have
-  coordinates (red crosses); beside it, the click density along the contour
-  and the standardised surprisal z against arc position t.
-* :func:`group_figure`: each participant's effect (mean z at their clicks)
-  with the group mean and its interval; the click rate against z (observed
-  and predicted by the fitted model, relative to uniform clicking); and the
-  log-likelihood gain of each model over uniform clicking.
+  with the contour as participants saw it -- whole, or only its fragments,
+  dots or polygon (:mod:`attneave.analysis.clicks.drawn`), the rest of the
+  contour thin and grey -- coloured by surprisal (yellow high, purple low),
+  the predicted peaks, the used clicks (black), clicks far from every drawn
+  part (orange triangles) and the other excluded ones that have coordinates
+  (red crosses); beside it, the click density along the contour and the
+  standardised surprisal z against arc position t (drawn stretches shaded).
+  Stimuli that nobody clicked (practice items, say) get no panel.
+* :func:`group_figure`: each participant's effect (mean z at their clicks),
+  labelled with their ids, with the group mean and its interval; the click
+  rate against z (observed and predicted by the fitted model, relative to
+  uniform clicking); and the log-likelihood gain of each model over uniform
+  clicking. Legends sit outside the data.
 
 Images are drawn in image pixels with y down (``extent`` from -0.5 to
 W - 0.5, pixel centres at integers), as the clicks are.
@@ -19,6 +24,8 @@ from __future__ import annotations
 import io
 
 import numpy as np
+
+from attneave.analysis.clicks.drawn import describe
 
 __all__ = ["stimulus_page", "group_figure", "all_figures", "to_png", "to_svg"]
 
@@ -35,6 +42,7 @@ def _click_groups(analysis):
     c = analysis.clicks
     sid = c["stimulus_id"].to_numpy(dtype=object)
     exc = c["excluded"].to_numpy(dtype=bool)
+    off = (c["reason"] == "off_drawn_part").to_numpy()
     xi, yi, t = (c[k].to_numpy(dtype=float) for k in ("x_image", "y_image", "t"))
     has_xy = np.isfinite(xi)
     out = {}
@@ -44,8 +52,10 @@ def _click_groups(analysis):
     for k, a, b in zip(keys, starts, bounds):
         rows = order[a:b]
         u = rows[~exc[rows]]
-        bad = rows[exc[rows] & has_xy[rows]]
-        out[k] = dict(x=xi[u], y=yi[u], t=t[u], bad_x=xi[bad], bad_y=yi[bad])
+        bad = rows[exc[rows] & has_xy[rows] & ~off[rows]]
+        gap = rows[off[rows]]
+        out[k] = dict(x=xi[u], y=yi[u], t=t[u], bad_x=xi[bad], bad_y=yi[bad], off_x=xi[gap], off_y=yi[gap],
+                      n_rows=len(rows))
     return out
 
 
@@ -78,6 +88,32 @@ def _read_image(path):
     return im
 
 
+def _norm(u):
+    from matplotlib.colors import Normalize
+
+    return Normalize(float(np.min(u)), float(np.max(u)) if np.ptp(u) > 0 else float(np.min(u)) + 1.0)
+
+
+def _shown_points(drawn, n):
+    """Which of the n points (and the segment that starts at each) lie on a drawn fragment."""
+    t = np.arange(n) / n
+    if drawn.mode != "fragments":
+        return np.zeros(n, bool)
+    out = np.zeros(n, bool)
+    for a, b in drawn.spans:
+        # the segment from point i to i+1 is drawn when its middle lies in the span (modulo 1)
+        mid = np.mod(t + 0.5 / n - a, 1.0)
+        out |= mid <= (b - a)
+    return out
+
+
+def _nearest_points(drawn, n):
+    """The points of the n nearest to each dot or polygon corner (by arc position)."""
+    from attneave.analysis.models.choice import point_index
+
+    return np.unique(point_index(np.asarray(drawn.t), n))
+
+
 def _shape_panel(ax, analysis, sid, groups):
     from matplotlib.collections import LineCollection
 
@@ -90,29 +126,45 @@ def _shape_panel(ax, analysis, sid, groups):
     p = pr.result.contour.points
     u = pr.predictors["surprisal"]
     seg = np.stack([p, np.roll(p, -1, axis=0)], axis=1)
-    lc = LineCollection(seg, cmap="viridis", linewidths=2.5)
-    lc.set_array(0.5 * (u + np.roll(u, -1)))
-    ax.add_collection(lc)
-    peaks = pr.result.peaks
+    drawn = getattr(pr, "drawn", None)
+    shown = np.ones(len(p), bool) if drawn is None else _shown_points(drawn, pr.n)
+    if drawn is not None:  # what was not drawn: thin and grey, so that the gaps read as gaps
+        ax.add_collection(LineCollection(seg, colors="0.75", linewidths=0.8, linestyles=(0, (2, 2))))
+    colour = 0.5 * (u + np.roll(u, -1))
+    norm = _norm(u)
+    if drawn is None or drawn.mode == "fragments":
+        lc = LineCollection(seg[shown], cmap="viridis", norm=norm, linewidths=2.5)
+        lc.set_array(colour[shown])
+        ax.add_collection(lc)
+    else:
+        if drawn.mode == "polygon":
+            ax.plot(drawn.polylines[0][:, 0], drawn.polylines[0][:, 1], "-", color="0.35", lw=1.5)
+        k = _nearest_points(drawn, pr.n)
+        ax.scatter(p[k, 0], p[k, 1], c=u[k], cmap="viridis", norm=norm, s=36, zorder=3, edgecolors="0.3")
+    peaks = np.asarray(pr.result.peaks, int)
+    peaks = peaks[shown[peaks]] if len(peaks) else peaks
     if len(peaks):
         ax.plot(p[peaks, 0], p[peaks, 1], "o", mfc="none", mec="tab:red", ms=7, mew=1.2)
-    g = groups.get(sid, dict(x=[], y=[], t=[], bad_x=[], bad_y=[]))
+    g = groups.get(sid, dict(x=[], y=[], t=[], bad_x=[], bad_y=[], off_x=[], off_y=[]))
     # clicks as pixels in the SVG too: thousands of markers would make it huge and slow
     ax.plot(g["x"], g["y"], ".", color="k", ms=3, alpha=0.6, rasterized=True)
     ax.plot(g["bad_x"], g["bad_y"], "x", color="tab:red", ms=4, rasterized=True)
+    ax.plot(g["off_x"], g["off_y"], "^", color="tab:orange", mec="k", mew=0.5, ms=6, rasterized=True)
     ax.set_xlim(-0.5, W - 0.5)
     ax.set_ylim(H - 0.5, -0.5)
     ax.set_aspect("equal")
     ax.set_xticks([])
     ax.set_yticks([])
-    ax.set_title(f"{sid}  ({len(g['x'])} clicks)", fontsize=10)
+    off = f", {len(g['off_x'])} off drawn part" if len(g["off_x"]) else ""
+    what = "" if drawn is None else f"{describe(drawn)}; "
+    ax.set_title(f"{sid}\n({what}{len(g['x'])} used clicks{off})", fontsize=9)
 
 
 def _profile_panel(ax, analysis, i, sid, groups):
     prof = analysis.profiles
     row = analysis.per_stimulus.iloc[i]
     t = prof["t"]
-    lines = ax.plot(t, prof["z"][i], color="tab:orange", lw=1.4, label="surprisal z")
+    ax.plot(t, prof["z"][i], color="tab:orange", lw=1.4)
     ax.set_xlim(0, 1)
     ax.set_xlabel("arc position t (fraction of perimeter)", fontsize=9)
     ax.set_ylabel("surprisal z", fontsize=9, color="tab:orange")
@@ -120,14 +172,19 @@ def _profile_panel(ax, analysis, i, sid, groups):
     ax2 = ax.twinx()
     d = prof["density"][i]
     if np.isfinite(d).all():
-        lines += ax2.plot(t, d, color="tab:blue", lw=1.4, label="click density")
+        ax2.plot(t, d, color="tab:blue", lw=1.4)
         ax2.set_ylim(bottom=0)
     ax2.set_ylabel("click density (1 = uniform)", fontsize=9, color="tab:blue")
     ax2.tick_params(labelsize=8)
     tc = np.asarray(groups.get(sid, {}).get("t", []))
     lo = ax.get_ylim()[0]
-    lines += ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=7, alpha=0.4, label="clicks", rasterized=True)
-    ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, loc="upper right", framealpha=0.8)
+    ax.plot(tc, np.full(len(tc), lo), "|", color="k", ms=7, alpha=0.4, rasterized=True)
+    # no legend over the curves: the axis labels carry the colours, the caption says the rest
+    drawn = getattr(analysis.predictions[sid], "drawn", None)
+    for a, b in (drawn.spans if drawn is not None else []):
+        for a0, b0 in ((a, b), (a - 1, b - 1), (a + 1, b + 1)):  # a fragment across t = 0 wraps
+            if b0 > 0 and a0 < 1:
+                ax.axvspan(max(a0, 0), min(b0, 1), color="0.85", zorder=0, lw=0)
     rho, p = row["spearman_rho"], row["spearman_p"]
     txt = f"Spearman rho = {rho:.2f}, p = {p:.2g}" if np.isfinite(rho) else "Spearman rho: n/a"
     ax.set_title(txt, fontsize=9)
@@ -211,10 +268,13 @@ def group_figure(analysis):
         ax1.axhline(g["mean"], color="tab:red", lw=1.5)
         if g["ci_low"] is not None:
             ax1.axhspan(g["ci_low"], g["ci_high"], color="tab:red", alpha=0.15)
-    from matplotlib.ticker import MaxNLocator
-
-    ax1.xaxis.set_major_locator(MaxNLocator(integer=True))
-    ax1.set_xlabel("participant (sorted)")
+    # each participant by their id, not by a position; with many, every k-th id, so that none overlap
+    ids = pp["participant"].astype(str).to_numpy()[order] if "participant" in pp.columns else np.arange(len(v))
+    step = max(1, int(np.ceil(len(v) / 40)))
+    ax1.set_xticks(np.arange(0, len(v), step), [str(k) for k in ids[::step]], rotation=90,
+                   fontsize=7 if len(v) > 15 else 8)
+    ax1.set_xlim(-0.7, max(len(v) - 0.3, 0.7))
+    ax1.set_xlabel("participant (sorted by mean z)" + (f", every {step}th id" if step > 1 else ""))
     ax1.set_ylabel("mean z at clicks")
     p = g["p_value"]
     ax1.set_title(f"group: t = {g['statistic'] if g['statistic'] is None else round(g['statistic'], 2)}, "
@@ -235,7 +295,8 @@ def group_figure(analysis):
         ax2.yaxis.set_major_formatter(ScalarFormatter())
         # ticks at 1, 2, 5 x 10^k with plain labels, not two bare powers of ten
         ax2.yaxis.set_minor_formatter(NullFormatter())
-        ax2.legend(fontsize=8)
+        # below the axes, not over the points
+        ax2.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.2), ncol=2, frameon=False)
     ax2.set_xlabel("z (standardised surprisal), bin mean")
     ax2.set_ylabel("click rate / uniform rate")
     ax2.set_title("clicks against predicted information", fontsize=10)
@@ -249,15 +310,18 @@ def group_figure(analysis):
 
 
 GROUP_CAPTION = ("Left: each participant's mean standardised surprisal z at their used clicks (dots, sorted; 0 under "
-                 "uniform clicking), with the group mean (red line) and its {level:g}% t interval (band). Middle: the "
+                 "uniform clicking; labelled with the participants' ids), with the group mean (red line) and its {level:g}% t interval (band). Middle: the "
                  "click rate in bins of z relative to uniform clicking (log scale): observed (dots) and predicted by "
-                 "the pooled choice model (squares). Right: log-likelihood gain over uniform clicking of the choice "
+                 "the pooled choice model (squares), legend below. Right: log-likelihood gain over uniform clicking of the choice "
                  "model with each predictor alone (red: surprisal, the model under test).")
-STIMULUS_CAPTION = ("Stimuli {first}-{last}. For each stimulus, left: the contour coloured by surprisal (yellow "
-                    "high, purple low), predicted peaks (red), used clicks (black dots) and excluded clicks with "
-                    "coordinates (red crosses); right: standardised surprisal z (orange) and the click density "
-                    "(blue, 1 = uniform) along the contour from its first point, with the used clicks as ticks; "
-                    "the title gives Spearman's rho between them and its circular-shift p.")
+STIMULUS_CAPTION = ("Stimuli {ids}. For each stimulus, left: the contour as shown to participants, coloured by "
+                    "surprisal (yellow high, purple low), predicted peaks (red), used clicks (black dots) and excluded "
+                    "clicks with coordinates (red crosses){drawn}; right: standardised surprisal z (orange, left axis) "
+                    "and the click density (blue, right axis, 1 = uniform) along the contour from its first point, "
+                    "with the used clicks as ticks{spans}; the title gives Spearman's rho between them and its "
+                    "circular-shift p.{unclicked}")
+DRAWN_CAPTION = ("; where only fragments, dots or a polygon were shown, the rest of the contour is a thin grey dashed "
+                 "line and clicks far from every drawn part are orange triangles")
 
 
 def all_figures(analysis, per_page=6):
@@ -271,10 +335,21 @@ def all_figures(analysis, per_page=6):
     # the band is the group test's interval, at the analysis's confidence level
     level = 100 * analysis.summary.get("params", {}).get("level", 0.95)
     out = [("group", GROUP_CAPTION.format(level=level), to_png(fig), to_svg(fig))]
-    ids = list(analysis.profiles["ids"])
     groups = _click_groups(analysis)
+    # a stimulus without a single click row (a practice item, whose clicks the page keeps apart) would be
+    # an empty panel: it is named in the caption instead
+    every = [str(s) for s in analysis.profiles["ids"]]
+    ids = [s for s in every if groups.get(s, {}).get("n_rows", 0) > 0]
+    missing = [s for s in every if s not in set(ids)]
+    unclicked = "" if not missing else (
+        f" Not drawn: {len(missing)} stimul{'us' if len(missing) == 1 else 'i'} without any click (e.g. practice "
+        f"items): {', '.join(missing[:8])}{', ...' if len(missing) > 8 else ''}.")
     for k in range(0, len(ids), per_page):
-        fig = stimulus_page(analysis, ids[k:k + per_page], groups=groups)
-        cap = STIMULUS_CAPTION.format(first=k + 1, last=min(len(ids), k + per_page))
+        page = ids[k:k + per_page]
+        fig = stimulus_page(analysis, page, groups=groups)
+        drawn = any(getattr(analysis.predictions[s], "drawn", None) is not None for s in page)
+        cap = STIMULUS_CAPTION.format(ids=", ".join(page), drawn=DRAWN_CAPTION if drawn else "",
+                                      spans="; grey bands: the stretches of contour that were drawn" if drawn else "",
+                                      unclicked=unclicked if k == 0 else "")
         out.append((f"stimuli_{k // per_page + 1:03d}", cap, to_png(fig), to_svg(fig)))
     return out
