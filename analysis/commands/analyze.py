@@ -68,6 +68,13 @@ def add_parser(sub):
     p.add_argument("--length-unit", default=None, metavar="UNIT",
                    help="unit of arc length of the surprisal model, passed to the library (default: its default); "
                         "recorded in summary.json")
+    p.add_argument("--models", default=None, metavar="M1,M2,...",
+                   help="models to run: choice (always), rivals, joint, blurred (with --click-sd), mixed, group "
+                        "(the Monte Carlo nulls); default all that fit in memory. summary.json (models_skipped) "
+                        "and report.html say which were left out and why")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress on stderr (by default every stage over ~2 s is a line there, and a bar "
+                        "is drawn on a terminal)")
     p.add_argument("--no-figures", action="store_true", help="skip the figures (report.html keeps the tables)")
     p.add_argument("--force", action="store_true",
                    help="replace OUT if it is an earlier analysis output (it holds summary.json and only files "
@@ -79,9 +86,9 @@ def run(args):
     import sys
 
     from attneave.analysis.analyze import analyze
+    from attneave.analysis.clicks.exclusions import exclusion_report, resolve_stimulus_ids
     from attneave.analysis.clicks.files import participants_in_several_files, read_click_files, repeated_rows
     from attneave.analysis.clicks.read import WINDOW_UNITS, parse_window_size, window_units_to_pixels
-    from attneave.analysis.clicks.exclusions import exclusion_report, resolve_stimulus_ids
     from attneave.analysis.report.outputs import check_output_dir, write_analysis
     from attneave.stimuli.errors import InputError
     from attneave.stimuli.stimulus_set import read_stimulus_set
@@ -102,6 +109,7 @@ def run(args):
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
         permutations=args.permutations, grid=args.grid, seed=args.seed, click_sd=args.click_sd,
         group_simulations=args.group_simulations, predictors=args.predictors, length_unit=args.length_unit,
+        models=args.models, quiet=args.quiet,
     )
     if res.summary["n_used"] == 0:
         why = exclusion_report(res.clicks, threshold=0.0)
@@ -112,8 +120,12 @@ def run(args):
         if warning:
             res.summary["warnings"].append(warning)
     click_files = args.clicks[0] if len(args.clicks) == 1 else list(args.clicks)
-    write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
-                   inputs=dict(clicks=click_files, stimuli=args.stimuli))
+    from attneave.stimuli.progress import Stages
+
+    with Stages("analyze", quiet=args.quiet, bar=False) as stages:
+        stages.stage("writing tables" + ("" if args.no_figures else ", figures") + " and report")
+        write_analysis(res, args.output, figures=not args.no_figures, force=args.force,
+                       inputs=dict(clicks=click_files, stimuli=args.stimuli))
     from attneave.analysis.report.html import t_text
 
     s = res.summary

@@ -277,7 +277,10 @@ def _method(s, p, drawn):
         (f"Rival predictors, each fitted alone and compared by AIC (Akaike, 1974): {esc_(', '.join(rivals))}; "
          f"concavity is the minima rule (Hoffman &amp; Richards, 1984). " if rivals else "")
         + "The von Mises form of surprisal is not a rival: standardised, it equals the paper's form."
-        + (f" Left out as identical to another predictor: {esc_(left_out)}." if left_out else "")]
+        + (f" Left out as identical to another predictor: {esc_(left_out)}." if left_out else ""),
+        # the models of --models that did not run, and why (summary.json: models_skipped)
+        *(["Models not run: " + "; ".join(f"{esc_(k)} ({esc_(v)})" for k, v in s["models_skipped"].items()) + "."]
+          if s.get("models_skipped") else [])]
     if drawn:
         kinds = {}
         for d in drawn.values():

@@ -5,7 +5,14 @@ from __future__ import annotations
 import numpy as np
 
 from attneave.analysis.models.choice import fit_beta
-from attneave.analysis.models.circular import circular_kde, circular_spearman, mean_rho_null, peak_chance, peak_hits, shift_indices
+from attneave.analysis.models.circular import (
+    circular_kde,
+    circular_spearman,
+    mean_rho_null,
+    peak_chance,
+    peak_hits,
+    shift_indices,
+)
 from attneave.analysis.models.design import mean_by
 
 __all__ = ["BANDWIDTH_FRACTION", "PEAK_FRACTION", "click_features", "participant_table", "correlation",
