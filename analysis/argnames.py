@@ -1,9 +1,8 @@
 """How an error message names an argument: the Python parameter, or the command's flag.
 
-The library's checks name what the caller gave: ``seed must be ...`` when a
-function is called from Python, ``--seed must be ...`` when ``attneave``
-called it for a command-line option. The command line runs its commands
-inside :func:`cli_names`; :func:`arg` gives the name to print.
+The one rule lives with the validators, :func:`attneave.stimuli.validate.arg`
+and :func:`attneave.stimuli.validate.cli_names` (the library's checks name
+arguments the same way); this module re-exports them for the analysis package.
 
 Examples
 --------
@@ -16,28 +15,6 @@ Examples
 
 from __future__ import annotations
 
-import contextlib
-import contextvars
+from attneave.stimuli.validate import arg, cli_names
 
 __all__ = ["arg", "cli_names"]
-
-_CLI = contextvars.ContextVar("attneave_cli_names", default=False)
-#: Parameters whose flag is not ``--`` + the name with dashes.
-_FLAGS = {"n": "-n"}
-
-
-def arg(name):
-    """`name` (a Python parameter), or its ``attneave`` flag inside :func:`cli_names`."""
-    if not _CLI.get():
-        return name
-    return _FLAGS.get(name, "--" + name.replace("_", "-"))
-
-
-@contextlib.contextmanager
-def cli_names():
-    """Within this block, :func:`arg` names flags (``--beta-sd``) instead of parameters (``beta_sd``)."""
-    token = _CLI.set(True)
-    try:
-        yield
-    finally:
-        _CLI.reset(token)

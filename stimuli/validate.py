@@ -23,6 +23,12 @@ be given as an integral float (``10.0``); ``3.7`` is refused. A flag is a
 Python or numpy bool (not ``'no'``, which would be true). None, complex
 numbers and arrays are refused where one number belongs.
 
+How a message names an argument
+-------------------------------
+By the caller's name for it: the Python parameter (``spacing``), or, when
+``attneave`` runs a command (inside :func:`cli_names`), its flag
+(``--spacing``): a check names ``arg("spacing")``.
+
 Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down);
 :data:`MAX_COORDINATE` and :data:`MIN_EXTENT` bound every contour, spline and
 point file the same way (:func:`check_scale`).
@@ -30,6 +36,8 @@ point file the same way (:func:`check_scale`).
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import numbers
 
 import numpy as np
@@ -38,7 +46,7 @@ from attneave.stimuli.errors import InputError
 
 __all__ = ["check_points", "as_points", "as_number", "parse_number", "as_int", "check_flag", "check_values", "check_scale",
            "check_area", "count_distinct_upto3", "as_rng", "MAX_COORDINATE", "MIN_EXTENT", "MIN_RELATIVE_EXTENT",
-           "MIN_AREA_RATIO"]
+           "MIN_AREA_RATIO", "arg", "cli_names"]
 
 #: Largest |coordinate| (px) a contour may have: squares and products of coordinates
 #: (lengths, areas) stay far from overflow, and no image is a million times larger.
@@ -53,6 +61,38 @@ MIN_RELATIVE_EXTENT = 1e-10
 #: (a circle encloses 1/(4 pi) = 0.08): below it, it is a line retracing itself and has
 #: no inside, so convex and concave (the sign of its curvature) are undefined.
 MIN_AREA_RATIO = 1e-12
+
+
+# ------------------------------------------------------------------ names
+_CLI = contextvars.ContextVar("attneave_cli_names", default=False)
+#: Parameters whose flag is not ``--`` + the name with dashes.
+_FLAGS = {"n": "-n"}
+
+
+def arg(name):
+    """`name` (a Python parameter), or its ``attneave`` flag inside :func:`cli_names`.
+
+    Examples
+    --------
+    >>> arg("group_simulations")
+    'group_simulations'
+    >>> with cli_names():
+    ...     arg("group_simulations"), arg("n")
+    ('--group-simulations', '-n')
+    """
+    if not _CLI.get():
+        return name
+    return _FLAGS.get(name, "--" + name.replace("_", "-"))
+
+
+@contextlib.contextmanager
+def cli_names():
+    """Within this block, :func:`arg` names flags (``--beta-sd``) instead of parameters (``beta_sd``)."""
+    token = _CLI.set(True)
+    try:
+        yield
+    finally:
+        _CLI.reset(token)
 
 
 # ------------------------------------------------------------------ points

@@ -41,108 +41,22 @@ def add_parser(sub):
 
 
 def run(args):
-    from attneave.stimuli.geometry.contour import Contour
-    from attneave.stimuli.geometry.information import surprisal
-    from attneave.stimuli.io import disk_error_exit
+    import sys
+
+    from attneave.stimuli.geometry.surprisal_file import surprisal_of_file
+    from attneave.stimuli.io import check_output_spares_inputs, disk_error_exit
     from attneave.stimuli.tables import write_table
 
-    from attneave.stimuli.io import check_output_spares_inputs
-    from attneave.stimuli.tables import read_points
-
     check_output_spares_inputs(args.output, [args.contour], what="-o")
-    closed = not args.open
-    pts = read_points(args.contour)
-    c = Contour(pts, closed, name=str(args.contour))
-    if closed:
-        _check_closed_shape(c, args.contour)
-    _note_dropped(pts, args.contour, closed)  # after the refusals: one line when refused
-    _check_size(args, c)
-    r = surprisal(
-        c, n=args.n, spacing=args.spacing, model=args.model, A=args.A, b=args.b, bits=args.bits,
-        prominence=args.prominence, **({} if args.length_unit is None else {"length_unit": args.length_unit}),
+    r, note = surprisal_of_file(
+        args.contour, n=args.n, spacing=args.spacing, closed=not args.open, max_points=MAX_POINTS,
+        model=args.model, A=args.A, b=args.b, bits=args.bits, prominence=args.prominence,
+        **({} if args.length_unit is None else {"length_unit": args.length_unit}),
     )
-    _check_finite(r)
+    if note:
+        print(f"attneave surprisal: note: {args.contour}: {note}", file=sys.stderr)
     try:
         write_table(r.table(), args.output, float_format="%.17g")
     except OSError as exc:  # a full disk: one line, exit 1
         return disk_error_exit('surprisal', args.output, exc)
     return 0
-
-
-def _check_size(args, contour):
-    """Bound the number of output points before anything is allocated."""
-    from attneave.stimuli.errors import InputError
-    from attneave.stimuli.validate import as_number
-
-    if args.n is not None and not 3 <= args.n <= MAX_POINTS:
-        raise InputError(f"-n: must be 3 <= n <= {MAX_POINTS:,} points, got {args.n}")
-    if args.spacing is not None:
-        spacing = as_number(args.spacing, "--spacing", gt=0)
-        n = contour.perimeter / spacing
-        if n > MAX_POINTS:
-            raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
-                             f"n = {n:.3g} points; n <= {MAX_POINTS:,} (use a larger spacing)")
-        least = 1.5 if args.open else 2.5  # round(n) (+ 1, the end point of an open contour) >= 3
-        if n < least:
-            raise InputError(f"--spacing: {args.spacing:g} px on a contour of {contour.perimeter:.6g} px gives "
-                             f"fewer than 3 points (use a spacing below {contour.perimeter / least:.6g} px)")
-
-
-def _check_finite(result):
-    """Refuse a result whose surprisal overflowed (a huge --b on a large contour), rather than write inf."""
-    import numpy as np
-
-    from attneave.stimuli.errors import InputError
-
-    u = np.asarray(result.surprisal, dtype=float)
-    inner = u if result.params["closed"] else u[1:-1]  # an open curve's ends have no turning angle (NaN)
-    if not np.isfinite(inner).all():
-        p = result.params
-        raise InputError(f"--b {p['b']:g} with ds = {p['ds']:.6g} px: the surprisal overflows (b*ds^2 = "
-                         f"{p['b'] * p['ds'] ** 2:.3g}); use a smaller --b or rescale the contour")
-
-
-def _note_dropped(pts, path, closed):
-    """Say on stderr which points the contour drops: consecutive repeats, and a closed
-    contour's last point when it repeats the first (common in real data; accepted)."""
-    import sys
-
-    import numpy as np
-
-    from attneave.stimuli.tables import read_points
-
-    if len(pts) < 2:
-        return
-    same = np.flatnonzero((pts[1:] == pts[:-1]).all(axis=1))
-    keep = np.ones(len(pts), bool)
-    keep[same + 1] = False
-    q = pts[keep]
-    closing = closed and len(q) > 1 and (q[-1] == q[0]).all()
-    if not (len(same) or closing):
-        return
-    rows = read_points(path, with_lines=True)[1]  # the file again, once, for the lines of the note
-    parts = []
-    if len(same):
-        lines = ", ".join(str(int(rows[i + 1])) for i in same[:5]) + (", ..." if len(same) > 5 else "")
-        parts.append(f"{len(same)} point(s) repeating the one before (line(s) {lines})")
-    if closing:
-        last = int(rows[np.flatnonzero(keep)[-1]])
-        parts.append(f"the last point (line {last}), which repeats the first (a closed contour joins "
-                     "its last point to its first)")
-    print(f"attneave surprisal: note: {path}: dropped " + " and ".join(parts), file=sys.stderr)
-
-
-def _check_closed_shape(contour, path):
-    """A closed contour's curvature sign (convex +, concave -) needs a simple curve of positive area.
-
-    The area is checked where every closed `Contour` is made (the same rule for the library and
-    this command: :func:`attneave.stimuli.validate.check_area`); simplicity here, since the
-    library accepts a figure eight.
-    """
-    from attneave.stimuli.errors import InputError
-
-    if not contour.is_simple():
-        x, y = contour.self_intersections()[0]
-        raise InputError(f"{path}: the closed contour crosses itself near (x={x:.6g}, y={y:.6g}); the sign of "
-                         "its curvature (convex +, concave -) needs a simple curve (use --open to treat it as "
-                         "an open curve)")
