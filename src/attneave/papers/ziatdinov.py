@@ -191,9 +191,9 @@ def fig2(num=20001, step=0.05):
         ranges["caption ds = 10"][b] = float(np.ptp(u_lit))
     r_text, r_lit = ranges["text ds = s/n"][2.0], ranges["caption ds = 10"][2.0]
     panels = (
-        Panel(tuple(text), f"(a) text: ds = s/n (drawn); u spans {r_text:.2f} for b = 2",
+        Panel(tuple(text), f"(a) the text's reading, ds = s/n: u spans {r_text:.2f} for b = 2",
               "arc length s", _U_LABEL, marks=(_level(),)),
-        Panel(tuple(literal), f"(b) caption literally: ds = L/n = 10; u spans {r_lit:.0f} for b = 2",
+        Panel(tuple(literal), f"(b) the caption read literally, ds = L/n = 10: u spans {r_lit:.0f} for b = 2",
               "arc length s", _U_LABEL, marks=(_level(),)),
     )
     return FigureData(
@@ -303,7 +303,7 @@ def fig4(num=3001, delta=0.01, step=0.05):
     band = Band(0.0, delta, f"s < {delta:g}: unbounded oscillation")
     k_top = 2 * np.pi / n * 3.0
     panels = (
-        Panel(tuple(clo), "(a) clothoid, k(s) = (2 pi/n) s: the caption's word (drawn as Fig. 4)",
+        Panel(tuple(clo), "(a) clothoid k(s) = (2 pi/n) s, as the caption names the curve",
               "arc length s", _U_LABEL, marks=(_level(),), xlim=(0.0, 3.0)),
         Panel(tuple(sp), "(b) the same symbols read k = 2 pi/(n s): a logarithmic spiral",
               "arc length s", _U_LABEL, marks=(_level(),), bands=(band,), xlim=(0.0, 3.0)),
