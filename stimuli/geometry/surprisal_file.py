@@ -16,7 +16,7 @@ import numpy as np
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.geometry.information import surprisal
-from attneave.stimuli.validate import arg, as_int, as_number
+from attneave.stimuli.validate import arg, as_int, as_number, check_scale
 
 __all__ = ["surprisal_of_file", "dropped_points_note"]
 
@@ -67,6 +67,8 @@ def surprisal_of_file(path, n=None, spacing=None, closed=True, max_points=None, 
     from attneave.stimuli.tables import read_points
 
     pts, lines = read_points(path, with_lines=True)
+    # the bounds every contour has (Contour's own check), with the CSV line of the point at fault
+    check_scale(pts, f"{path}: ", labels=[f"line {k}" for k in lines])
     c = Contour(pts, closed, name=str(path))
     if closed and not c.is_simple():
         x, y = c.self_intersections()[0]
