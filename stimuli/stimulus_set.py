@@ -22,7 +22,7 @@ A stimulus set is a directory in the format of docs/design.md ("Files"), whether
     elsewhere.
 
 Every contour is read as closed (stimuli are silhouettes); it is stored
-counter-clockwise on the screen by :class:`stimuli.contour.Contour`, so the
+counter-clockwise on the screen by :class:`attneave.stimuli.geometry.contour.Contour`, so the
 arc position ``t`` of analysis runs counter-clockwise from the first point of
 the file.
 """

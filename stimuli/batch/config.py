@@ -8,7 +8,7 @@ A batch config is a YAML mapping::
     style: {figure: 0.0, ground: 1.0, line_width: 3.0}  # defaults for every condition
     conditions:
       - name: rf                 # [A-Za-z0-9][A-Za-z0-9_.-]*, unique
-        recipe: radial_frequency # a key of stimuli.recipes.RECIPES
+        recipe: radial_frequency # a key of attneave.stimuli.batch.recipes.RECIPES
         params:                  # fixed recipe parameters, taken verbatim
           r0: 80                 # (a list here is a list-valued parameter)
         grid:                    # grid axes: each value is a list; the cells are

@@ -177,7 +177,7 @@ def _check_sampling(n, cycles, what, param):
 
 
 class AttneavePolygonParams(ShapeParams):
-    """Attneave & Arnoult (1956) Method 1; see :func:`stimuli.generators.attneave_polygon`."""
+    """Attneave & Arnoult (1956) Method 1; see :func:`attneave.stimuli.shapes.generators.attneave_polygon`."""
 
     n_points: int = Field(12, ge=3, le=1000, description="number of vertices")
     grid: int = Field(100, ge=2, le=100_000, description="side of the lattice the points are drawn from")
@@ -204,7 +204,7 @@ class AttneaveCurvedParams(AttneavePolygonParams):
 
 
 class RadialFrequencyParams(ShapeParams):
-    """Radial-frequency pattern; see :func:`stimuli.generators.radial_frequency`."""
+    """Radial-frequency pattern; see :func:`attneave.stimuli.shapes.generators.radial_frequency`."""
 
     r0: float = Field(100.0, gt=0, allow_inf_nan=False, description="mean radius (px when placement is native)")
     frequency: Annotated[list[PosInt], _one_or_list(PosInt), Field(min_length=1)] = Field(
@@ -228,7 +228,7 @@ class RadialFrequencyParams(ShapeParams):
 
 
 class FourierParams(ShapeParams):
-    """Random Fourier shape; see :func:`stimuli.generators.fourier_shape`."""
+    """Random Fourier shape; see :func:`attneave.stimuli.shapes.generators.fourier_shape`."""
 
     kind: Literal["radial", "elliptic"] = "radial"
     r0: float = Field(100.0, gt=0, allow_inf_nan=False)
@@ -246,7 +246,7 @@ class FourierParams(ShapeParams):
 
 
 class SuperformulaParams(ShapeParams):
-    """Gielis' superformula; see :func:`stimuli.generators.superformula`."""
+    """Gielis' superformula; see :func:`attneave.stimuli.shapes.generators.superformula`."""
 
     m: float = Field(5.0, ge=0, allow_inf_nan=False)
     n1: float = Field(2.0, gt=0, allow_inf_nan=False)
@@ -276,7 +276,7 @@ class SuperformulaParams(ShapeParams):
 
 
 class BlobParams(ShapeParams):
-    """Smooth random blob; see :func:`stimuli.generators.blob`."""
+    """Smooth random blob; see :func:`attneave.stimuli.shapes.generators.blob`."""
 
     r0: float = Field(100.0, gt=0, allow_inf_nan=False)
     # the generator's bound (attneave.stimuli.shapes.generators.MAX_BLOB_SIGMA), checked when the config is read
@@ -293,7 +293,7 @@ class FromCsvParams(ShapeParams):
 
 
 class FromImageParams(ShapeParams):
-    """The largest object of an image, via :func:`stimuli.extract.extract_contours`."""
+    """The largest object of an image, via :func:`attneave.stimuli.extraction.outlines.extract_contours`."""
 
     path: str = Field(min_length=1)
     method: Literal["otsu", "threshold", "mask", "alpha", "grabcut"] = "otsu"

@@ -20,7 +20,7 @@ Recipes
     See :mod:`attneave.stimuli.shapes.generators`.
 ``from_csv``, ``from_image``
     A contour from a CSV file (columns x, y) or the largest object of a
-    photograph (:func:`stimuli.extract.extract_contours`).
+    photograph (:func:`attneave.stimuli.extraction.outlines.extract_contours`).
 ``deformation``
     Barenholtz et al. (2003): items ``base``, ``concave``, ``convex`` (the
     last two with parent ``base``); see :mod:`attneave.stimuli.shapes.deformations`.
@@ -254,7 +254,7 @@ def _base(p, rng, canvas):
 def deformation_recipe(params, rng, canvas):
     """Recipe ``deformation``: items ``base``, ``concave``, ``convex``.
 
-    A base shape is drawn and placed; :func:`stimuli.deformations.deform`
+    A base shape is drawn and placed; :func:`attneave.stimuli.shapes.deformations.deform`
     then looks for a place on it (in an order drawn from `rng`). If there is
     none, another base shape is drawn, up to ``max_tries``.
     """

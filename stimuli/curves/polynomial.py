@@ -97,7 +97,7 @@ class PolynomialSpline:
         )
 
     def metrics(self, samples=32):
-        """:func:`~stimuli.curve_metrics.curve_metrics` of :meth:`sample`."""
+        """:func:`~attneave.stimuli.curves.metrics.curve_metrics` of :meth:`sample`."""
         out = curve_metrics(self.sample(samples))
         out["iterations"] = 0
         return out

@@ -77,7 +77,7 @@ The pipeline
    the shape, ``sigma = SIGMA_FRACTION * perimeter`` (1 %) unless given, at
    least ``MIN_SIGMA`` px; curvature is the Gaussian-derivative curvature
    at that scale (:func:`attneave.stimuli.geometry.polyline.gaussian_curvature`); surprisal
-   (:func:`stimuli.information.surprisal`) is computed on the smoothed
+   (:func:`attneave.stimuli.geometry.information.surprisal`) is computed on the smoothed
    contour resampled at ``n`` points (or a spacing in px).
 
 References
@@ -140,15 +140,16 @@ def extract(
     image_or_path : str, Path or ndarray
         An image file (see :func:`read_image`) or an array: ``(H, W)`` grey
         or bool, ``(H, W, 3)`` RGB, ``(H, W, 4)`` RGBA (RGB order).
-    method : {'otsu', 'auto', 'threshold', 'mask', 'alpha', 'grabcut', 'photo', 'model'}
+    method : {'otsu', 'auto', 'threshold', 'mask', 'alpha', 'grabcut', 'photo', 'model', 'rembg'}
         How the object is separated from the background; see the module
         notes for when to use each. Default 'otsu'. 'auto' takes a
         two-valued image or one on a plain background by 'otsu', a cut-out
         by 'alpha' and anything else by 'photo'
         (:func:`attneave.stimuli.extraction.segment.image_kind`); 'photo' is the
         automatic (or, with `boxes` / `scribbles`, assisted) figure-ground
-        of :mod:`attneave.stimuli.extraction.photo`; 'model' a user's ONNX network
-        (`model`).
+        of :mod:`attneave.stimuli.extraction.photo`; 'rembg' a learned network
+        through rembg (:mod:`attneave.stimuli.extraction.learned`); 'model' a
+        raw ONNX network rembg does not know (`model`).
     threshold : float, optional
         'threshold': the grey level of the object's edge (required), in the
         image's units. 'alpha': the alpha level (default half of opaque).
@@ -198,15 +199,17 @@ def extract(
         'grabcut' initial rectangle; default the image inset by 5 %.
     boxes : list of (x, y, width, height), optional
         Boxes around the object(s) (image pixels): one outline per box, in
-        box order ('photo' and 'model' methods; several need
-        ``objects='all'``). With 'model' the network sees the box widened
+        box order ('photo', 'model' and 'rembg' methods; several need
+        ``objects='all'``). With a network the box is seen widened
         by :data:`~attneave.stimuli.extraction.model.BOX_CONTEXT` on every side.
     scribbles : (H, W) uint8 ndarray, optional
         0 unmarked, 1 object, 2 background
         (:func:`attneave.stimuli.extraction.photo.read_scribbles`); 'photo' method.
     model : dict, optional
         ``model_file`` and optionally ``size``, ``mean``, ``std`` for
-        ``method='model'`` (:func:`attneave.stimuli.extraction.model.object_probability`).
+        ``method='model'`` (:func:`attneave.stimuli.extraction.model.object_probability`);
+        optionally ``network`` (a rembg session name) and ``model_file`` for
+        ``method='rembg'`` (:func:`attneave.stimuli.extraction.learned.network_probability`).
     grabcut_iterations : int, optional
         Iterations of GrabCut, a whole number from 1 to
         :data:`MAX_GRABCUT_ITERATIONS` ('grabcut', 'photo' and 'auto'
@@ -230,8 +233,8 @@ def extract(
         image and the reason. An option that does not apply to `method`
         (`threshold` but for 'threshold' and 'alpha', `rect` but for
         'grabcut', `grabcut_iterations` but for 'grabcut', 'photo' and
-        'auto', `boxes` but for 'auto', 'photo' and 'model', `scribbles`
-        but for 'auto' and 'photo', `model` but for 'model') is refused,
+        'auto', `boxes` but for 'auto', 'photo', 'model' and 'rembg', `scribbles`
+        but for 'auto' and 'photo', `model` but for 'model' and 'rembg') is refused,
         not ignored (the rule of ``attneave extract``,
         :func:`attneave.stimuli.extraction.segment.check_method_options`).
 
@@ -301,7 +304,7 @@ def extract_contours(image_or_path, method="otsu", threshold=None, polarity="aut
     ----------
     image_or_path : str, Path or ndarray
         An image file or an array (see :func:`extract`).
-    method : {'otsu', 'auto', 'threshold', 'mask', 'alpha', 'grabcut', 'photo', 'model'}
+    method : {'otsu', 'auto', 'threshold', 'mask', 'alpha', 'grabcut', 'photo', 'model', 'rembg'}
         How the object is separated from the background (default 'otsu').
     threshold : float, optional
         The edge's grey level ('threshold', required) or alpha level

@@ -180,7 +180,7 @@ class ContourInfo:
         It smoothed at `sigma` (about 1 px spacing).
     sigma : float
         The smoothing/curvature scale in px of arc length.
-    surprisal : stimuli.information.SurprisalResult
+    surprisal : attneave.stimuli.geometry.information.SurprisalResult
         Surprisal at `n` equally spaced points of the smoothed contour
         (its ``table()`` has the columns of ``attneave surprisal``).
     curvature : ndarray
@@ -209,7 +209,7 @@ def describe(contour, n=None, spacing=None, sigma=None, model="paper", A=0.25, b
         Closed, ``(x, y)`` image pixels (y down).
     n, spacing : optional
         Sampling of the surprisal (default ``n=100``); see
-        :func:`stimuli.information.surprisal`.
+        :func:`attneave.stimuli.geometry.information.surprisal`.
     sigma : float, optional
         Smoothing scale in px of arc length (default 1 % of the perimeter,
         at least 1 px).

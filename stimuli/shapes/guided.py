@@ -1,6 +1,6 @@
 """Information-guided stimuli: where does a contour's information lie?
 
-Surprisal (:func:`stimuli.information.surprisal`) is computed at `n` equally
+Surprisal (:func:`attneave.stimuli.geometry.information.surprisal`) is computed at `n` equally
 spaced points of the contour, and three kinds of stimuli are built from it:
 
 * :func:`attneave_cat` -- Attneave's (1954) cat: the `k` most informative
@@ -93,12 +93,12 @@ def information(contour, n=256, model="paper", A=0.25, b=None, prominence=None):
     n : int
         Number of samples, in [3, 1e6].
     model, A, b, prominence
-        Passed to :func:`stimuli.information.surprisal`.
+        Passed to :func:`attneave.stimuli.geometry.information.surprisal`.
 
     Returns
     -------
     SurprisalResult
-        As :func:`stimuli.information.surprisal` returns it.
+        As :func:`attneave.stimuli.geometry.information.surprisal` returns it.
 
     Raises
     ------
@@ -163,7 +163,7 @@ def attneave_cat(contour, k=None, n=256, model="paper", A=0.25, b=None, min_sepa
     n : int
         Surprisal sampling (points along the contour).
     model, A, b, prominence
-        Passed to :func:`stimuli.information.surprisal`.
+        Passed to :func:`attneave.stimuli.geometry.information.surprisal`.
     min_separation : float, optional
         Minimum arc distance between chosen points, px (>= 0; default two
         sample spacings, so that one corner falling between two samples
@@ -343,7 +343,7 @@ def fragments(contour, fraction=0.3, n_fragments=4, n=256, model="paper", A=0.25
     n : int
         Surprisal sampling.
     model, A, b, prominence
-        Passed to :func:`stimuli.information.surprisal` (`prominence` also
+        Passed to :func:`attneave.stimuli.geometry.information.surprisal` (`prominence` also
         finds the troughs' local minima).
     min_gap : float
         Minimum gap in px along the contour between pieces of one set (>= 0).
@@ -443,7 +443,7 @@ def dots(contour, k=None, which="peaks", n=256, model="paper", A=0.25, b=None, m
     n : int
         Surprisal sampling (points along the contour).
     model, A, b, prominence
-        Passed to :func:`stimuli.information.surprisal`.
+        Passed to :func:`attneave.stimuli.geometry.information.surprisal`.
     min_separation : float, optional
         Minimum arc distance between dots, px (>= 0; default two sample
         spacings).

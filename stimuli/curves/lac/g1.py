@@ -17,7 +17,7 @@ search) makes the chord of the standard-form curve ``P(psi) = int_0^psi
 rho(t) exp(i t) dt`` meet the triangle's base angles; a similarity maps it
 into place. Not every triangle is drawable for every alpha; such spans, and
 spans whose tangents need an inflection (no triangle), fall back to the G1
-clothoid of :func:`stimuli.clothoid.g1_hermite`, and are listed.
+clothoid of :func:`attneave.stimuli.curves.euler.g1_hermite`, and are listed.
 
 Coordinates as in :mod:`attneave.stimuli.curves.splines`: points ``(x, y)`` in image pixels
 (y down); reported curvature uses the project's geometric sign.
@@ -281,7 +281,7 @@ class LACSpline:
     def sample(self, samples=32):
         """Sample every segment at `samples` points equally spaced in arc
         length, both ends included. Returns a
-        :class:`~stimuli.curve_metrics.SampledCurve`."""
+        :class:`~attneave.stimuli.curves.metrics.SampledCurve`."""
         samples = check_samples(samples, len(self.segments))
         parts = []
         offset = 0.0
