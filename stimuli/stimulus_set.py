@@ -40,9 +40,8 @@ from pathlib import Path
 
 import numpy as np
 
-from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.errors import InputError
-
+from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.tables import describe_columns, read_text_csv
 
 __all__ = [

@@ -42,7 +42,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Callable, Literal, Optional
 
-import numpy as np
 from pydantic import BaseModel, Field, field_validator, model_validator
 
 from attneave.stimuli.batch.drawing import draw_item, item_svg
@@ -51,10 +50,8 @@ from attneave.stimuli.batch.params import RecipeParams as _Params
 from attneave.stimuli.batch.placement import Canvas, place
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.geometry.contour import Contour
+from attneave.stimuli.shapes import deformations, generators, guided
 from attneave.stimuli.validate import as_rng
-from attneave.stimuli.shapes import deformations
-from attneave.stimuli.shapes import generators
-from attneave.stimuli.shapes import guided
 
 # Canvas, Style, place, draw_item and item_svg are kept here too: callers make, place and draw in one place
 __all__ = ["Canvas", "Item", "Style", "RECIPES", "SHAPES", "draw_item", "item_svg", "make", "place"]

@@ -82,9 +82,9 @@ def box_hypotheses(bgr, box, iterations=5, extra=None, parts="largest"):
     dict
         Hypothesis name -> (H, W) bool mask.
     """
-    import cv2
-
     from concurrent.futures import ThreadPoolExecutor
+
+    import cv2
 
     images = {"rgb": bgr, "lab": cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)}
     starts = {name: (images[space], start) for name, (space, start) in HYPOTHESES.items()}

@@ -272,7 +272,8 @@ def _decode_truncated(path):
     """A truncated file decoded as far as its data go, by Pillow: (array in OpenCV's channel order, warnings)."""
     import warnings
 
-    from PIL import Image, ImageFile as PilImageFile
+    from PIL import Image
+    from PIL import ImageFile as PilImageFile
 
     old = PilImageFile.LOAD_TRUNCATED_IMAGES
     try:

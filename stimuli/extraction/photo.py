@@ -151,8 +151,19 @@ import numpy as np
 
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
-from attneave.stimuli.extraction.grabcut import (BGD, FGD, PR_BGD, PR_FGD, box_labels, check_box, grabcut, inset_box,
-                                        fill_holes, largest_part, to_bgr8)
+from attneave.stimuli.extraction.grabcut import (
+    BGD,
+    FGD,
+    PR_BGD,
+    PR_FGD,
+    box_labels,
+    check_box,
+    fill_holes,
+    grabcut,
+    inset_box,
+    largest_part,
+    to_bgr8,
+)
 
 __all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "AUTO_FIRST", "BOX_BAND", "SCRIBBLE_OBJECT",
            "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo", "read_scribbles", "mask_iou", "box_around"]
