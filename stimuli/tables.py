@@ -92,6 +92,14 @@ def _neutralise_frame(table):
     return out
 
 
+def _has_carriage_return(frame):
+    """True when a text cell of DataFrame `frame` holds a carriage return."""
+    from pandas.api.types import is_object_dtype, is_string_dtype
+
+    return any(frame[c].map(lambda v: isinstance(v, str) and "\r" in v).any() for c in frame.columns
+               if is_object_dtype(frame[c].dtype) or is_string_dtype(frame[c].dtype))
+
+
 def write_table(table, path, float_format="%.10g"):
     """Write a mapping of columns or a DataFrame to CSV, atomically.
 
@@ -107,17 +115,21 @@ def write_table(table, path, float_format="%.10g"):
     file, is written with a leading ``'`` (:func:`neutralise_cell`);
     numbers, and numeric columns, are written as they are.
     """
-    if hasattr(table, "to_csv"):
-        table = _neutralise_frame(table)
-        with atomic_write(path, "w", newline="") as fh:
-            table.to_csv(fh, index=False, float_format=float_format, lineterminator="\n")
-        return
     import csv
 
+    if hasattr(table, "to_csv"):
+        table = _neutralise_frame(table)
+        quoting = csv.QUOTE_NONNUMERIC if _has_carriage_return(table) else csv.QUOTE_MINIMAL
+        with atomic_write(path, "w", newline="") as fh:
+            table.to_csv(fh, index=False, float_format=float_format, lineterminator="\n", quoting=quoting)
+        return
     names = [neutralise_cell(str(n)) for n in table]
     columns = [_format_column(table[name], float_format) for name in table]
+    # the csv module quotes a field holding the line terminator ('\n') but not a lone '\r', which
+    # every reader takes for a line end: a table holding one is written with its text quoted
+    quoting = csv.QUOTE_ALL if any("\r" in v for col in columns for v in col) else csv.QUOTE_MINIMAL
     with atomic_write(path, "w", newline="") as fh:
-        writer = csv.writer(fh, lineterminator="\n")
+        writer = csv.writer(fh, lineterminator="\n", quoting=quoting)
         writer.writerow(names)
         writer.writerows(zip(*columns))
 

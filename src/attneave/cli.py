@@ -18,8 +18,9 @@ then complete or absent (directories are built aside and swapped in, files
 written under a temporary name and renamed); ``generate`` and ``extract``
 keep what they completed and a rerun completes it. A signal that arrives
 after the output was written still exits with 128 + its number (the line
-says the output is complete). A second signal during that cleanup is
-ignored; ``kill -9`` is not catchable, and the temporaries it leaves
+says the output is complete), unless it comes in the last milliseconds of
+the interpreter's shutdown, when it is ignored. A second signal during the
+cleanup is ignored; ``kill -9`` is not catchable, and the temporaries it leaves
 (``.attneave-tmp-<pid>-...``) are removed by the next run in that place.
 """
 
@@ -123,13 +124,16 @@ class _Stopper:
     def after(self, signum, frame):
         # the command has returned: its output is complete. Raising now would land in an
         # interpreter shutdown hook (tqdm's, concurrent.futures') as a traceback; say it and go.
-        self.signum = self.signum or signum
-        with contextlib.suppress(Exception):
-            sys.stdout.flush()
-            print(f"attneave {self.command}: {signal.Signals(signum).name} after the command had finished; "
-                  "its output is complete", file=sys.stderr)
-            sys.stderr.flush()
-        os._exit(128 + signum)
+        _exit_after(self.command, signum)
+
+
+def _exit_after(command, signum):
+    with contextlib.suppress(Exception):
+        sys.stdout.flush()
+        print(f"attneave {command}: {signal.Signals(signum).name} after the command had finished; "
+              "its output is complete", file=sys.stderr)
+        sys.stderr.flush()
+    os._exit(128 + signum)
 
 
 def _install(handler):
@@ -144,36 +148,75 @@ def _restore(previous):
         signal.signal(s, h)
 
 
+def _owns_process():
+    """True when this process is the ``attneave`` command (console script or ``python -m attneave``)."""
+    top = sys.modules.get("__main__")
+    spec = getattr(top, "__spec__", None)
+    if spec is not None:
+        return spec.name in ("attneave.__main__", "attneave.cli")
+    return os.path.basename(getattr(top, "__file__", "") or "") == "attneave"
+
+
+def _last_exit_hook():
+    """At the very end of the process, after every other exit hook: ignore the stop signals.
+
+    The interpreter's shutdown puts back the default action (death by the
+    signal, with no word) of every signal whose handler is a Python
+    function; an ignored one stays ignored, so a signal in the last
+    milliseconds of a finished command changes nothing (exit status 0).
+    """
+    for s in STOP_SIGNALS:
+        with contextlib.suppress(ValueError, OSError):
+            signal.signal(s, signal.SIG_IGN)
+
+
+_OWNER = _owns_process()
+_CURRENT = _Stopper("")
+if _OWNER:
+    # from the first moment: a signal while the commands' modules load is a stop like any other
+    _install(_CURRENT.during)
+    import atexit
+
+    atexit.register(_last_exit_hook)  # registered first, so it runs last
+
+
 def main(argv=None):
     """Run one ``attneave`` command; return its exit status.
 
     Parameters
     ----------
     argv : list of str, optional
-        The arguments; None reads ``sys.argv`` and means this process is the
-        command (the console script): the signal handlers then stay in place
-        until the process exits. With `argv` given (a caller running commands
-        in its own process) the caller's handlers are restored on return.
+        The arguments; None reads ``sys.argv``. When this process is the
+        command (the console script, ``python -m attneave``) and `argv` is
+        None, the signal handlers stay in place until the process exits;
+        otherwise (a caller running commands in its own process) the
+        caller's handlers are restored on return.
     """
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    stopper = _Stopper(args.command)
+    global _CURRENT
+    stopper = _CURRENT if _OWNER and _CURRENT.signum is None else _Stopper("")
+    _CURRENT = stopper
     previous = _install(stopper.during)
     try:
+        try:
+            parser = build_parser()
+            args = parser.parse_args(argv)
+        except KeyboardInterrupt as exc:
+            return _interrupted("", stopper, exc)
+        stopper.command = args.command
         return _run(args, stopper)
     finally:
-        if argv is None and previous is not None:
+        if argv is None and _OWNER and previous is not None:
             _install(stopper.after)
         else:
             _restore(previous)
 
 
-def _interrupted(args, stopper, exc):
+def _interrupted(command, stopper, exc):
     signum = getattr(exc, "signum", None) or stopper.signum or signal.SIGINT
     name = {signal.SIGINT: "interrupted"}.get(signum, f"stopped by {signal.Signals(signum).name}")
-    fate = ("what was completed is kept; rerun the same command to complete it" if args.command in RESUMABLE
+    fate = ("what was completed is kept; rerun the same command to complete it" if command in RESUMABLE
             else "nothing was left half-written")
-    print(f"attneave {args.command}: {name}; {fate}", file=sys.stderr)
+    print(f"attneave{' ' + command if command else ''}: {name}; {fate}", file=sys.stderr)
     return 128 + signum
 
 
@@ -185,11 +228,11 @@ def _run(args, stopper):
             status = args.func(args)
     except InputError as exc:
         if stopper.signum is not None:  # a signal during the error's own cleanup: stopped all the same
-            return _interrupted(args, stopper, exc)
+            return _interrupted(args.command, stopper, exc)
         print(f"attneave {args.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as exc:
-        return _interrupted(args, stopper, exc)
+        return _interrupted(args.command, stopper, exc)
     except OSError as exc:
         # a full, over-quota or failing disk is neither bad input nor a bug: one line, exit 1
         # (outputs are written atomically, so nothing is left half-written); anything else is raised
@@ -198,7 +241,7 @@ def _run(args, stopper):
         return disk_error_exit(args.command, getattr(exc, "filename", None) or "output", exc,
                                note="nothing was left half-written")
     if stopper.signum is not None:  # a signal that a library swallowed (a worker pool's wait)
-        return _interrupted(args, stopper, None)
+        return _interrupted(args.command, stopper, None)
     return int(status or 0)
 
 

@@ -1,0 +1,141 @@
+"""Faults from outside: SIGTERM, SIGINT and SIGKILL at random moments, then a rerun.
+
+Schedulers stop jobs with SIGTERM (``timeout``, SLURM, systemd), a closed
+terminal sends SIGHUP, a person presses Ctrl-C, and the OOM killer or
+``scancel --signal=KILL`` sends SIGKILL. Each command runs here as a
+separate process on small inputs, is sent a signal at a seeded random moment
+(anywhere from start-up to after its output is written), and is then run
+again. Whatever the moment:
+
+* nothing on stderr is a traceback, and the exit status is 128 + the
+  signal's number (SIGKILL: -9 as Python reports a killed child);
+* the output is complete (byte-identical to an uninterrupted run) or absent,
+  or, for the resumable commands (``generate``, ``extract``), visibly
+  unfinished (no ``manifest.csv`` / ``summary.csv``);
+* after the rerun every file is byte-identical to an uninterrupted run's and
+  no ``.attneave-tmp-*`` temporary is left anywhere.
+
+A signal that happens to arrive after the process exited cannot be
+delivered: then the exit status is 0 and the output must be complete.
+"""
+
+import hashlib
+import os
+import random
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from attneave.cli import main
+
+from helpers import make_set
+
+SEED = 20261202
+# at 0.3 s the interpreter has loaded attneave's handlers (about 0.1 s on an idle machine)
+EARLIEST = 0.3
+
+GEN = """\
+seed: 5
+canvas: {width: 64, height: 64, margin: 4}
+output: {png_bit_depth: 8, svg: false}
+conditions:
+  - name: rf
+    recipe: radial_frequency
+    params: {n: 128}
+    grid: {frequency: [3, 5], amplitude: [0.1]}
+  - name: poly
+    recipe: attneave_polygon
+    grid: {n_points: [5]}
+"""
+
+COMMANDS = {
+    "analyze": lambda out: ["analyze", "clicks.csv", "--stimuli", "set", "-o", out, "--permutations", "20",
+                            "--group-simulations", "20", "-n", "32", "--no-figures"],
+    "extract": lambda out: ["extract", "set/images/a_peaks.png", "set/images/filler.png", "-o", out],
+    "experiment": lambda out: ["experiment", "set", "-o", out, "--psychopy"],
+    "generate": lambda out: ["generate", "gen.yaml", "-o", out, "--no-progress"],
+}
+#: commands whose rerun needs --force to replace a complete earlier output
+REPLACED = {"analyze", "experiment"}
+#: the file that is written last and marks a complete output of a resumable command
+COMPLETE_MARK = {"extract": "summary.csv", "generate": "manifest.csv"}
+#: files whose bytes hold the time of the run
+DATED = {"report.html"}
+
+
+def hashes(d):
+    """{relative path: sha256} of every file under `d` (hidden ones included), dated files by name only."""
+    d = Path(d)
+    return {p.relative_to(d).as_posix(): (hashlib.sha256(p.read_bytes()).hexdigest() if p.name not in DATED else "")
+            for p in sorted(d.rglob("*")) if p.is_file()}
+
+
+def temporaries(root):
+    return sorted(str(p) for p in Path(root).rglob(".attneave-tmp-*"))
+
+
+def run(base, argv, **kw):
+    return subprocess.Popen([sys.executable, "-m", "attneave", *argv], cwd=base, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, start_new_session=True, **kw)
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory):
+    """Small inputs of every command and the files and duration of an uninterrupted run of each."""
+    base = tmp_path_factory.mktemp("signals")
+    make_set(base / "set")
+    assert main(["simulate", "--stimuli", str(base / "set"), "-o", str(base / "clicks.csv"), "--participants", "4",
+                 "--clicks", "3", "--beta", "1", "--seed", "2"]) == 0
+    (base / "gen.yaml").write_text(GEN)
+    ref = {}
+    for name, argv in COMMANDS.items():
+        t0 = time.monotonic()
+        p = run(base, argv(f"ref_{name}"))
+        out, err = p.communicate(timeout=120)
+        assert p.returncode == 0, err
+        ref[name] = (time.monotonic() - t0, hashes(base / f"ref_{name}"))
+    return base, ref
+
+
+@pytest.mark.parametrize("name", list(COMMANDS))
+def test_signal_at_a_random_moment_then_rerun(inputs, name):
+    base, ref = inputs
+    seconds, files = ref[name]
+    rng = random.Random(f"{SEED}:{name}")
+    for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGKILL):
+        out = base / f"{name}_{sig.name}"
+        delay = rng.uniform(EARLIEST, 1.2 * seconds)  # up to past the end of an uninterrupted run
+        p = run(base, COMMANDS[name](out.name))
+        time.sleep(delay)
+        sent = p.poll() is None
+        if sent:
+            # Ctrl-C and the OOM killer reach every process of the group; timeout and SLURM the command
+            (os.killpg if sig != signal.SIGTERM else os.kill)(p.pid, sig)
+        _, err = p.communicate(timeout=120)
+        what = f"{name} {sig.name} after {delay:.2f} s (uninterrupted: {seconds:.2f} s): rc {p.returncode}, {err!r}"
+        assert "Traceback" not in err, what
+        expected = -signal.SIGKILL if sig == signal.SIGKILL else 128 + sig
+        # a signal sent as the process was exiting may find it gone: then it finished, and says nothing of a signal
+        assert p.returncode in ((expected, 0) if sent else (0,)), what
+        if p.returncode == 0:
+            assert hashes(out) == files, what
+        elif sig != signal.SIGKILL:
+            said = [line for line in err.splitlines() if sig.name in line or "interrupted" in line]
+            assert len(said) == 1 and said[0].startswith(f"attneave {name}: "), what
+            # the process removed its own temporaries
+            assert not temporaries(base), what
+        # complete, absent, or (resumable commands) without the file that marks it complete
+        if out.exists():
+            mark = COMPLETE_MARK.get(name)
+            if mark is None or (out / mark).exists():
+                assert hashes(out) == files, what
+        again = COMMANDS[name](out.name) + (["--force"] if name in REPLACED and out.exists() else [])
+        p = run(base, again)
+        _, err = p.communicate(timeout=120)
+        assert p.returncode == 0, f"rerun after {what}: {err!r}"
+        assert hashes(out) == files, what
+        assert not temporaries(base), what
