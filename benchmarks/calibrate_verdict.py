@@ -3,7 +3,8 @@
 Reads the per-photo CSV of ``benchmarks/validate_photos.py --csv`` (one row
 per photo and mode with its IoU against the true mask, the verdict's
 measures and the half ``A``/``B`` the photo belongs to) and, per mode
-(``auto``, ``box``):
+(``--modes``, default ``auto,box``; ``rembg,rembg-box`` for a learned
+network's outlines, whose ``uncertainty`` is measured too):
 
 1. the Spearman correlation of each measure with the IoU (all photos);
 2. for each half in turn as the tuning half: every rule "ok when each of
@@ -24,7 +25,7 @@ each (an outline ok by it is ok by both) is printed with its figures on
 each half: that is the rule the verdict uses for box mode.
 
 Usage: python benchmarks/calibrate_verdict.py PHOTOS.csv [--max-measures 3] [--tune-precision 0.95]
-       [--tune-min 0.6] [--min-ok 3] [--measures colour_error,box_gap]
+       [--tune-min 0.6] [--min-ok 3] [--measures colour_error,box_gap] [--modes rembg,rembg-box]
 """
 
 from __future__ import annotations
@@ -37,7 +38,7 @@ import numpy as np
 
 #: Each measure's good side: +1 higher is better, -1 lower is better.
 GOOD = dict(frame=-1, contrast=+1, competing=-1, agreement=+1, colour_error=-1, edge_support=+1, box_contact=-1,
-            box_gap=-1)
+            box_gap=-1, uncertainty=-1)
 #: What the Must show asks of the outlines marked ok.
 MUST_PRECISION, MUST_MIN = 0.9, 0.5
 
@@ -79,6 +80,7 @@ def main(argv=None):
     ap.add_argument("--tune-min", type=float, default=0.6)
     ap.add_argument("--min-ok", type=int, default=3)
     ap.add_argument("--measures", default=None, help="comma-separated: only rules on these measures (default all)")
+    ap.add_argument("--modes", default="auto,box", help="comma-separated: the modes calibrated (default auto,box)")
     args = ap.parse_args(argv)
 
     import pandas as pd
@@ -95,7 +97,7 @@ def main(argv=None):
         print(f"calibrate_verdict: {args.csv}: no column(s) {', '.join(sorted(missing))}; "
               "expected the CSV of validate_photos.py --csv", file=sys.stderr)
         return 2
-    df = df[df["mode"].isin(["auto", "box"])]
+    df = df[df["mode"].isin(args.modes.split(","))]
     held = True
     for mode, g in df.groupby("mode", sort=True):
         allowed = args.measures.split(",") if args.measures else list(GOOD)

@@ -18,7 +18,10 @@ Per photo and per mode:
   seeded (0) as attneave seeds its own: GrabCut's answer depends on it;
 * ``model`` and ``model-box``: ``method='model'`` with the network given by
   ``--model-file`` (and ``--model-size``, ``--model-mean``,
-  ``--model-std``), without and with the box.
+  ``--model-std``), without and with the box;
+* ``rembg`` and ``rembg-box``: ``method='rembg'``, rembg's network
+  ``--rembg-model`` (default ``isnet-general-use``) with the weights rembg
+  has, or those of ``--model-file``, without and with the box.
 
 IoU: the extracted outline rendered with exact coverage
 (``attneave.stimuli.render.coverage``) and thresholded at 0.5, against the mask;
@@ -33,7 +36,9 @@ group, mode and half (``A``/``B``: alternate photos of each group in name
 order, one half to tune on and the other to check) the median IoU, the ok
 share, the ok precision (IoU >= 0.8) and the smallest IoU among ok. With
 ``--csv`` writes one row per photo and mode (the verdict's measures and
-the half included), for ``benchmarks/calibrate_verdict.py``.
+the half included), for ``benchmarks/calibrate_verdict.py``; it is
+rewritten after every photo, so that a long run stopped early leaves the
+photos measured so far.
 
 With ``--holes`` the outlines' holes are traced too
 (``extract(..., holes=True)``) and IoU counts the outline's inside less
@@ -41,11 +46,13 @@ its holes (the verdict then measures the object's own pixels).
 
 Usage: python benchmarks/validate_photos.py [DATA_DIR] [--limit K] [--csv OUT.csv] [--modes auto,box,grabcut]
        [--workers N] [--progress] [--holes] [--model-file NET.onnx --model-size PX --model-mean M,M,M --model-std S,S,S]
+       [--rembg-model NAME]
 """
 
 from __future__ import annotations
 
 import argparse
+import itertools
 import re
 import sys
 import time
@@ -59,7 +66,10 @@ from _machine import header  # noqa: E402
 DEFAULT_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "photos"
 #: The verdict's measures recorded per photo and mode.
 MEASURES = ("frame", "fill", "contrast", "competing", "agreement", "colour_error", "edge_support", "box_contact",
-            "box_gap")
+            "box_gap", "uncertainty")
+#: The modes of a learned network: method and whether the box is given.
+LEARNED_MODES = {"model": ("model", False), "model-box": ("model", True), "rembg": ("rembg", False),
+                 "rembg-box": ("rembg", True)}
 
 
 def halves(names):
@@ -165,16 +175,17 @@ def _progress(args, got):
               file=sys.stderr, flush=True)
 
 
-def measure_photo(path, modes, holes=False, model=None, seed=0):
+def measure_photo(path, modes, holes=False, model=None, seed=0, rembg=None):
     """Rows (one per mode) of IoU, distance, verdict and time for one photo and its mask.
 
     With `holes`, the outline's holes are traced too and the object is the
     outline's inside less its holes' insides. `model` holds the network's
-    options (``model_file``, ``size``, ``mean``, ``std``) for the model modes.
+    options (``model_file``, ``size``, ``mean``, ``std``) for the model modes, `rembg` the rembg network's
+    (``network``, ``model_file``) for the rembg modes.
     `seed` seeds every GrabCut's random start, attneave's and the anchor's."""
-    import cv2
-
     import importlib
+
+    import cv2
 
     importlib.import_module("attneave.stimuli.extraction.grabcut").SEED = seed
 
@@ -203,9 +214,9 @@ def measure_photo(path, modes, holes=False, model=None, seed=0):
             pred = plain_grabcut(rgb, box, seed=seed)
         else:
             try:
-                boxed = mode in ("box", "model-box")
-                ex = extract(rgb, method="model" if mode.startswith("model") else "auto", boxes=[box] if boxed else None,
-                             holes=holes, name=p.name, model=model if mode.startswith("model") else None)
+                method, boxed = LEARNED_MODES.get(mode, ("auto", mode == "box"))
+                ex = extract(rgb, method=method, boxes=[box] if boxed else None, holes=holes, name=p.name,
+                             model={"model": model, "rembg": rembg}.get(method))
             except InputError as exc:
                 row.update(status="failed", reason=str(exc), iou=0.0, seconds=time.perf_counter() - t0)
                 rows.append(row)
@@ -215,7 +226,7 @@ def measure_photo(path, modes, holes=False, model=None, seed=0):
                 pred &= coverage(hole, truth.shape) < 0.5
             v = judge(rgb, ex)
             row.update(status=v.status, reason=v.reason, resolved=ex.params.get("resolved"),
-                       **{k: v.measures[k] for k in MEASURES})
+                       **{k: v.measures.get(k, ex.params.get(k)) for k in MEASURES})
         row.update(iou=iou(pred, truth), distance=boundary_distance(pred, truth), seconds=time.perf_counter() - t0)
         rows.append(row)
     return rows
@@ -235,6 +246,8 @@ def main(argv=None):
     ap.add_argument("--model-size", type=int, default=None, help="the network's input size (px)")
     ap.add_argument("--model-mean", default=None, help="per-channel mean, R,G,B on [0, 1] values")
     ap.add_argument("--model-std", default=None, help="per-channel std, R,G,B")
+    ap.add_argument("--rembg-model", default=None, help="rembg network for the modes rembg and rembg-box "
+                    "(default isnet-general-use; its weights from --model-file when given)")
     args = ap.parse_args(argv)
 
     import pandas as pd
@@ -258,12 +271,20 @@ def main(argv=None):
     if any(m.startswith("model") for m in modes) and "model_file" not in model:
         print("validate_photos: the modes model and model-box need --model-file", file=sys.stderr)
         return 2
+    rembg = {"network": args.rembg_model, "model_file": args.model_file}
     rows = []
     t_start = time.perf_counter()
-    tasks = [(str(p), modes, args.holes, model) for p in photos]
+    # the groups in turn (a run stopped early has measured some photos of each), in name order within each
+    by_group = {}
+    for p in photos:
+        by_group.setdefault(group_of(p.name), []).append(p)
+    order = [p for batch in itertools.zip_longest(*by_group.values()) for p in batch if p is not None]
+    tasks = [(str(p), modes, args.holes, model, 0, rembg) for p in order]
     for got in map_tasks(measure_photo, tasks, args.workers):
         rows += got
         _progress(args, got)
+        if args.csv and rows:
+            _write_csv(rows, args.csv)
     if not rows:
         print(f"validate_photos: no photo in {data} could be measured", file=sys.stderr)
         return 2
@@ -283,8 +304,21 @@ def main(argv=None):
         okshare, prec, okmin = ok_figures(g) if mode != "grabcut" else ("-", "-", "-")
         print(f"{group:10s} {mode:9s} {half:4s} {len(g):3d} {g.iou.median():7.3f} {okshare:>5s} {prec:>7s} {okmin:>6s}")
     if args.csv:
-        df.to_csv(args.csv, index=False)
+        _write_csv(rows, args.csv)
     return 0
+
+
+def _write_csv(rows, path):
+    """The rows so far, with their halves, written atomically (a run stopped early keeps what it measured)."""
+    import os
+
+    import pandas as pd
+
+    df = pd.DataFrame(rows)
+    df["half"] = df.image.map(halves(df.image.unique()))
+    tmp = f"{path}.part"
+    df.to_csv(tmp, index=False)
+    os.replace(tmp, path)
 
 
 if __name__ == "__main__":

@@ -176,7 +176,7 @@ def test_grabcut_iterations_must_be_a_positive_whole_number(iterations):
 @pytest.mark.parametrize("kwargs, needle", [
     (dict(rect=(2, 2, 30, 35)), "rect needs method 'grabcut', not 'otsu'"),
     (dict(grabcut_iterations=3), "grabcut_iterations need method 'auto', 'photo' or 'grabcut', not 'otsu'"),
-    (dict(model={"model_file": "net.onnx"}), "model needs method 'model', not 'otsu'"),
+    (dict(model={"model_file": "net.onnx"}), "model needs method 'model' or 'rembg', not 'otsu'"),
     (dict(threshold=100), "threshold needs method 'threshold' or 'alpha', not 'otsu'"),
     (dict(method="mask", threshold=100), "threshold needs method 'threshold' or 'alpha', not 'mask'"),
 ])

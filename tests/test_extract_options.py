@@ -99,7 +99,7 @@ def test_outputs_that_would_overwrite_an_input_are_refused(tmp_path, capsys):
 @pytest.mark.parametrize("extra, message", [
     (["--method", "grabcut", "--rect", "0", "0", "0", "0"], "--rect 0 0 0 0"),
     (["--method", "grabcut", "--rect", "100", "10", "80", "40"], "inside the 160x80 image"),
-    (["--method", "otsu", "--boxes", "BOXES"], "--boxes applies to --method auto, photo or model only"),
+    (["--method", "otsu", "--boxes", "BOXES"], "--boxes applies to --method auto, photo, model or rembg only"),
     (["--method", "otsu", "--scribbles", "SCRIBBLES"], "--scribbles applies to --method auto or photo only"),
     (["--method", "model", "--model-file", "TEXT"], "TEXT"),
     (["--threshold", "50"], "--threshold applies to --method threshold or alpha only, not --method auto"),

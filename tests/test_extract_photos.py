@@ -311,7 +311,7 @@ def test_cli_box_errors_are_one_line(tmp_path, capsys, rows, message):
 
 @pytest.mark.parametrize("extra, message", [
     (["--method", "model"], "needs --model-file"),
-    (["--model-file", "net.onnx"], "--model-file applies to --method model only"),
+    (["--model-file", "net.onnx"], "--model-file applies to --method model or rembg only"),
     (["--method", "photo", "--model-size", "320"], "--model-size applies to --method model only"),
     (["--method", "model", "--model-file", "nothere.onnx"], "nothere.onnx: no such model file"),
 ])

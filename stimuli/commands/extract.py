@@ -33,23 +33,28 @@ def add_parser(sub):
                    help="image files (PNG, JPEG, TIFF, BMP), or directories: their image files, by name")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="output directory (created if needed)")
     p.add_argument(
-        "--method", choices=("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model"),
+        "--method", choices=("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model", "rembg"),
         default="auto",
         help="auto (default): a mask or one object on a plain background by otsu, a cut-out by alpha, a "
         "photograph by photo; otsu: one object on a plain background; threshold: a known edge grey level "
         "(--threshold); mask: a binary silhouette of either polarity; alpha: the alpha channel of a "
         "cut-out; grabcut: plain GrabCut (--rect); photo: automatic figure-ground for photographs, or "
-        "box/scribble-assisted (--boxes, --scribbles); model: an ONNX network (--model-file), on each box "
-        "with --boxes",
+        "box/scribble-assisted (--boxes, --scribbles); rembg: a learned salient-object network through rembg "
+        "(--rembg-model; needs attneave[rembg]), on each box with --boxes; model: a raw ONNX network that rembg "
+        "does not know, with its input size and normalisation (--model-file, --model-size, ...)",
     )
     p.add_argument("--boxes", metavar="BOXES.csv", default=None,
                    help="boxes around the objects: columns image,x,y,width,height (image: file name, stem or path; "
-                   "several rows per image with --objects all; methods auto, photo, model)")
+                   "several rows per image with --objects all; methods auto, photo, model, rembg)")
     p.add_argument("--scribbles", metavar="DIR", default=None,
                    help="per image STEM.png of the same size: object strokes pure red, background pure blue "
                    "(methods auto, photo)")
+    p.add_argument("--rembg-model", metavar="NAME", default=None,
+                   help="rembg network for --method rembg (default isnet-general-use; also u2net, birefnet-general, "
+                   "...); its weights must be in U2NET_HOME (default ~/.u2net): nothing is downloaded")
     p.add_argument("--model-file", metavar="FILE.onnx", default=None,
-                   help="ONNX salient-object network for --method model (e.g. rembg's u2net.onnx; needs attneave[model])")
+                   help="ONNX network: for --method model (needs attneave[model]), or the weights of --rembg-model "
+                   "for --method rembg (a file you have, anywhere)")
     p.add_argument("--model-size", type=int, default=None, metavar="PX",
                    help="network input size (default: the network's own if fixed, else 320)")
     p.add_argument("--model-mean", type=float, nargs=3, default=None, metavar=("R", "G", "B"),
@@ -176,7 +181,8 @@ def run(args):
         min_area=args.min_area, holes=args.holes, rect=args.rect, n=args.n, spacing=args.spacing,
         sigma=args.sigma, model=args.model, A=args.A, b=args.b, bits=args.bits, boxes=args.boxes,
         scribbles=args.scribbles, model_file=args.model_file, model_size=args.model_size,
-        model_mean=args.model_mean, model_std=args.model_std, max_pixels=int(args.max_pixels),
+        model_mean=args.model_mean, model_std=args.model_std, rembg_model=args.rembg_model,
+        max_pixels=int(args.max_pixels),
     )
     left = summary.attrs.get("left") or []
     if left:

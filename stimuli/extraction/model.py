@@ -174,7 +174,7 @@ def object_probability(image, model_file, size=None, mean=MODEL_MEAN, std=MODEL_
     return np.clip(cv2.resize(p, (w, h), interpolation=cv2.INTER_LINEAR), 0.0, 1.0)
 
 
-def boxed_probability(image, box, name="image", **model):
+def boxed_probability(image, box, name="image", probability=None, **model):
     """The network's object probability inside a box, from the box and its surroundings alone.
 
     Parameters
@@ -185,8 +185,13 @@ def boxed_probability(image, box, name="image", **model):
         Image pixels, inside the image.
     name : str
         Names the image in messages.
+    probability : callable, optional
+        ``probability(window, **model)`` -> the map of an image window; by
+        default :func:`object_probability` (a rembg network's is
+        :func:`attneave.stimuli.extraction.learned.network_probability`).
     **model
-        ``model_file``, ``size``, ``mean``, ``std`` as for :func:`object_probability`.
+        ``model_file``, ``size``, ``mean``, ``std`` as for :func:`object_probability`
+        (or the arguments of `probability`).
 
     Returns
     -------
@@ -209,6 +214,6 @@ def boxed_probability(image, box, name="image", **model):
     mx, my = int(round(BOX_CONTEXT * bw)), int(round(BOX_CONTEXT * bh))
     x0, y0, x1, y1 = max(0, x - mx), max(0, y - my), min(w, x + bw + mx), min(h, y + bh + my)
     prob = np.zeros((h, w), np.float32)
-    window = object_probability(np.asarray(image)[y0:y1, x0:x1], **model)
+    window = (probability or object_probability)(np.asarray(image)[y0:y1, x0:x1], **model)
     prob[y : y + bh, x : x + bw] = window[y - y0 : y - y0 + bh, x - x0 : x - x0 + bw]
     return prob, box

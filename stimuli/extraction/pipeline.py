@@ -50,9 +50,11 @@ stopped rerun never leaves an old summary beside new files).
 Option mistakes are refused before any image is processed (one line, an
 :class:`~attneave.stimuli.errors.InputError`): an option for another method
 (``threshold`` without method threshold or alpha, ``rect`` without
-grabcut, ``boxes`` without auto, photo or model, ``scribbles`` without
-auto or photo, ``model_*`` without model), a ``rect`` outside an image, a
-model file that does not load, an output directory that cannot be made or
+grabcut, ``boxes`` without auto, photo, model or rembg, ``scribbles`` without
+auto or photo, ``model_*`` without model (``model_file`` also with rembg),
+``rembg_model`` without rembg), a ``rect`` outside an image, a model file
+that does not load, a rembg network that is not installed or whose weights
+are not on this machine, an output directory that cannot be made or
 whose outputs would overwrite an input.
 """
 
@@ -79,7 +81,7 @@ SUMMARY_COLUMNS = (
 DEFAULTS = dict(
     method="auto", threshold=None, polarity="auto", objects="largest", min_area=None, holes=False, rect=None,
     n=None, spacing=None, sigma=None, model="paper", A=0.25, b=None, bits=False, boxes=None, scribbles=None,
-    model_file=None, model_size=None, model_mean=None, model_std=None, max_pixels=None,
+    model_file=None, model_size=None, model_mean=None, model_std=None, rembg_model=None, max_pixels=None,
 )
 # OPTION_METHODS: the methods each method-specific option applies to (any other method refuses
 # it), the same rule as the Python API's (:func:`attneave.stimuli.extraction.segment.check_method_options`)
@@ -182,6 +184,12 @@ def extract_images(images, output, workers=1, progress=None, **options):
 
         load_model(opts["model_file"])  # a file that is no usable network is refused before any image
         inputs.append(str(opts["model_file"]))
+    if opts["method"] == "rembg":
+        from attneave.stimuli.extraction.learned import load_network
+
+        load_network(opts["rembg_model"], opts["model_file"])  # rembg missing, weights absent: before any image
+        if opts["model_file"]:
+            inputs.append(str(opts["model_file"]))
     out = make_output_dir(output)
     _check_spares_inputs(out, stems, inputs)
     ours = _earlier_objects(out, stems)
@@ -423,6 +431,8 @@ def _analyse(image, stem, opts):
     if opts["method"] == "model":
         model = {k: v for k, v in (("model_file", opts["model_file"]), ("size", opts["model_size"]),
                                    ("mean", opts["model_mean"]), ("std", opts["model_std"])) if v is not None}
+    if opts["method"] == "rembg":
+        model = {"network": opts["rembg_model"], "model_file": opts["model_file"]}
     ex = extract(
         img, method=opts["method"], threshold=opts["threshold"], polarity=opts["polarity"],
         objects=opts["objects"], min_area=opts["min_area"], holes=opts["holes"], rect=opts["rect"], name=image,

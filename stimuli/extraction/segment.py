@@ -15,7 +15,7 @@ from attneave.stimuli.extraction.imageio import full_scale, split_channels
 __all__ = ["METHODS", "POLARITIES", "PLAIN_ETA", "OPTION_METHODS", "NoObject", "Segmentation", "segment",
            "grabcut_mask", "image_kind", "check_method_options"]
 
-METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model")
+METHODS = ("auto", "otsu", "threshold", "mask", "alpha", "grabcut", "photo", "model", "rembg")
 #: Otsu's between-class share of the grey variance above which ``auto``
 #: takes an image for one object on a plain background (renders, scans,
 #: product shots); below it, for a photograph.
@@ -23,11 +23,11 @@ PLAIN_ETA = 0.97
 POLARITIES = ("auto", "dark", "light")
 #: The methods each method-specific option applies to (any other method refuses it), for
 #: :func:`attneave.stimuli.extraction.extract` and ``attneave extract`` alike (:func:`check_method_options`).
-#: ``model_file`` is the Python API's ``model`` dict (``--model-file`` and its companions).
+#: ``model_file`` is the Python API's ``model`` dict (``--model-file``, ``--rembg-model`` and their companions).
 OPTION_METHODS = {
     "threshold": ("threshold", "alpha"), "rect": ("grabcut",), "grabcut_iterations": ("auto", "photo", "grabcut"),
-    "boxes": ("auto", "photo", "model"), "scribbles": ("auto", "photo"), "model_file": ("model",),
-    "model_size": ("model",), "model_mean": ("model",), "model_std": ("model",),
+    "boxes": ("auto", "photo", "model", "rembg"), "scribbles": ("auto", "photo"), "model_file": ("model", "rembg"),
+    "model_size": ("model",), "model_mean": ("model",), "model_std": ("model",), "rembg_model": ("rembg",),
 }
 
 
@@ -287,7 +287,8 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
 
     `box` and `scribbles` go to :func:`attneave.stimuli.extraction.photo.segment_photo`
     (and make ``auto`` a photo method); `model` is a dict of the arguments
-    of :func:`attneave.stimuli.extraction.model.object_probability`.
+    of :func:`attneave.stimuli.extraction.model.object_probability` (method ``model``) or
+    :func:`attneave.stimuli.extraction.learned.network_probability` (method ``rembg``).
     """
     import cv2
 
@@ -303,25 +304,17 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
         return _on_colour_edge(img, res.mask, params)
-    if method == "model":
-        from attneave.stimuli.extraction.model import object_probability
+    if method in ("model", "rembg"):
+        from attneave.stimuli.extraction.learned import learned_probability
 
-        if not model or not model.get("model_file"):
-            raise InputError("method 'model' needs a model file (--model-file FILE.onnx)")
-        if box is None:
-            prob = object_probability(img, **model)
-        else:
-            from attneave.stimuli.extraction.model import boxed_probability
-
-            prob, box = boxed_probability(img, box, name=name, **model)
-        params.update(polarity="model", threshold=0.5, level=0.5, model_file=str(model["model_file"]),
+        prob, box, which = learned_probability(img, method, model, box, name)
+        params.update(polarity="model", threshold=0.5, level=0.5, **which,
                       mode="auto" if box is None else "box", box=None if box is None else list(box))
         if box is not None and not np.any(prob > 0.5):
             # the person drew the box around an object: GrabCut's outline from it
             # beats none, and the verdict says whose outline it is
             seg = segment(img, "photo", threshold, polarity, name, box=box, scribbles=scribbles)
-            seg.params.update(method="model", resolved="photo", model_file=params["model_file"],
-                              model_found_nothing=True)
+            seg.params.update(method=method, resolved="photo", **which, model_found_nothing=True)
             return seg
         return Segmentation(prob > 0.5, params, prob, 1.0, 0.5)
     if method == "grabcut":

@@ -110,13 +110,13 @@ __all__ = ["THRESHOLDS", "UNVERIFIABLE", "Verdict", "judge", "frame_contact", "b
            "photo_measures", "box_verified"]
 
 #: Methods whose outlines are ``ok`` only by the box rule (see the module notes).
-UNVERIFIABLE = ("photo", "grabcut", "model")
+UNVERIFIABLE = ("photo", "grabcut", "model", "rembg")
 #: Thresholds of the verdict's measures (see the module notes).
 THRESHOLDS = dict(frame=0.05, fill_min=0.002, fill_max=0.7, contrast=2.0, competing=0.5, agreement=0.95,
                   box=0.05, box_gap=0.2, colour_error=0.15, edge_support=0.8, box_ok_colour_error=0.031,
                   box_ok_gap=0.114, thin=5.0)
 #: The measures of :mod:`attneave.stimuli.extraction.quality` (None for outlines not from photographs).
-PHOTO_MEASURES = ("colour_error", "edge_support", "box_contact", "box_gap")
+PHOTO_MEASURES = ("colour_error", "edge_support", "box_contact", "box_gap", "uncertainty")
 
 
 @dataclass
@@ -362,8 +362,10 @@ def photo_measures(image, extraction):
     dict
         ``colour_error`` (of the whole mask), ``edge_support`` (the lowest
         over the contours), ``box_contact`` and ``box_gap`` (the highest
-        over the contours and their boxes; None without a box). Floats are
-        rounded to 4 decimals: they are reported, not computed with.
+        over the contours and their boxes; None without a box), and a learned
+        network's ``uncertainty`` (:func:`attneave.stimuli.extraction.learned.uncertainty`;
+        None for other methods). Floats are rounded to 4 decimals: they are
+        reported, not computed with.
     """
     from attneave.stimuli.extraction.quality import box_contact, box_gap, colour_error, edge_distance, edge_support
 
@@ -374,5 +376,6 @@ def photo_measures(image, extraction):
     values = dict(colour_error=colour_error(image, extraction.mask),
                   edge_support=min(edge_support(image, c, distance=distance) for c in extraction.contours),
                   box_contact=max(box_contact(c, b) for c, b in boxed) if boxed else None,
-                  box_gap=max(box_gap(c, b) for c, b in boxed) if boxed else None)
+                  box_gap=max(box_gap(c, b) for c, b in boxed) if boxed else None,
+                  uncertainty=p.get("uncertainty"))
     return {k: None if v is None or not np.isfinite(v) else round(float(v), 4) for k, v in values.items()}
