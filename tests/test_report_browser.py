@@ -75,7 +75,14 @@ def test_report_reads_as_methods_and_results_and_fits_1280px(report):
     assert f"lift = {summary['effect']['lift']:.2f}" in text
     assert "Figure 1." in text and "Figure 3." in text and "SVG" in text
     # no raw floating-point dumps, no infinities
-    assert "e-1" not in text and "inf" not in text.replace("information", "").replace("infinite", "")
+    words = text.replace("information", "").replace("infinite", "").replace("inference", "")
+    assert "e-1" not in text and "inf" not in words
+    # a reference list for every work the method cites, and parameters in words, not identifiers
+    for work in ("Ziatdinov, R. (2016)", "Feldman, J., & Singh, M. (2005)", "Attneave, F. (1954)",
+                 "McFadden, D. (1974)", "Baayen, R. H.", "Breslow, N. E."):
+        assert work in text
+    for raw in ("click_sd", "window_size", "None", "group_simulations", "sum_i"):
+        assert raw not in text
 
 
 def test_every_figure_is_also_written_as_svg(report):
@@ -83,3 +90,82 @@ def test_every_figure_is_also_written_as_svg(report):
     svgs = sorted(p.stem for p in (report / "figures").glob("*.svg"))
     assert pngs == svgs and len(pngs) == 3
     assert (report / "figures" / "group.svg").read_text().lstrip().startswith("<?xml")
+
+
+# ---- printing and narrow windows (the `browser` fixture of conftest.py) ----
+
+NO_SCROLL_BOX = """() => Array.from(document.querySelectorAll('body *')).filter(e => {
+    const s = getComputedStyle(e);
+    return [s.overflow, s.overflowX, s.overflowY].some(v => v === 'scroll' || v === 'auto' || v === 'hidden');
+}).map(e => e.tagName + '.' + e.className)"""
+
+
+@pytest.fixture(scope="module")
+def long_report(tmp_path_factory):
+    """36 stimuli, no figures: the per-stimulus table is longer than a printed page, and the ids occur
+    nowhere else in the page, so finding each in the PDF's text means its row was printed."""
+    from attneave.stimuli.stimulus_set import write_stimulus_set
+
+    tmp = tmp_path_factory.mktemp("long")
+    rng = np.random.default_rng(3)
+    shapes = {}
+    for i in range(36):
+        k = 6 + i % 5
+        th = 2 * np.pi * (np.arange(k) + rng.uniform(-0.3, 0.3, k)) / k  # star-shaped: never crosses itself
+        r = 140 * rng.uniform(0.45, 1.0, k)
+        shapes[f"zq{i:03d}"] = np.c_[256 + r * np.cos(th), 256 + r * np.sin(th)]
+    write_stimulus_set(tmp / "set", shapes)
+    assert main(["simulate", "--stimuli", str(tmp / "set"), "-o", str(tmp / "c.csv"), "--participants", "3",
+                 "--clicks", "2", "--top-share", "0.4", "--seed", "2"]) == 0
+    assert main(["analyze", str(tmp / "c.csv"), "--stimuli", str(tmp / "set"), "-o", str(tmp / "out"),
+                 "--group-simulations", "49", "--permutations", "10", "--no-figures"]) == 0
+    return tmp / "out", sorted(shapes)
+
+
+def test_printed_report_keeps_every_per_stimulus_row(long_report, browser, tmp_path):
+    out, ids = long_report
+    page = browser.new_page(viewport={"width": 1280, "height": 900})
+    page.goto((out / "report.html").as_uri())
+    page.emulate_media(media="print")
+    # in print layout every row of the table is laid out, and no box around it clips or scrolls
+    rows = page.evaluate("""() => Array.from(document.querySelectorAll('table.per-stimulus tbody tr')).map(r => {
+        let clipped = false;
+        for (let e = r.parentElement; e; e = e.parentElement) {
+            const s = getComputedStyle(e);
+            if ([s.overflow, s.overflowX, s.overflowY].some(v => v !== 'visible')) clipped = true;
+        }
+        return [r.cells[0].innerText, r.getBoundingClientRect().height, clipped];
+    })""")
+    assert [r[0] for r in rows] == ids
+    assert all(h > 0 and not clipped for _, h, clipped in rows)
+    assert page.evaluate(NO_SCROLL_BOX) == []
+    pdf = tmp_path / "report.pdf"
+    pdf.write_bytes(page.pdf(format="A4"))
+    page.close()
+    assert pdf.read_bytes().startswith(b"%PDF") and pdf.stat().st_size > 10_000
+    # the printed text: every row's stimulus, when poppler's pdftotext is there to read it
+    if shutil.which("pdftotext"):
+        import subprocess
+
+        text = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True,
+                              check=True).stdout
+        missing = [s for s in ids if s not in text]
+        assert missing == [], f"rows missing from the printed report: {missing}"
+        assert "References" in text and "Ziatdinov" in text
+
+
+@pytest.mark.parametrize("width", [1280, 700])
+def test_report_fits_the_window_without_scroll_boxes(report, browser, width):
+    page = browser.new_page(viewport={"width": width, "height": 900})
+    page.goto((report / "report.html").as_uri())
+    shot = report / f"report_{width}.png"
+    page.screenshot(path=str(shot), full_page=True)
+    wide = page.evaluate("document.documentElement.scrollWidth")
+    boxes = page.evaluate(NO_SCROLL_BOX)
+    # nothing sticks out to the right of the window
+    right = page.evaluate("Math.max(...Array.from(document.querySelectorAll('body *'))"
+                          ".map(e => e.getBoundingClientRect().right))")
+    page.close()
+    assert wide <= width and right <= width + 0.5
+    assert boxes == []
+    assert shot.stat().st_size > 10_000

@@ -303,7 +303,10 @@ def group_figure(analysis):
     m = analysis.models
     ll0 = float(m.loc[m["model"] == "uniform", "loglik"].iloc[0])
     gain = m["loglik"].to_numpy() - ll0
-    ax3.barh(m["model"], gain, color=["tab:red" if k else "tab:gray" for k in m["tested"]])
+    from attneave.analysis.report.wording import predictor_name
+
+    ax3.barh([predictor_name(k).replace(" (eq. 5; tested)", "") for k in m["model"]], gain,
+             color=["tab:red" if k else "tab:gray" for k in m["tested"]])
     ax3.set_xlabel("log-likelihood gain over uniform (nats)")
     ax3.set_title("model comparison", fontsize=10)
     return fig
