@@ -24,7 +24,8 @@ Sub-packages, each named after what it holds:
 Names below are imported on first use, so ``import stimuli`` is cheap.
 """
 
-__version__ = "0.1.0"
+#: The one version of the package (pyproject.toml reads it from here).
+__version__ = "0.2.0"
 
 from attneave.stimuli._lazy import attach as _attach
 

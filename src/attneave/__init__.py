@@ -30,9 +30,8 @@ Examples
 True
 """
 
+from attneave.stimuli import __version__  # noqa: F401  (one version, kept in attneave.stimuli)
 from attneave.stimuli._lazy import attach as _attach
-
-__version__ = "0.2.0"
 
 __getattr__, __dir__, __all__ = _attach(__name__, {
     "Contour": "attneave.stimuli.geometry.contour",
@@ -51,7 +50,7 @@ __getattr__, __dir__, __all__ = _attach(__name__, {
     "extract_contours": "attneave.stimuli.extraction",
     "read_stimulus_set": "attneave.stimuli.stimulus_set",
     "analyze": "attneave.analysis.analyze",
-    "read_clicks": "analysis.clicks",
+    "read_clicks": "attneave.analysis.clicks.read",
     "simulate": "attneave.analysis.simulate.observers",
     "power": "attneave.analysis.simulate.observers",
     "build_experiment": "attneave.analysis.experiment",
