@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from attneave.stimuli.errors import InputError
+from attneave.stimuli.validate import as_int
 
 __all__ = ["IMAGE_SUFFIXES", "MAX_PIXELS", "DecoderWarning", "ImageFile", "open_image", "read_image", "header_size", "load_image", "split_channels", "full_scale",
            "MAX_INTEGER_LEVELS"]
@@ -178,15 +179,10 @@ def _as_path(path):
 
 def _max_pixels(value):
     """`max_pixels` checked: a whole number >= 1 (a float such as 1e8 is taken if it is whole)."""
-    if isinstance(value, (bool, np.bool_)):
-        raise InputError(f"max_pixels: must be a whole number of pixels >= 1, got {value!r}")
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
+    try:  # the library's rule for integers (a string such as '1e8' is not one)
+        return as_int(value, "max_pixels", lo=1)
+    except InputError:
         raise InputError(f"max_pixels: must be a whole number of pixels >= 1, got {value!r}") from None
-    if not (np.isfinite(v) and v >= 1 and v == int(v)):
-        raise InputError(f"max_pixels: must be a whole number of pixels >= 1, got {value!r}")
-    return int(v)
 
 
 def _require_regular_file(path):

@@ -19,7 +19,7 @@ import numpy as np
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.geometry.contour import Contour
 from attneave.stimuli.geometry.polyline import gaussian_curvature
-from attneave.stimuli.validate import as_number
+from attneave.stimuli.validate import as_number, check_flag
 
 __all__ = ["SIGMA_FRACTION", "MIN_SIGMA", "MAX_SIGMA_FRACTION", "ContourInfo", "default_sigma", "smooth", "contour_curvature",
            "describe", "curvature_peaks", "fourier_smooth"]
@@ -293,8 +293,7 @@ def curvature_peaks(contour, sigma=None, prominence=None, minima=False):
     """
     from attneave.stimuli.geometry.information import find_peaks
 
-    if not isinstance(minima, (bool, np.bool_)):  # 'no' would be taken as True
-        raise InputError(f"minima: must be True or False, got {minima!r}")
+    minima = check_flag(minima, "minima")
     c = contour if isinstance(contour, Contour) else Contour(contour)
     if not c.closed:
         raise InputError("curvature_peaks() is for closed contours")

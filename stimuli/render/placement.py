@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from attneave.stimuli.errors import InputError
@@ -68,10 +66,10 @@ def fit_to_image(points, size, margin=None, scale=None):
         if margin is None:
             margin = 0.1 * min(w, h)
         try:
-            margin = float(margin)
-        except (TypeError, ValueError):
+            margin = as_number(margin, "margin")
+        except InputError:
             raise InputError(f"margin: expected a number of pixels, got {margin!r}") from None
-        if not (math.isfinite(margin) and 0 <= margin < 0.5 * min(w, h)):
+        if not 0 <= margin < 0.5 * min(w, h):
             raise InputError(f"margin: must be >= 0 and less than half the smaller image side, got {margin!r}")
         if not np.any(extent > 0):
             raise InputError("points: all points coincide; cannot scale them to the image")

@@ -140,8 +140,6 @@ def _as_closed(contour, name="contour", orient=False):
 
 def _vertex(index, n, name="index"):
     """A vertex index in [-n, n) (negative counts from the end) as one in [0, n)."""
-    if isinstance(index, (bool, np.bool_)):
-        raise InputError(f"{name}: must be an integer vertex index, got {index!r}")
     return as_int(index, name, lo=-n, hi=n - 1) % n
 
 
