@@ -85,26 +85,31 @@ def run(base, argv, **kw):
 
 @pytest.fixture(scope="module")
 def inputs(tmp_path_factory):
-    """Small inputs of every command and the files and duration of an uninterrupted run of each."""
+    """Small inputs of every command, and a cache of uninterrupted runs: {name: (seconds, files)}."""
     base = tmp_path_factory.mktemp("signals")
     make_set(base / "set")
     assert main(["simulate", "--stimuli", str(base / "set"), "-o", str(base / "clicks.csv"), "--participants", "4",
                  "--clicks", "3", "--beta", "1", "--seed", "2"]) == 0
     (base / "gen.yaml").write_text(GEN)
-    ref = {}
-    for name, argv in COMMANDS.items():
+    return base, {}
+
+
+def reference(inputs, name):
+    """The duration and files of an uninterrupted run of command `name` (made on first use)."""
+    base, ref = inputs
+    if name not in ref:
         t0 = time.monotonic()
-        p = run(base, argv(f"ref_{name}"))
-        out, err = p.communicate(timeout=120)
+        p = run(base, COMMANDS[name](f"ref_{name}"))
+        _, err = p.communicate(timeout=300)
         assert p.returncode == 0, err
         ref[name] = (time.monotonic() - t0, hashes(base / f"ref_{name}"))
-    return base, ref
+    return ref[name]
 
 
 @pytest.mark.parametrize("name", list(COMMANDS))
 def test_signal_at_a_random_moment_then_rerun(inputs, name):
-    base, ref = inputs
-    seconds, files = ref[name]
+    base, _ = inputs
+    seconds, files = reference(inputs, name)
     rng = random.Random(f"{SEED}:{name}")
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGKILL):
         out = base / f"{name}_{sig.name}"
@@ -139,3 +144,101 @@ def test_signal_at_a_random_moment_then_rerun(inputs, name):
         assert p.returncode == 0, f"rerun after {what}: {err!r}"
         assert hashes(out) == files, what
         assert not temporaries(base), what
+
+
+def _wait_for(predicate, timeout=120.0):
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.005)
+    return False
+
+
+def test_sighup_while_writing_removes_the_temporary_directory(inputs):
+    # the moment the analysis directory is being built beside -o: a closed terminal (SIGHUP)
+    base, _ = inputs
+    out = base / "hup"
+    p = run(base, COMMANDS["analyze"](out.name))
+    building = _wait_for(lambda: any(base.glob(".attneave-tmp-*-hup")) or p.poll() is not None)
+    assert building and p.poll() is None, "the analysis ended before its output was being written"
+    p.send_signal(signal.SIGHUP)
+    _, err = p.communicate(timeout=120)
+    assert p.returncode in (128 + signal.SIGHUP, 0), err
+    assert "Traceback" not in err
+    if p.returncode:
+        assert err.splitlines()[-1] == "attneave analyze: stopped by SIGHUP; nothing was left half-written", err
+        assert not out.exists()
+    assert not temporaries(base)
+
+
+def test_ctrl_c_after_the_output_was_written_exits_130_without_a_traceback(inputs, tmp_path):
+    # a stand-in for the console script (named 'attneave', as it is) whose last exit hook, run after
+    # the command returned and its output was written, receives Ctrl-C: as tqdm's and
+    # concurrent.futures' hooks may
+    base, _ = inputs
+    script = tmp_path / "attneave"
+    script.write_text("import atexit, os, signal, sys, time\n"
+                      "from attneave.cli import main\n"
+                      "atexit.register(lambda: (os.kill(os.getpid(), signal.SIGINT), time.sleep(2)))\n"
+                      "sys.exit(main())\n")
+    out = base / "late"
+    p = subprocess.run([sys.executable, str(script), *COMMANDS["analyze"](out.name)], cwd=base,
+                       capture_output=True, text=True, timeout=300)
+    assert "Traceback" not in p.stderr and "Exception ignored" not in p.stderr, p.stderr
+    assert p.returncode == 130, p.stderr
+    assert p.stderr.splitlines()[-1] == ("attneave analyze: SIGINT after the command had finished; "
+                                         "its output is complete")
+    assert hashes(out) == reference(inputs, "analyze")[1]
+
+
+def test_a_killed_runs_temporaries_are_removed_by_the_next_run_and_a_live_ones_kept(inputs, tmp_path):
+    from attneave.stimuli.io import temp_prefix
+
+    base, _ = inputs
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    here = tmp_path / "runs"
+    here.mkdir()
+    left_dir = here / (temp_prefix().replace(f"-{os.getpid()}-", f"-{dead.pid}-", 1) + "abc_1234-an")
+    left_dir.mkdir()
+    (left_dir / "clicks.csv").write_text("half")
+    left_file = here / (temp_prefix().replace(f"-{os.getpid()}-", f"-{dead.pid}-", 1) + "k9x2ab_c-x.png")
+    left_file.write_bytes(b"half")
+    live = here / (temp_prefix() + "zz_live1-an")  # this test process is alive: its temporary is in use
+    live.mkdir()
+    mine = here / ".attneave-tmp-notes"  # not a temporary's name: a user's file
+    mine.write_text("keep")
+    argv = COMMANDS["analyze"](str(here / "an"))
+    argv[argv.index("clicks.csv")] = str(base / "clicks.csv")
+    argv[argv.index("set")] = str(base / "set")
+    assert subprocess.run([sys.executable, "-m", "attneave", *argv], cwd=base, capture_output=True).returncode == 0
+    assert sorted(p.name for p in here.iterdir()) == sorted(["an", live.name, mine.name])
+
+
+def test_an_interrupted_extract_leaves_no_summary_of_an_earlier_run(inputs, tmp_path, monkeypatch):
+    import attneave.stimuli.extraction.pipeline as pipeline
+
+    base, _ = inputs
+    images = [str(base / "set" / "images" / n) for n in ("a_peaks.png", "b_peaks.png", "filler.png")]
+    out = tmp_path / "ex"
+    pipeline.extract_images(images, out, n=40, progress=False)
+    assert (out / "summary.csv").exists()
+    real, calls = pipeline.process_one, []
+
+    def stopped_at_the_second(*args):
+        calls.append(args)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*args)
+
+    monkeypatch.setattr(pipeline, "process_one", stopped_at_the_second)
+    with pytest.raises(KeyboardInterrupt):
+        pipeline.extract_images(images, out, n=60, progress=False)
+    # the first image's files are the new run's (n=60), the others the old run's: no summary may claim either
+    assert not (out / "summary.csv").exists()
+    monkeypatch.setattr(pipeline, "process_one", real)
+    pipeline.extract_images(images, out, n=60, progress=False)
+    fresh = tmp_path / "fresh"
+    pipeline.extract_images(images, fresh, n=60, progress=False)
+    assert hashes(out) == hashes(fresh)
