@@ -305,10 +305,10 @@ h1, h2, h3 { font-family: sans-serif; } h3 { font-size: 105%; }
 table { border-collapse: collapse; margin: 0.5em 0 1.5em; font-size: 90%; max-width: 100%; }
 th, td { border-bottom: 1px solid #ccc; padding: 3px 10px; text-align: left; overflow-wrap: anywhere;
          vertical-align: top; }
-thead th { border-bottom: 2px solid #333; }
+thead th { border-bottom: 2px solid #333; overflow-wrap: normal; }
 img { max-width: 100%; height: auto; } figure { margin: 1em 0 2em; }
 figcaption { font-size: 90%; } .warn { color: #a00; } code { font-size: 90%; overflow-wrap: anywhere; }
-.refs li { margin-bottom: 0.3em; }
+.refs { list-style: none; padding-left: 0; } .refs li { margin-bottom: 0.3em; padding-left: 2em; text-indent: -2em; }
 @media print {
   body { max-width: none; margin: 0; font-size: 10pt; }
   thead { display: table-header-group; }

@@ -65,9 +65,9 @@ def predictor_name(key):
 
 
 def references_html():
-    """The reference list, sorted by first author, as an HTML list."""
+    """The reference list, sorted by first author (APA: unnumbered, cited by author and year), as HTML."""
     items = "".join(f"<li>{REFERENCES[k]}</li>" for k in sorted(REFERENCES))
-    return f'<ol class="refs">{items}</ol>'
+    return f'<ul class="refs">{items}</ul>'
 
 
 _UNITS = {
