@@ -62,14 +62,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from attneave.stimuli.errors import InputError
-from attneave.stimuli.geometry.information import MODELS, surprisal
-
 from attneave.analysis.argnames import arg
-from attneave.analysis.clicks.read import blank_rows, malformed_rows, parse_coordinates, repeated_header_rows, to_image_coords
+from attneave.analysis.clicks.read import (
+    blank_rows,
+    malformed_rows,
+    parse_coordinates,
+    repeated_header_rows,
+    to_image_coords,
+)
 from attneave.analysis.models.choice import point_index, standardize
 from attneave.analysis.models.circular import midrank_percentile
 from attneave.analysis.models.predictors import RIVALS, rival_values
+from attneave.stimuli.errors import InputError
+from attneave.stimuli.geometry.information import MODELS, surprisal
 
 __all__ = [
     "REASONS",
