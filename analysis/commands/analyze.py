@@ -96,14 +96,20 @@ def run(args):
     # everything that can be wrong with the inputs is found before anything is written; first that
     # OUT (replaced whole) is neither an input, nor holds one, nor is the working directory
     check_output_dir(args.output, args.force, (*args.clicks, args.stimuli))
+    from attneave.stimuli.progress import Stages
+
+    reading = Stages("analyze", quiet=args.quiet, bar=False)
+    reading.stage("reading clicks")
     clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
     window, coords = parse_window_size(args.window_size), args.coords
     if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
         clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
     elif window is not None:
         raise InputError(f"--window-size is for --coords {' or '.join(WINDOW_UNITS)}, not --coords {coords}")
+    reading.stage("reading the stimulus set")
     stimset = read_stimulus_set(args.stimuli)
     clicks = resolve_stimulus_ids(clicks, stimset)
+    reading.close()
     res = analyze(
         clicks, stimset, n=args.n, model=args.model, coords=coords, scale=args.scale,
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
@@ -120,8 +126,6 @@ def run(args):
         if warning:
             res.summary["warnings"].append(warning)
     click_files = args.clicks[0] if len(args.clicks) == 1 else list(args.clicks)
-    from attneave.stimuli.progress import Stages
-
     with Stages("analyze", quiet=args.quiet, bar=False) as stages:
         stages.stage("writing tables" + ("" if args.no_figures else ", figures") + " and report")
         write_analysis(res, args.output, figures=not args.no_figures, force=args.force,

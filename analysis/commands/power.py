@@ -58,21 +58,22 @@ def add_parser(sub):
     p.add_argument("-n", type=int, default=100, help="equally spaced points per contour (default 100)")
     p.add_argument("--model", choices=("paper", "vonmises"), default="paper")
     p.add_argument("-o", "--output", default=None, metavar="OUT.csv", help="also write the table")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress on stderr (by default every stage over ~2 s is a line there, terminal or log)")
     return p
 
 
 def run(args):
     import numpy as np
 
-    from attneave.analysis.models.effect import resolve_effect
     from attneave.analysis.clicks.mapping import predict
+    from attneave.analysis.models.effect import resolve_effect
     from attneave.analysis.simulate.observers import power
+    from attneave.stimuli.io import check_output_spares_inputs, disk_error_exit
+    from attneave.stimuli.progress import Stages
     from attneave.stimuli.stimulus_set import read_stimulus_set
-    from attneave.stimuli.io import disk_error_exit
     from attneave.stimuli.tables import write_table
     from attneave.stimuli.validate import as_int, as_number
-
-    from attneave.stimuli.io import check_output_spares_inputs
 
     if args.output is not None:
         # found before minutes of simulation, not after
@@ -93,12 +94,15 @@ def run(args):
     as_int(args.simulations, "--simulations", lo=MIN_SIMULATIONS, hi=MAX_SIMULATIONS)
     as_int(args.group_simulations, "--group-simulations", lo=1, hi=MAX_GROUP_SIMULATIONS)
     as_number(args.target, "--target", gt=0, le=1)
-    pred = predict(stimset, n=args.n, model=args.model)
-    eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
-                         top_share=args.top_share)
-    table, info = power(pred, eff["beta"], participants=args.participants, clicks=args.clicks,
-                        simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
-                        beta_sd=args.beta_sd, target=args.target, group_simulations=args.group_simulations)
+    with Stages("power", quiet=args.quiet, bar=False) as stages:
+        stages.stage(f"predictions of {len(stimset)} stimuli")
+        pred = predict(stimset, n=args.n, model=args.model)
+        eff = resolve_effect(np.stack([p.z["surprisal"] for p in pred.values()]), beta=args.beta, lift=args.lift,
+                             top_share=args.top_share)
+        stages.stage(f"{len(args.participants)} designs x {args.simulations} simulations")
+        table, info = power(pred, eff["beta"], participants=args.participants, clicks=args.clicks,
+                            simulations=args.simulations, alpha=args.alpha, seed=args.seed, noise=args.noise,
+                            beta_sd=args.beta_sd, target=args.target, group_simulations=args.group_simulations)
     if args.output:
         try:
             write_table(table, args.output)

@@ -137,7 +137,7 @@ def identical_repeats(out, rows):
             for cond, n in alike.items()]
 
 
-def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=False, progress=None):
+def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=False, progress=None, stages=None):
     """Generate the stimulus set of a batch config.
 
     Parameters
@@ -163,6 +163,8 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
     progress : bool or None
         Show a tqdm progress bar on stderr; None shows it when stderr is a
         terminal.
+    stages : attneave.stimuli.progress.Stages, optional
+        Told of every finished recipe call (its lines reach a log as well).
 
     Returns
     -------
@@ -195,7 +197,7 @@ def run_batch(config, out_dir, workers=1, scheduler=None, resume=False, force=Fa
     try:
         with outdir.locked(out):
             held = True
-            rows, n_jobs, n_run = _run_locked(batch, out, workers, scheduler, resume, force, progress)
+            rows, n_jobs, n_run = _run_locked(batch, out, workers, scheduler, resume, force, progress, stages)
     except InputError:
         if created and held:  # only this run wrote there
             shutil.rmtree(out, ignore_errors=True)
@@ -249,7 +251,7 @@ def _check_spares_inputs(batch, out, force):
                              "choose another output directory")
 
 
-def _run_locked(batch, out, workers, scheduler, resume, force, progress):
+def _run_locked(batch, out, workers, scheduler, resume, force, progress, stages=None):
     """The batch, once this process holds the directory: (stimuli, jobs, jobs run)."""
     outdir.check_inside(out)
     state = outdir.inspect(out, batch)
@@ -278,6 +280,8 @@ def _run_locked(batch, out, workers, scheduler, resume, force, progress):
     if pending:
         for key, rows in execute(pending, out, workers, scheduler, progress, len(jobs), len(results)):
             results[key] = rows
+            if stages is not None:
+                stages.advance()
 
     ids = {}
     for job in jobs:

@@ -87,6 +87,9 @@ def add_parser(sub):
     p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
     p.add_argument("--bits", action="store_true", help="surprisal in bits instead of nats")
     p.add_argument("--workers", type=int, default=1, metavar="N", help="processes to use (default 1)")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress on stderr (by default a run over ~2 s writes a line there every few seconds, "
+                        "terminal or log, and a bar on a terminal)")
     return p
 
 
@@ -168,22 +171,16 @@ def _check_output_outside_input_dirs(output, paths):
 def run(args):
     import sys
 
-    from attneave.stimuli.extraction.pipeline import extract_images
-
     _check_args(args)
     _check_output_outside_input_dirs(args.output, args.images)
     # `attneave extract photos/ -o out`: a folder of images, as people keep them (a directory was
     # one failed input before)
     args.images = _expand_directories(args.images)
-    summary = extract_images(
-        args.images, args.output, workers=args.workers,
-        method=args.method, threshold=args.threshold, polarity=args.polarity, objects=args.objects,
-        min_area=args.min_area, holes=args.holes, rect=args.rect, n=args.n, spacing=args.spacing,
-        sigma=args.sigma, model=args.model, A=args.A, b=args.b, bits=args.bits, boxes=args.boxes,
-        scribbles=args.scribbles, model_file=args.model_file, model_size=args.model_size,
-        model_mean=args.model_mean, model_std=args.model_std, rembg_model=args.rembg_model,
-        max_pixels=int(args.max_pixels),
-    )
+    from attneave.stimuli.progress import Stages
+
+    with Stages("extract", quiet=args.quiet, bar=False, total=len(args.images)) as stages:
+        stages.stage(f"{len(args.images)} image(s)")
+        summary = _extract(args, stages)
     left = summary.attrs.get("left") or []
     if left:
         shown = ", ".join(left[:6]) + (f", ... ({len(left)} files)" if len(left) > 6 else "")
@@ -202,3 +199,17 @@ def run(args):
     print(f"attneave extract: {len(summary)} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "
           f"(status and reason of each in {Path(args.output) / 'summary.csv'})", file=sys.stderr)
     return 1 if n_failed else 0
+
+
+def _extract(args, stages):
+    from attneave.stimuli.extraction.pipeline import extract_images
+
+    return extract_images(
+        args.images, args.output, workers=args.workers, progress=False if args.quiet else None, stages=stages,
+        method=args.method, threshold=args.threshold, polarity=args.polarity, objects=args.objects,
+        min_area=args.min_area, holes=args.holes, rect=args.rect, n=args.n, spacing=args.spacing,
+        sigma=args.sigma, model=args.model, A=args.A, b=args.b, bits=args.bits, boxes=args.boxes,
+        scribbles=args.scribbles, model_file=args.model_file, model_size=args.model_size,
+        model_mean=args.model_mean, model_std=args.model_std, rembg_model=args.rembg_model,
+        max_pixels=int(args.max_pixels),
+    )

@@ -29,6 +29,9 @@ def add_parser(sub):
     p.add_argument("--dry-run", action="store_true",
                    help="validate the config and print what would be made; write nothing")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress on stderr at all (by default a run over ~2 s writes a line there every few "
+                        "seconds, terminal or log)")
     return p
 
 
@@ -38,8 +41,8 @@ def run(args):
 
     from attneave.stimuli.batch.config import load_config
     from attneave.stimuli.batch.runner import BatchError, run_batch
-    from attneave.stimuli.io import disk_error_exit
     from attneave.stimuli.errors import InputError
+    from attneave.stimuli.io import disk_error_exit
 
     if args.workers < 1:
         raise InputError(f"--workers must be >= 1, got {args.workers}")
@@ -57,11 +60,14 @@ def run(args):
         print(f"attneave generate: warning: --workers {args.workers} is more than the {cpus} CPUs; "
               f"more processes than cores only compete (at most one per recipe call is started)",
               file=sys.stderr)
+    from attneave.stimuli.progress import Stages
+
     try:
-        with _one_line_warnings():
+        with _one_line_warnings(), Stages("generate", quiet=args.quiet, bar=False, total=batch.n_jobs) as stages:
+            stages.stage(f"{batch.n_jobs} recipe call(s)")
             res = run_batch(
                 batch, args.output, workers=args.workers, scheduler=args.scheduler, resume=args.resume,
-                force=args.force, progress=False if args.no_progress else None,
+                force=args.force, progress=False if args.no_progress or args.quiet else None, stages=stages,
             )
     except OSError as exc:
         # the disk, not the input: exit 1; every file in place is complete, the rerun completes the set

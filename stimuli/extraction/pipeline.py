@@ -123,7 +123,7 @@ def output_stems(images, objects="largest"):
     return [Path(i).stem for i in images]
 
 
-def extract_images(images, output, workers=1, progress=None, **options):
+def extract_images(images, output, workers=1, progress=None, stages=None, **options):
     """Extract, describe and write the outputs of every image; write ``summary.csv``.
 
     Parameters
@@ -136,6 +136,8 @@ def extract_images(images, output, workers=1, progress=None, **options):
         Processes to use (default 1); the files written do not depend on it.
     progress : bool or None
         Show a progress bar on stderr (None: only on a terminal).
+    stages : attneave.stimuli.progress.Stages, optional
+        Told of every finished image (its lines reach a log as well).
     **options
         Any of :data:`DEFAULTS` (the parameters of
         :func:`attneave.stimuli.extraction.extract` and :func:`attneave.stimuli.extraction.describe`).
@@ -205,6 +207,8 @@ def extract_images(images, output, workers=1, progress=None, **options):
             for i, task in enumerate(tasks):
                 rows[i] = process_one(*task)
                 bar.update()
+                if stages is not None:
+                    stages.advance()
         else:
             from concurrent.futures import as_completed
 
@@ -215,6 +219,8 @@ def extract_images(images, output, workers=1, progress=None, **options):
                 for fut in as_completed(futures):
                     rows[futures[fut]] = fut.result()
                     bar.update()
+                    if stages is not None:
+                        stages.advance()
     finally:
         bar.close()
     # per-object names left by an earlier run, unless an input of this run writes them

@@ -24,6 +24,8 @@ def add_parser(sub):
     p.add_argument("-o", "--output", required=True, metavar="DIR",
                    help="output directory (created with its parents if missing); existing files of the "
                         "same names are replaced and listed on stderr")
+    p.add_argument("--quiet", action="store_true",
+                   help="no progress on stderr (by default a run over ~2 s is a line there, terminal or log)")
     return p
 
 
@@ -35,7 +37,11 @@ def run(args):
 
     out = make_output_dir(args.output, what="-o")
     before = {p.name for p in out.iterdir() if p.is_file()}
-    written = make_figures(out)
+    from attneave.stimuli.progress import Stages
+
+    with Stages("figures", quiet=getattr(args, "quiet", False), bar=False) as stages:
+        stages.stage("drawing the figures")
+        written = make_figures(out)
     replaced = [p.name for p in written if p.name in before]
     for path in written:
         print(path)
