@@ -50,7 +50,7 @@ import numpy as np
 
 from attneave.analysis.models.choice import block_moments
 
-__all__ = ["CumulantTable", "fit_mixed"]
+__all__ = ["CumulantTable", "fit_mixed", "laplace_loglik"]
 
 _LOG_SD_BOUNDS = (-7.0, np.log(5.0))
 
@@ -299,6 +299,72 @@ def _logdet_gradient(table, cells, st, lam_b, lam_s):
     return out
 
 
+def _cells_of(Z, stimulus, participant, j):
+    """The cells (participant, stimulus) with clicks on stimuli whose prediction varies:
+    (cp, cs, ts, A, M, G, S) with units renumbered among those with clicks."""
+    stimulus = np.asarray(stimulus, dtype=np.int64)
+    participant = np.asarray(participant, dtype=np.int64)
+    j = np.asarray(j, dtype=np.int64)
+    live = np.any(Z != 0, axis=1)[stimulus]
+    stimulus, participant, j = stimulus[live], participant[live], j[live]
+    su, s_of = np.unique(stimulus, return_inverse=True)
+    _, p_of = np.unique(participant, return_inverse=True)
+    S, G = len(su), int(p_of.max()) + 1 if len(p_of) else 0
+    cells, inv = np.unique(p_of * max(S, 1) + s_of, return_inverse=True)
+    A = np.bincount(inv, weights=Z[stimulus, j]) if len(inv) else np.zeros(0)
+    M = np.bincount(inv).astype(float)
+    cp, cs = cells // max(S, 1), cells % max(S, 1)
+    return cp, cs, su[cs], A, M, G, S
+
+
+def laplace_loglik(Z, stimulus, participant, j, sd_participant, sd_stimulus, table=None):
+    """The Laplace log-likelihood that :func:`fit_mixed` maximises, and its analytic gradient.
+
+    Parameters
+    ----------
+    Z : (S, n) array_like
+    stimulus, participant, j : (U,) array_like of int
+        As in :func:`fit_mixed` (at least 2 participants and 2 stimuli).
+    sd_participant, sd_stimulus : float
+        The sds of the random slopes (> 0).
+    table : CumulantTable, optional
+
+    Returns
+    -------
+    loglik : float
+        Marginal log-likelihood of the two sds (beta integrated out with a
+        flat prior), by the Laplace approximation at the joint mode.
+    gradient : (2,) ndarray
+        Its derivatives in ``log sd_participant`` and ``log sd_stimulus``.
+    beta : float
+        The mean slope at the mode.
+    """
+    Z = np.asarray(Z, dtype=float)
+    cp, cs, ts, A, M, G, S = _cells_of(Z, stimulus, participant, j)
+    if G < 2 or S < 2:
+        raise ValueError("laplace_loglik needs clicks of at least 2 participants on 2 stimuli")
+    table = CumulantTable(Z) if table is None else table
+    cells = _Cells(cp, cs, ts, A, M, G, S)
+    value, grad, st = _objective(table, cells, np.log([sd_participant, sd_stimulus]),
+                                 np.zeros(cells.nb), np.zeros(cells.ns), 0.0)
+    return -value, -grad, float(st["beta"])
+
+
+def _objective(table, cells, theta, xb, xs, beta):
+    """Minus the Laplace log-likelihood of theta = (log sd_participant, log sd_stimulus), its
+    gradient, and the mode (started from xb, xs, beta)."""
+    lsp, lss = theta
+    lb, ls = (lsp, lss) if cells.big_is_participant else (lss, lsp)
+    lam_b, lam_s = np.exp(-2 * lb), np.exp(-2 * ls)
+    st = _mode(table, cells, lam_b, lam_s, xb, xs, beta)
+    value = -(st["f"] - cells.nb * lb - cells.ns * ls - 0.5 * st["logdet"])
+    d_b, d_s = _logdet_gradient(table, cells, st, lam_b, lam_s)
+    # envelope theorem: at the mode only the explicit dependence on the sds counts
+    g_b = -(lam_b * (st["xb"] @ st["xb"]) - cells.nb - 0.5 * d_b)
+    g_s = -(lam_s * (st["xs"] @ st["xs"]) - cells.ns - 0.5 * d_s)
+    return value, np.array([g_b, g_s] if cells.big_is_participant else [g_s, g_b]), st
+
+
 def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None, start=None):
     """Fit the mixed conditional logit with crossed random slopes (Laplace approximation).
 
@@ -353,21 +419,13 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
 
     if len(stimulus) == 0:
         return refuse("no used click on a stimulus whose prediction varies")
-    # renumber the units that have clicks
-    su, s_of = np.unique(stimulus, return_inverse=True)
-    pu, p_of = np.unique(participant, return_inverse=True)
-    S, G = len(su), len(pu)
+    cp, cs, ts, A, M, G, S = _cells_of(Z, stimulus, participant, j)  # units renumbered among those with clicks
     out.update(n_participants=G, n_stimuli=S)
     if G < 2 or S < 2:
         unit, units, k = ("participant", "participants'", G) if G < 2 else ("stimulus", "stimuli's", S)
         return refuse(f"only {k} {unit} with usable clicks, so the {units} random slopes cannot be told apart "
                       "from the mean slope (it needs at least 2 participants and 2 stimuli); see the pooled fit")
     table = CumulantTable(Z) if table is None else table
-    cells, inv = np.unique(p_of * S + s_of, return_inverse=True)
-    A = np.bincount(inv, weights=Z[stimulus, j])
-    M = np.bincount(inv).astype(float)
-    cp, cs = cells // S, cells % S
-    ts = su[cs]
     # near-separation: if the likelihood of a common slope still rises at the edge of the table (or
     # falls at its other edge) the mode lies beyond it (or at infinity) and the curvature vanishes there
     B = table.bound
@@ -384,21 +442,10 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
     state = dict(xb=np.zeros(cells.nb), xs=np.zeros(cells.ns), beta=b0, var=np.nan)
 
     def objective(theta):
-        """Minus the Laplace log-likelihood of the two log sds and its gradient; the modes
-        warm-start the next call."""
-        lsp, lss = theta
-        lb, ls = (lsp, lss) if cells.big_is_participant else (lss, lsp)
-        lam_b, lam_s = np.exp(-2 * lb), np.exp(-2 * ls)
-        st = _mode(table, cells, lam_b, lam_s, state["xb"], state["xs"], state["beta"])
-        xb, xs, beta = st["xb"], st["xs"], st["beta"]
-        if np.isfinite(xb).all() and np.isfinite(xs).all() and np.isfinite(beta):
-            state.update(xb=xb, xs=xs, beta=beta, var=st["var_beta"])
-        value = -(st["f"] - cells.nb * lb - cells.ns * ls - 0.5 * st["logdet"])
-        d_b, d_s = _logdet_gradient(table, cells, st, lam_b, lam_s)
-        # envelope theorem: at the mode only the explicit dependence on the sds counts
-        g_b = -(lam_b * (xb @ xb) - cells.nb - 0.5 * d_b)
-        g_s = -(lam_s * (xs @ xs) - cells.ns - 0.5 * d_s)
-        grad = np.array([g_b, g_s] if cells.big_is_participant else [g_s, g_b])
+        """_objective, the modes warm-starting the next call."""
+        value, grad, st = _objective(table, cells, theta, state["xb"], state["xs"], state["beta"])
+        if np.isfinite(st["xb"]).all() and np.isfinite(st["xs"]).all() and np.isfinite(st["beta"]):
+            state.update(xb=st["xb"], xs=st["xs"], beta=st["beta"], var=st["var_beta"])
         return value, grad
 
     try:
