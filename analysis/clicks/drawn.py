@@ -175,32 +175,37 @@ def drawn_parts(stimset):
     return out
 
 
-def _segment_distance(xy, line):
-    """Distance from each of `xy` (M, 2) to the polyline `line` (K, 2)."""
-    a, b = line[:-1], line[1:]
-    ab = b - a
-    len2 = np.maximum((ab ** 2).sum(axis=1), 1e-300)
-    best = np.full(len(xy), np.inf)
-    for start in range(0, len(a), 256):  # bounded memory: M x 256 segments at a time
-        aa, vv, ll = a[start:start + 256], ab[start:start + 256], len2[start:start + 256]
-        rel = xy[:, None, :] - aa[None]
-        u = np.clip((rel * vv[None]).sum(axis=2) / ll[None], 0.0, 1.0)
-        d = np.hypot(*(rel - u[..., None] * vv[None]).transpose(2, 0, 1))
-        best = np.minimum(best, d.min(axis=1))
-    return best
+#: Spacing (px) of the points that stand for a drawn line when distances are measured.
+STEP = 0.2
 
 
-def distance_to_drawn(parts, xy):
+def _dense(polylines, step=STEP):
+    """The polylines as points at most `step` px apart, both ends of every segment included."""
+    out = []
+    for line in polylines:
+        a, b = line[:-1], line[1:]
+        k = np.maximum(1, np.ceil(np.hypot(*(b - a).T) / step)).astype(int)
+        f = np.concatenate([np.arange(m) / m for m in k])
+        i = np.repeat(np.arange(len(a)), k)
+        out += [a[i] + f[:, None] * (b - a)[i], line[-1:]]
+    return np.vstack(out)
+
+
+def distance_to_drawn(parts, xy, upto=None):
     """Distance (px) from each click `xy` (M, 2) to the nearest drawn part's edge (0 on it).
 
     A dot counts from its rim, a line from its centre line less half its
-    width.
+    width. Lines are measured through points :data:`STEP` px apart along
+    them (a k-d tree), so a distance is at most 0.1 px too long. With
+    `upto`, distances beyond it are not searched for and come back as inf
+    (fast on clicks far from everything).
     """
+    from scipy.spatial import cKDTree
+
     xy = np.asarray(xy, float).reshape(-1, 2)
-    if parts.mode == "dots":
-        d = np.hypot(xy[:, None, 0] - parts.points[None, :, 0], xy[:, None, 1] - parts.points[None, :, 1]).min(axis=1)
-    else:
-        d = np.min([_segment_distance(xy, line) for line in parts.polylines if len(line) >= 2], axis=0)
+    pts = parts.points if parts.mode == "dots" else _dense([p for p in parts.polylines if len(p) >= 2])
+    bound = np.inf if upto is None else float(upto) + parts.radius + STEP
+    d = cKDTree(pts).query(xy, distance_upper_bound=bound)[0]
     return np.maximum(d - parts.radius, 0.0)
 
 

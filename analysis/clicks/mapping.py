@@ -372,7 +372,7 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
         if pr.drawn is not None:
             from attneave.analysis.clicks.drawn import distance_to_drawn
 
-            r[(r == "") & (distance_to_drawn(pr.drawn, np.column_stack([xi, yi])) > tol)] = "off_drawn_part"
+            r[(r == "") & (distance_to_drawn(pr.drawn, np.column_stack([xi, yi]), upto=tol) > tol)] = "off_drawn_part"
         reason[rows] = r
     for k, v in cols.items():
         df[k] = v
