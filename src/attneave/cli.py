@@ -221,9 +221,9 @@ def _interrupted(command, stopper, exc):
 
 
 def _run(args, stopper):
-    from attneave.analysis.argnames import cli_names
-
     try:
+        from attneave.analysis.argnames import cli_names  # imports numpy: a signal may land there
+
         with cli_names():  # library messages name the flags, not the Python parameters
             status = args.func(args)
     except InputError as exc:
