@@ -275,7 +275,7 @@ def _method(s, p, drawn):
         f"stimuli (Clark, 1973). The portable effect size is the share of clicks on the top "
         f"{100 * s['effect']['fraction']:.0f}% of points.",
         (f"Rival predictors, each fitted alone and compared by AIC (Akaike, 1974): {esc_(', '.join(rivals))}"
-         + ("; concavity is the minima rule of Hoffman and Richards (1984). " if "concavity" in s.get("models", {})
+         + ("; the minima rule is that of Hoffman and Richards (1984). " if "concavity" in s.get("models", {})
             else ". ") if rivals else "")
         + "The von Mises form of surprisal is not a rival: standardised, it equals the paper's form."
         + (f" Left out as identical to another predictor: {esc_(left_out)}." if left_out else ""),
