@@ -275,7 +275,8 @@ def test_rebuild_replaces_a_previous_experiment_but_not_user_files(stimset, tmp_
     (["--practice", "7"], "practice: 7 practice stimuli would leave no main trials"),
     (["--conditions", "peeks"], "conditions[0]: no stimulus of"),
     (["--lists", "1", "--clicks", "x"], "--clicks: expected a whole number"),
-    (["--psychopy", "--size-px", "300"], "psychopy_units: 'deg' needs size_deg"),
+    (["--psychopy", "--monitor", "lab", "--size-px", "300"], "psychopy_units: 'deg' needs size_deg"),
+    (["--psychopy", "--psychopy-units", "deg"], "--psychopy-units: 'deg' needs --monitor NAME"),
 ])
 def test_cli_errors_are_one_line_and_write_nothing(stimset, tmp_path, capsys, args, message):
     out = tmp_path / "exp"
@@ -321,7 +322,8 @@ def _load_script(path):
 
 def test_psychopy_export(stimset, tmp_path):
     out = tmp_path / "exp"
-    assert _build(stimset, out, "--psychopy", "--lists", "2", "--size-deg", "8", "--practice", "1") == 0
+    assert _build(stimset, out, "--psychopy", "--lists", "2", "--size-deg", "8", "--practice", "1",
+                  "--monitor", "lab") == 0
     cond = pd.read_csv(out / "psychopy" / "conditions.csv", dtype=str, keep_default_na=False)
     assert list(cond.columns) == ["image", "stimulus_id", "condition", "parent_id", "lists", "practice", "width_px",
                                   "height_px", "size_w", "size_h", "units"]
@@ -334,14 +336,14 @@ def test_psychopy_export(stimset, tmp_path):
     # a_peaks is practice, so a_troughs is alone in its item: every list; in the main trials
     # 'troughs' now appears first (rank 0), so b_troughs opens list 1 and c alternates
     lists = dict(zip(cond.stimulus_id, cond.lists))
-    assert lists == {"a_peaks": "1;2", "a_troughs": "1;2", "b_peaks": "2", "b_troughs": "1", "c_peaks": "1",
-                     "c_troughs": "2", "filler": "1;2"}
+    assert lists == {"a_peaks": "1;2;", "a_troughs": "1;2;", "b_peaks": "2;", "b_troughs": "1;", "c_peaks": "1;",
+                     "c_troughs": "2;", "filler": "1;2;"}
 
     script = out / "psychopy" / "attneave_task.py"
     py_compile.compile(str(script), doraise=True)
     text = script.read_text()
     for needle in ("visual.Window(", "visual.ImageStim(", "event.Mouse(", "csv.DictWriter", "'units': 'deg'",
-                   "VIEWING_DISTANCE_CM = 57.0"):
+                   "VIEWING_DISTANCE_CM = 57.0", "MONITOR = 'lab'"):
         assert needle in text
     mod = _load_script(script)
     assert mod.COLUMNS[:7] == ["participant", "stimulus_id", "x", "y", "click", "trial", "rt_ms"]

@@ -47,8 +47,14 @@ def add_parser(sub):
     _flag(p, "viewing-distance-cm", type=float, metavar="CM", help="viewing distance (default 57)")
     _flag(p, "background", metavar="auto|#rrggbb|G", help="page colour (default auto: the images' ground)")
     _flag(p, "submit-url", metavar="URL", help="POST the data as JSON {participant, rows, csv} at the end")
-    p.add_argument("--psychopy", action="store_true", help="also write DIR/psychopy/ (conditions.csv, attneave_task.py)")
-    _flag(p, "psychopy-units", choices=("deg", "pix", "height"), help="units of the PsychoPy export (default deg)")
+    p.add_argument("--psychopy", action="store_true",
+                   help="also write DIR/psychopy/: a PsychoPy Builder experiment (attneave_task.psyexp, which "
+                        "PsychoPy compiles for Pavlovia too), a Coder script (attneave_task.py), conditions.csv "
+                        "and images/")
+    _flag(p, "psychopy-units", choices=("deg", "pix", "height"),
+          help="units of the PsychoPy exports (default: deg with --monitor, else height)")
+    _flag(p, "monitor", metavar="NAME", help="with --psychopy: a monitor of PsychoPy's Monitor Center, by name "
+          "(default testMonitor); its width, distance and resolution give the 'deg' units")
     p.add_argument("--force", action="store_true",
                    help="DIR exists with other content: move it aside to DIR.old-N (nothing is deleted)")
     return p
@@ -56,23 +62,24 @@ def add_parser(sub):
 
 _SETTINGS = ("title", "instructions", "end_text", "practice", "clicks", "min_clicks", "max_clicks", "undo", "order",
              "seed", "conditions", "lists", "fixation_ms", "iti_ms", "break_every", "size_deg", "size_px",
-             "px_per_deg", "viewing_distance_cm", "background", "submit_url", "psychopy_units")
+             "px_per_deg", "viewing_distance_cm", "background", "submit_url", "psychopy_units", "monitor")
 
 
 def run(args):
     from attneave.analysis.experiment.build import build_experiment
     from attneave.analysis.experiment.options import load_options
-    from attneave.stimuli.stimulus_set import read_stimulus_set
-
     from attneave.stimuli.errors import InputError
     from attneave.stimuli.io import check_output_spares_inputs
+    from attneave.stimuli.stimulus_set import read_stimulus_set
 
     check_output_spares_inputs(args.output, [args.stimuli, args.config])
     options = load_options(args.config, {k: getattr(args, k) for k in _SETTINGS})
     # the flag asks for the export; a config's key is a setting kept for when it is made (the shipped
     # configs/experiment.yaml has one and serves runs with and without --psychopy)
-    if not args.psychopy and args.psychopy_units is not None:
-        raise InputError("--psychopy-units: applies only to the PsychoPy export; add --psychopy (or leave it out)")
+    for flag in ("psychopy_units", "monitor"):
+        if not args.psychopy and getattr(args, flag) is not None:
+            raise InputError(f"--{flag.replace('_', '-')}: applies only to the PsychoPy export; add --psychopy "
+                             "(or leave it out)")
     stimset = read_stimulus_set(args.stimuli)
     res = build_experiment(stimset, args.output, options, psychopy=args.psychopy, force=args.force)
     if res["moved_aside"] is not None:

@@ -125,8 +125,12 @@ class ExperimentOptions(BaseModel):
         pixels), ``'#rrggbb'``, or a grey level in [0, 1].
     submit_url : str, optional
         POST the data here at the end (JSON ``{participant, rows, csv}``).
-    psychopy_units : {'deg', 'pix', 'height'}
-        Units of the PsychoPy export.
+    psychopy_units : {'deg', 'pix', 'height'}, optional
+        Units of the PsychoPy exports (default: 'deg' with `monitor`, else
+        'height'; see :mod:`attneave.analysis.experiment.psyexp`).
+    monitor : str, optional
+        A monitor of PsychoPy's Monitor Center, by name, for the PsychoPy
+        exports (default: PsychoPy's ``testMonitor``).
     """
 
     model_config = ConfigDict(extra="forbid", validate_assignment=False)
@@ -154,7 +158,8 @@ class ExperimentOptions(BaseModel):
     viewing_distance_cm: float = Field(default=57.0, gt=0)
     background: Union[str, float] = "auto"
     submit_url: Optional[str] = None
-    psychopy_units: Literal["deg", "pix", "height"] = "deg"
+    psychopy_units: Optional[Literal["deg", "pix", "height"]] = None
+    monitor: Optional[str] = Field(default=None, pattern=r"^[A-Za-z0-9_][A-Za-z0-9_ .-]{0,63}$")
 
     @field_validator("practice", mode="before")
     @classmethod

@@ -1,20 +1,25 @@
-"""The PsychoPy export: the same task for a lab, in PsychoPy Coder.
+"""The PsychoPy exports: the same task for a lab, in PsychoPy Builder and Coder.
 
-``DIR/psychopy/conditions.csv`` lists the stimuli (image path relative to the
-script, size in the chosen units, condition, lists) and
-``DIR/psychopy/attneave_task.py`` runs the task of the browser page with
-``visual.Window``, ``visual.ImageStim`` and ``event.Mouse`` and writes the
-page's CSV columns, with clicks converted from window units (origin at the
-window centre, y up) to the image's pixels (y down, pixel centres at
-integers), so that ``attneave analyze`` reads its files as it does the
-page's. PsychoPy is not a dependency of attneave.
+``DIR/psychopy/`` is a complete PsychoPy project (upload it as it is to
+Pavlovia): ``conditions.csv`` lists the stimuli (image path relative to the
+folder, size in the chosen units, and ``width_px, height_px``, which convert
+window units back to image pixels), ``images/`` holds copies of the images,
+``attneave_task.psyexp`` is the Builder experiment
+(:mod:`attneave.analysis.experiment.psyexp`; Builder compiles it to Python and
+to PsychoJS) and ``attneave_task.py`` the Coder script, which runs the same
+task with ``visual.Window``, ``visual.ImageStim`` and ``event.Mouse`` and
+writes the browser page's CSV columns, with clicks in the image's pixels
+(y down, pixel centres at integers). ``attneave analyze`` reads the data of
+both. PsychoPy is not a dependency of attneave.
 
-Sizes by ``psychopy_units``:
+Units (:func:`attneave.analysis.experiment.psychopy_text.psychopy_units`):
+'deg' when a monitor of PsychoPy's Monitor Center is named (``monitor``),
+otherwise 'height'; ``psychopy_units`` chooses:
 
 ``deg``
-    ``size_deg`` for the larger side of the largest image (PsychoPy's
-    ``'deg'`` units, the same linear scale as the page; set the monitor's
-    width and distance at the top of the script).
+    ``size_deg`` for the larger side of the largest image (the same linear
+    scale as the page), converted to pixels with the named monitor's width,
+    distance and resolution.
 ``pix``
     ``size_px`` for the larger side of the largest image, or the image's own
     pixels when only ``size_deg`` was given.
@@ -31,11 +36,19 @@ from __future__ import annotations
 
 import csv
 import pprint
+import shutil
 from importlib import resources
 from pathlib import Path
 
 from attneave.analysis.experiment.build import fill_template
-from attneave.stimuli.errors import InputError
+from attneave.analysis.experiment.psychopy_text import (
+    DEFAULT_MONITOR,
+    TEXT_HEIGHT,
+    WRAP_WIDTH,
+    psychopy_instructions,
+    psychopy_units,
+)
+from attneave.analysis.experiment.psyexp import write_psyexp
 from attneave.stimuli.io import atomic_write
 
 __all__ = ["conditions_rows", "script_text", "write_psychopy", "HEIGHT_FRACTION"]
@@ -48,10 +61,8 @@ CONDITION_COLUMNS = ("image", "stimulus_id", "condition", "parent_id", "lists", 
 
 def _unit_scale(options, max_side):
     """Window units per image pixel."""
-    u = options.psychopy_units
+    u = psychopy_units(options)
     if u == "deg":
-        if options.size_deg is None:
-            raise InputError("psychopy_units: 'deg' needs size_deg (size_px was given); use psychopy_units: pix")
         return options.size_deg / max_side
     if u == "pix":
         return (options.size_px / max_side) if options.size_px is not None else 1.0
@@ -70,17 +81,21 @@ def conditions_rows(options, practice, main):
     -------
     list of dict
         Keys `CONDITION_COLUMNS`; ``image`` is relative to the psychopy
-        directory (``../images/<id>.png``), ``lists`` the 1-based lists
-        joined by ``;``, ``size_w, size_h`` in ``options.psychopy_units``.
+        directory (``images/<id>.png``, a copy there), ``lists`` the 1-based
+        lists, each followed by ``;`` (``2;``, never a number: PsychoPy's
+        ``importConditions`` turns a text cell that reads as a number into
+        one, and fails on a text column holding both under pandas 3), ``size_w, size_h`` in the units
+        (:func:`attneave.analysis.experiment.psychopy_text.psychopy_units`).
     """
     every = list(practice) + list(main)
     k = _unit_scale(options, max(max(s.width, s.height) for s in every))
+    units = psychopy_units(options)
     rows = []
     for s, is_practice in [(s, True) for s in practice] + [(s, False) for s in main]:
-        rows.append(dict(image=f"../{s.src}", stimulus_id=s.id, condition=s.condition, parent_id=s.parent_id,
-                         lists=";".join(str(v) for v in s.lists), practice=int(is_practice), width_px=s.width,
+        rows.append(dict(image=s.src, stimulus_id=s.id, condition=s.condition, parent_id=s.parent_id,
+                         lists="".join(f"{v};" for v in s.lists), practice=int(is_practice), width_px=s.width,
                          height_px=s.height, size_w=f"{s.width * k:.10g}", size_h=f"{s.height * k:.10g}",
-                         units=options.psychopy_units))
+                         units=units))
     return rows
 
 
@@ -99,25 +114,25 @@ def script_text(options, config):
         Python source (compiles without PsychoPy; PsychoPy is imported in
         ``main()`` only).
     """
+    units = psychopy_units(options)
     settings = dict(
-        title=config["title"], instructions=config["instructions"], end_text=config["end_text"],
-        units=options.psychopy_units, min_clicks=config["min_clicks"], max_clicks=config["max_clicks"],
+        title=config["title"], instructions=psychopy_instructions(options, config), end_text=config["end_text"],
+        units=units, min_clicks=config["min_clicks"], max_clicks=config["max_clicks"],
         undo=config["undo"], order=config["order"], seed=config["seed"], lists=config["lists"],
         fixation_ms=config["fixation_ms"], iti_ms=config["iti_ms"], break_every=config["break_every"],
         background=config["background"],
     )
-    text_height = {"deg": "0.8", "pix": "24", "height": "0.035"}[options.psychopy_units]
-    wrap = {"deg": "30", "pix": "1000", "height": "1.2"}[options.psychopy_units]
     template = resources.files("attneave.analysis.experiment").joinpath("static", "attneave_task.py.in").read_text("utf-8")
     # one pass: a placeholder's name in the title or instructions stays text
     return fill_template(template, {
         "__SETTINGS__": pprint.pformat(settings, indent=4, width=100, sort_dicts=False),
-        "__DISTANCE__": repr(float(options.viewing_distance_cm)), "__TEXT_HEIGHT__": text_height,
-        "__WRAP_WIDTH__": wrap})
+        "__MONITOR__": repr(options.monitor or DEFAULT_MONITOR),
+        "__DISTANCE__": repr(float(options.viewing_distance_cm)), "__TEXT_HEIGHT__": TEXT_HEIGHT[units],
+        "__WRAP_WIDTH__": WRAP_WIDTH[units]})
 
 
 def write_psychopy(directory, options, practice, main, config):
-    """Write ``conditions.csv`` and ``attneave_task.py`` into `directory` (created).
+    """Write the PsychoPy project into `directory` (created).
 
     Parameters
     ----------
@@ -130,17 +145,26 @@ def write_psychopy(directory, options, practice, main, config):
     Returns
     -------
     list of Path
-        The files written.
+        The files written: ``conditions.csv``, ``attneave_task.py``,
+        ``attneave_task.psyexp`` and the images under ``images/``.
     """
     directory = Path(directory)
-    directory.mkdir(parents=True, exist_ok=True)
+    (directory / "images").mkdir(parents=True, exist_ok=True)
     rows = conditions_rows(options, practice, main)
     cpath = directory / "conditions.csv"
     with atomic_write(cpath, "w", newline="", encoding="utf-8") as fh:
         w = csv.DictWriter(fh, fieldnames=CONDITION_COLUMNS, lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
+    # Builder and Pavlovia take a project's files from inside its folder only
+    images = []
+    for s in list(practice) + list(main):
+        images.append(directory / s.src)
+        shutil.copyfile(s.source, images[-1])
     spath = directory / "attneave_task.py"
     with atomic_write(spath, "w", encoding="utf-8") as fh:
         fh.write(script_text(options, config))
-    return [cpath, spath]
+    # a click's mark: 1/80 of the largest image's width, as the Coder script draws it
+    radius = max(float(r["size_w"]) for r in rows) / 80.0
+    xpath = write_psyexp(directory / "attneave_task.psyexp", options, config, bool(practice), radius)
+    return [cpath, spath, xpath, *images]
