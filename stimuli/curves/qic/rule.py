@@ -167,6 +167,8 @@ __all__ = [
     "SHARP_BULGE",
     "EXCESS_BULGE",
     "MAX_EXCESS",
+    "BULGE_TURN",
+    "bulge_scale",
     "FOLD_MARGIN",
     "MAX_RUN",
     "reference_deviation",
@@ -203,6 +205,9 @@ SHARP_BULGE = 0.35
 #: its end nodes' turns plus MAX_EXCESS (radians).
 EXCESS_BULGE = 0.25
 MAX_EXCESS = 0.75
+#: Steps 3d-e's bulge limits grow with the polygon's mean turn per node
+#: above this (radians): None, never.
+BULGE_TURN = None
 #: At a G0 corner the curve may turn by at most pi - FOLD_MARGIN (radians).
 FOLD_MARGIN = 0.05
 #: A run of consecutive bad segments gets one relaxation per stretch of at
@@ -269,6 +274,14 @@ def sharp_nodes(turns, corner_turn=CORNER_TURN):
     return (turns > corner_turn) | isolated
 
 
+def bulge_scale(turns):
+    """Factor on steps 3d-e's bulge limits: the polygon's mean turn per
+    node over :data:`BULGE_TURN`, at least 1 (1 where BULGE_TURN is None)."""
+    if BULGE_TURN is None:
+        return 1.0
+    return max(1.0, float(np.add.reduce(turns)) / (len(turns) * BULGE_TURN))
+
+
 def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_turn=CORNER_TURN, g0=()):
     """Indices (into the segment arrays) of the segments the rule repairs
     (step 3 of the module notes).
@@ -302,14 +315,15 @@ def bad_segments(seg, curve, ref_dev, bulge=None, folded=(), turns=None, corner_
     limit = np.maximum(MAX_CHORD_ANGLE, ref_dev[start] + CHORD_MARGIN)
     bad = (turn > np.pi) | (seg["chord_dev"] > limit)
     # steps 3d-e only for segments that bulge enough to fail one of them (few, on smooth curves none)
-    big = None if bulge is None else np.flatnonzero(bulge > min(SHARP_BULGE, EXCESS_BULGE))
+    scale = 1.0 if bulge is None else bulge_scale(turns)
+    big = None if bulge is None else np.flatnonzero(bulge > scale * min(SHARP_BULGE, EXCESS_BULGE))
     if big is not None and big.size:
         a, b = start[big], (start[big] + 1) % len(turns)
         sharp = sharp_nodes(turns, corner_turn)
         if g0:
             sharp[list(g0)] = False
-        bad[big] |= (bulge[big] > SHARP_BULGE) & (sharp[a] | sharp[b])
-        bad[big] |= (bulge[big] > EXCESS_BULGE) & (turn[big] - 0.5 * (turns[a] + turns[b]) > MAX_EXCESS)
+        bad[big] |= (bulge[big] > scale * SHARP_BULGE) & (sharp[a] | sharp[b])
+        bad[big] |= (bulge[big] > scale * EXCESS_BULGE) & (turn[big] - 0.5 * (turns[a] + turns[b]) > MAX_EXCESS)
     for e in folded:
         bad[(start == e) | ((start + 1) % len(ref_dev) == e)] = True
     if curve is not None:
