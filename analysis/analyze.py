@@ -319,6 +319,9 @@ def _analyze(clicks, stimset, predictions, run, skipped, bar, coords, scale, tol
     summary["models_note"] = ("the von Mises form of surprisal is not a rival: after standardisation it equals the "
                               "paper's form; models.csv lists only predictors whose z differ")
     summary["models_run"] = sorted(run - set(skipped))
+    from attneave.analysis.clicks.drawn import drawn_summary  # fragments, dots, cat: what was shown
+
+    summary["drawn_parts"] = drawn_summary(predictions, mapped)
     summary["models_skipped"] = dict(sorted(skipped.items()))
     if "mixed" in run:
         bar.stage("mixed model")

@@ -91,7 +91,7 @@ def test_the_gaps_of_fragment_and_dot_stimuli_are_larger_than_the_tolerance(guid
 def test_clicks_on_drawn_parts_only_are_all_used(guided):
     s, clicks, _ = _analyze(guided, _on_drawn(guided, np.random.default_rng(0)), "on")
     assert s["n_excluded"] == 0 and s["n_used"] == s["n_clicks"] == 4 * 5 * 5
-    assert s["exclusions"]["off_drawn_part"] == 0
+    assert s["exclusions"]["off_drawn_part"] == 0 and s["drawn_parts"]["n_stimuli"] == 4
 
 
 def test_clicks_in_the_gaps_are_excluded_and_counted_on_their_own(guided):
@@ -108,6 +108,8 @@ def test_clicks_in_the_gaps_are_excluded_and_counted_on_their_own(guided):
     total = sum(n_gap.values())
     assert total == 4 * 2 * 3  # peaks, troughs, dots and the cat have gaps; the whole outline has none
     assert s["exclusions"]["off_drawn_part"] == total
+    assert s["drawn_parts"]["off_drawn_part"] == total and s["drawn_parts"]["choice_set"] == "whole contour"
+    assert s["drawn_parts"]["by_mode"] == {"dots": 1, "fragments": 2, "polygon": 1}
     assert s["n_used"] == 4 * 5 * 5 and s["n_excluded"] == total
     # each gap click is named in clicks.csv, on the stimulus it was made on
     off = clicks[clicks["reason"] == "off_drawn_part"]

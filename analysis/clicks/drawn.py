@@ -57,7 +57,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["MODES", "DrawnParts", "drawn_parts", "distance_to_drawn", "describe"]
+__all__ = ["MODES", "DrawnParts", "drawn_parts", "distance_to_drawn", "describe", "drawn_summary"]
 
 #: Ways a stimulus may have been drawn other than as its whole outline.
 MODES = ("fragments", "dots", "polygon")
@@ -217,3 +217,24 @@ def describe(parts):
     if parts.mode == "dots":
         return f"{k} dot{'s' if k != 1 else ''}"
     return f"a polygon of {k} corners"
+
+
+def drawn_summary(predictions, mapped):
+    """The ``drawn_parts`` block of summary.json: which stimuli showed part of their contour, and the decision.
+
+    Returns None when every stimulus was drawn whole. Otherwise ``n_stimuli``,
+    ``by_mode`` (e.g. ``{"fragments": 2, "dots": 1}``), ``off_drawn_part``
+    (clicks excluded for lying far from every drawn part) and
+    ``choice_set`` (``'whole contour'``, with the reason in ``note``).
+    """
+    shown = {k: pr.drawn for k, pr in predictions.items() if getattr(pr, "drawn", None) is not None}
+    if not shown:
+        return None
+    modes = {}
+    for d in shown.values():
+        modes[d.mode] = modes.get(d.mode, 0) + 1
+    return dict(n_stimuli=len(shown), by_mode=dict(sorted(modes.items())),
+                off_drawn_part=int((mapped["reason"] == "off_drawn_part").sum()), choice_set="whole contour",
+                note="clicks far from every drawn part are excluded (off_drawn_part); the choice set stays the n "
+                     "points of the whole contour, so on partial stimuli compare conditions (peaks against "
+                     "troughs), not each against uniform clicking; see attneave.analysis.clicks.drawn")
