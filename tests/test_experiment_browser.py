@@ -31,7 +31,8 @@ from attneave.cli import main
 
 
 def test_desktop_clicks_become_image_pixels_and_analyze_reads_them(browser, setup, tmp_path):
-    participant = 'P,01 "x"'   # a comma and quotes: the CSV must quote them
+    participant = "P.01-x@lab"  # the page takes ids of letters, digits and _ . @ - only; the user agent's
+    # commas and spaces still need the CSV's quoting
     page = browser.new_page(viewport={"width": 1280, "height": 800})
     page.goto(page_url(setup["exp"], participant=participant))
     assert page.get_attribute("#screen", "data-screen") == "instructions"  # px_per_deg fixed: no calibration
