@@ -43,6 +43,8 @@ under 60 s and 2 GB.
 Usage:
 ``python benchmarks/bench_analysis.py [--participants 100] [--stimuli 100] [--clicks 10] [--repeats 3]``
 ``python benchmarks/bench_analysis.py --million [--repeats 3]``
+``python benchmarks/bench_analysis.py --scale [--repeats 3] [--scale-dir DIR] [--only 100,20000]``
+(see ``bench_scale.py``: 100 to 20,000 stimuli, the 1,000,000-click headline, ``-n 100000``)
 """
 
 from __future__ import annotations
@@ -64,14 +66,15 @@ from pathlib import Path
 import numpy as np
 import scipy.stats
 
-from _machine import header, load
-from attneave.cli import main as cli_main
-from attneave.analysis.clicks.read import read_clicks
-from attneave.analysis.clicks.mapping import predict
-from attneave.analysis.simulate.observers import simulate
 from attneave.analysis.analyze import analyze
+from attneave.analysis.clicks.mapping import predict
+from attneave.analysis.clicks.read import read_clicks
+from attneave.analysis.simulate.observers import simulate
+from attneave.cli import main as cli_main
 from attneave.stimuli.stimulus_set import read_stimulus_set, write_stimulus_set
 from attneave.stimuli.tables import write_table
+
+from _machine import header, load
 
 
 def make_shapes(count, rng):
@@ -181,9 +184,18 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--million", action="store_true", help="the 1,000,000-click run of the command (issue 11)")
+    ap.add_argument("--scale", action="store_true",
+                    help="analyze() from 100 to 20,000 stimuli and 1,000,000 clicks: time and peak RSS (issue 25)")
+    ap.add_argument("--scale-dir", default=None, help="keep (and reuse) the --scale data here")
+    ap.add_argument("--only", type=lambda v: [int(x) for x in v.split(",")], default=None,
+                    help="--scale: only the cases of these numbers of stimuli, e.g. 100,20000")
     args = ap.parse_args(argv)
     if args.million:
         return million(args)
+    if args.scale:
+        from bench_scale import scale
+
+        return scale(args, header, load)
     header("bench_analysis: analyze() against its bare-numpy anchor")
     n, grid = 100, 1024
     rng = np.random.default_rng(args.seed)

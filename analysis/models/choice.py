@@ -112,19 +112,24 @@ def block_moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
     rows = np.arange(len(beta)) if rows is None else np.asarray(rows)
     P = len(rows)
     lse, E, V = np.empty(P), np.empty(P), np.empty(P)
+    # the largest beta * z of a row is beta times the row's max (beta >= 0) or min: no pass for it
+    zmax, zmin = (Z.max(axis=1), Z.min(axis=1)) if Z.shape[1] else (np.zeros(len(Z)), np.zeros(len(Z)))
     step = max(1, block // max(Z.shape[1], 1))
     for a in range(0, P, step):
         sl = slice(a, min(a + step, P))
-        Zb = Z[rows[sl]]
-        x = beta[sl, None] * Zb
-        mx = x.max(axis=1, keepdims=True)
-        w = np.exp(x - mx, out=x)
+        r, b = rows[sl], beta[sl]
+        Zb = Z[r]
+        mx = np.where(b >= 0, b * zmax[r], b * zmin[r])
+        x = Zb * b[:, None]
+        x -= mx[:, None]
+        w = np.exp(x, out=x)
         sw = w.sum(axis=1)
         e = np.einsum("pn,pn->p", w, Zb) / sw
-        e2 = np.einsum("pn,pn,pn->p", w, Zb, Zb) / sw
-        lse[sl] = np.log(sw) + mx[:, 0]
+        w *= Zb
+        w *= Zb
+        lse[sl] = np.log(sw) + mx
         E[sl] = e
-        V[sl] = np.maximum(e2 - e * e, 0.0)
+        V[sl] = np.maximum(w.sum(axis=1) / sw - e * e, 0.0)
     return lse, E, V
 
 
