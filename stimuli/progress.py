@@ -81,10 +81,13 @@ class Stages:
             return
         with self.lock:
             msg = f"attneave {self.command}: {text}"
-            if self.bar is not None:
-                self.bar.write(msg, file=self.file)
-            else:
-                print(msg, file=self.file, flush=True)
+            try:
+                if self.bar is not None:
+                    self.bar.write(msg, file=self.file)
+                else:
+                    print(msg, file=self.file, flush=True)
+            except (ValueError, OSError):  # stderr closed under a stage that outlived its command
+                pass
 
     def _elapsed(self):
         return time.perf_counter() - self.t0

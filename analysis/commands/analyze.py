@@ -98,18 +98,17 @@ def run(args):
     check_output_dir(args.output, args.force, (*args.clicks, args.stimuli))
     from attneave.stimuli.progress import Stages
 
-    reading = Stages("analyze", quiet=args.quiet, bar=False)
-    reading.stage("reading clicks")
-    clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
-    window, coords = parse_window_size(args.window_size), args.coords
-    if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
-        clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
-    elif window is not None:
-        raise InputError(f"--window-size is for --coords {' or '.join(WINDOW_UNITS)}, not --coords {coords}")
-    reading.stage("reading the stimulus set")
-    stimset = read_stimulus_set(args.stimuli)
-    clicks = resolve_stimulus_ids(clicks, stimset)
-    reading.close()
+    with Stages("analyze", quiet=args.quiet, bar=False) as reading:  # the timer ends with an error too
+        reading.stage("reading clicks")
+        clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
+        window, coords = parse_window_size(args.window_size), args.coords
+        if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
+            clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
+        elif window is not None:
+            raise InputError(f"--window-size is for --coords {' or '.join(WINDOW_UNITS)}, not --coords {coords}")
+        reading.stage("reading the stimulus set")
+        stimset = read_stimulus_set(args.stimuli)
+        clicks = resolve_stimulus_ids(clicks, stimset)
     res = analyze(
         clicks, stimset, n=args.n, model=args.model, coords=coords, scale=args.scale,
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
