@@ -14,6 +14,7 @@ clicks are pooled, as for one participant's two sessions).
 from __future__ import annotations
 
 import hashlib
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -36,14 +37,14 @@ def _digest(path):
         return None
 
 
-def read_click_files(paths, columns=None, sep=None, decimal=None):
+def read_click_files(paths, columns=None, sep=None, decimal=None, trial_type=None):
     """Read one or several click files into one table.
 
     Parameters
     ----------
     paths : str, Path or sequence of them
         Click files (CSV), e.g. one per participant.
-    columns, sep, decimal
+    columns, sep, decimal, trial_type
         As for :func:`attneave.analysis.clicks.read.read_clicks`, applied to every file
         (the separator and decimal mark are found per file when not given).
 
@@ -55,7 +56,9 @@ def read_click_files(paths, columns=None, sep=None, decimal=None):
         :data:`SOURCE` (the path as given) after ``line`` (each file's own
         line numbers); a column a file lacks (another file's extra columns)
         is empty text on its rows. A file's own column named ``source_file``
-        is kept as ``input_source_file``.
+        is kept as ``input_source_file``. ``attrs["set_aside"]`` sums the
+        files' rows set aside (no clicks of the task; see
+        :mod:`attneave.analysis.clicks.layouts`).
 
     Raises
     ------
@@ -83,7 +86,7 @@ def read_click_files(paths, columns=None, sep=None, decimal=None):
     if not paths:
         raise InputError("no click file given")
     if len(paths) == 1:
-        return read_clicks(paths[0], columns=columns, sep=sep, decimal=decimal)
+        return read_clicks(paths[0], columns=columns, sep=sep, decimal=decimal, trial_type=trial_type)
     seen, contents = {}, {}
     for p in paths:
         key = Path(p).resolve()
@@ -96,9 +99,10 @@ def read_click_files(paths, columns=None, sep=None, decimal=None):
                              f"would count twice: give it once")
         if digest is not None:
             contents[digest] = p
-    tables = []
+    tables, set_aside = [], Counter()
     for p in paths:
-        t = read_clicks(p, columns=columns, sep=sep, decimal=decimal)
+        t = read_clicks(p, columns=columns, sep=sep, decimal=decimal, trial_type=trial_type)
+        set_aside.update(t.attrs.get("set_aside", {}))
         if SOURCE in t.columns:
             t = t.rename(columns={SOURCE: f"input_{SOURCE}"})
         t.insert(1, SOURCE, str(p))
@@ -109,6 +113,7 @@ def read_click_files(paths, columns=None, sep=None, decimal=None):
             out[c] = out[c].fillna(-1).astype("Int64")
         elif c != "line" and out[c].isna().any():
             out[c] = out[c].astype(object).where(out[c].notna(), "")
+    out.attrs["set_aside"] = dict(set_aside)
     return out
 
 

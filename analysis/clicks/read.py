@@ -103,7 +103,7 @@ def parse_columns(spec):
     return out
 
 
-def read_clicks(path, columns=None, sep=None, decimal=None):
+def read_clicks(path, columns=None, sep=None, decimal=None, trial_type=None):
     """Read a click file as text, with canonical column names.
 
     The file is read tolerantly (:mod:`attneave.analysis.clicks.dialects`): the separator
@@ -130,6 +130,13 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     line: such a line is kept, with ``row_error`` saying so, and analysis
     excludes it with reason ``repeated_header``.
 
+    jsPsych's data (CSV or JSON; a column ``trial_type``) and the data file
+    of the attneave PsychoPy Builder export (``mouse.x``, ``mouse.y`` and the
+    conditions' ``size_w, size_h, width_px, height_px``) are recognised and
+    turned into one row per click in image pixels; rows that are no trial of
+    the task are set aside and counted in ``attrs["set_aside"]``
+    (:mod:`attneave.analysis.clicks.layouts`).
+
     Parameters
     ----------
     path : str or Path
@@ -144,6 +151,9 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
         Decimal mark of x and y; default: ``','`` when x or y values look like
         ``12,5`` and none like ``12.5``. Decimal commas are converted to points
         in the x, y columns; other columns pass through as written.
+    trial_type : str, optional
+        jsPsych: the ``trial_type`` whose rows hold the clicks (default
+        ``attneave-points``, or the only type whose rows hold clicks).
 
     Returns
     -------
@@ -179,8 +189,14 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     mapping = parse_columns(columns)
     if decimal not in (None, ".", ","):
         raise InputError(f"--decimal: expected '.' or ',', got {decimal!r}")
-    df, lines, row_error, _ = read_tolerant_csv(path, sep=sep, what="a CSV click file",
-                                                empty=f"expected a header with {', '.join(CANONICAL)}")
+    from attneave.analysis.clicks import layouts
+
+    if _is_json(path):
+        df, lines = layouts.read_json_records(path)
+        row_error = np.full(len(df), "", dtype=object)
+    else:
+        df, lines, row_error, _ = read_tolerant_csv(path, sep=sep, what="a CSV click file",
+                                                    empty=f"expected a header with {', '.join(CANONICAL)}")
     # the ' that a CSV writer (ours, the experiment page's, PsychoPy's) put before a cell a spreadsheet
     # would run as a formula is no part of the value: '=P01 is the participant =P01
     df = df.map(restore_cell)
@@ -199,12 +215,23 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
             rename[k] = f"input_{k}"
         rename[v] = k
     df = df.rename(columns=rename)
+    df.insert(0, "line", lines)
+    df["row_error"] = row_error
+    set_aside, builder = {}, False
+    if "trial_type" in df.columns:
+        df, set_aside = layouts.jspsych_clicks(df, path, mapping, trial_type)
+    elif trial_type is not None:
+        raise InputError(f"--trial-type: {path} has no column trial_type (it is for jsPsych's data)")
+    elif all(c in df.columns for c in layouts.BUILDER_COLUMNS) and not {"x", "y"} & set(df.columns):
+        (df, set_aside), builder = layouts.builder_rows(df), True
     missing = [c for c in CANONICAL if c not in df.columns]
     if missing:
-        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(df.columns)} "
-                         f"(map other names with --columns NAME=COLUMN,...{_suggest(missing, df.columns)})")
+        own = [c for c in df.columns if c not in ("line", "row_error")]
+        raise InputError(f"{path}: missing column(s) {', '.join(missing)}; {describe_columns(own)} "
+                         f"(map other names with --columns NAME=COLUMN,...{_suggest(missing, own)})")
     if len(df) == 0:
-        raise InputError(f"{path}: no click rows (only a header)")
+        aside = f" ({_aside_text(set_aside)} set aside)" if set_aside else " (only a header)"
+        raise InputError(f"{path}: no click rows{aside}")
     for c in ("participant", "stimulus_id"):
         df[c] = df[c].str.strip()
     if decimal is None:
@@ -212,10 +239,34 @@ def read_clicks(path, columns=None, sep=None, decimal=None):
     if decimal == ",":
         for c in ("x", "y"):
             df[c] = to_decimal_point(df[c].tolist())
-    df.insert(0, "line", lines)
-    if any(row_error):
-        df["row_error"] = row_error
-    return _unpack_lists(df)
+    if not (df["row_error"] != "").any():
+        df = df.drop(columns="row_error")
+    df = _unpack_lists(df)
+    if builder:
+        df = layouts.builder_to_image_px(df)
+    df.attrs["set_aside"] = dict(set_aside)
+    return df
+
+
+def _is_json(path):
+    """The file begins like JSON (``[`` or ``{``); one that cannot be opened is left to the CSV reader's message."""
+    import os
+    import stat
+
+    from attneave.analysis.clicks.layouts import looks_like_json
+
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):  # a FIFO would block open(); the CSV reader refuses it
+            return False
+        with open(path, "rb") as fh:
+            return looks_like_json(fh.read(4096))
+    except OSError:
+        return False
+
+
+def _aside_text(set_aside):
+    """``'3 rows of trial_type survey-text, 2 practice trials'``."""
+    return ", ".join(f"{n} {'rows of ' if k.startswith('trial_type') else ''}{k}" for k, n in set_aside.items())
 
 
 def _suggest(missing, columns):

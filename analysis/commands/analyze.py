@@ -41,6 +41,9 @@ def add_parser(sub):
                         "stimulus column may hold ids, image file names or image paths")
     p.add_argument("--sep", default=None, metavar="SEP",
                    help="field separator of CLICKS.csv: ',', ';', 'tab' or '|' (default: found from the header)")
+    p.add_argument("--trial-type", default=None, metavar="NAME",
+                   help="jsPsych data: the trial_type whose rows hold the clicks (default attneave-points, or the "
+                        "only one whose rows hold clicks); rows of other types are set aside and counted")
     p.add_argument("--decimal", choices=(".", ","), default=None, metavar="{.|,}",
                    help="decimal mark of x and y (default: ',' when values look like 12,5)")
     p.add_argument("--tolerance", type=float, default=None, metavar="PX",
@@ -100,7 +103,9 @@ def run(args):
 
     with Stages("analyze", quiet=args.quiet, bar=False) as reading:  # the timer ends with an error too
         reading.stage("reading clicks")
-        clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal)
+        clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal,
+                                  trial_type=args.trial_type)
+        set_aside = dict(clicks.attrs.get("set_aside", {}))  # rows that are no click of the task (layouts.py)
         window, coords = parse_window_size(args.window_size), args.coords
         if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
             clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
@@ -120,7 +125,9 @@ def run(args):
         why = exclusion_report(res.clicks, threshold=0.0)
         print(f"attneave analyze: error: no usable click, nothing analysed or written: {why}", file=sys.stderr)
         return 1
-    res.summary["params"].update(coords=args.coords, window_size=list(window) if window else None)
+    res.summary["params"].update(coords=args.coords, window_size=list(window) if window else None,
+                                 trial_type=args.trial_type)
+    res.summary["rows_set_aside"] = set_aside
     for warning in (participants_in_several_files(clicks), repeated_rows(clicks)):  # analyze() adds the exclusions
         if warning:
             res.summary["warnings"].append(warning)
@@ -148,6 +155,10 @@ def run(args):
         + f"(one-sided, R = {g['simulations']}); wrote {args.output}",
         file=sys.stdout,
     )
+    if set_aside:
+        rows = ", ".join(f"{k}: {v}" for k, v in set_aside.items())
+        print(f"attneave analyze: rows set aside, no clicks of the task (not counted as excluded): {rows}",
+              file=sys.stderr)
     for w in s["warnings"]:
         print(f"attneave analyze: warning: {w}", file=sys.stderr)
     return 0
