@@ -88,11 +88,12 @@ class CumulantTable:
         return sum(a.nbytes for a in self.blocks.values())
 
     def _block(self, k):
-        """The (4, S, block + 1) values K, E, V, T at the nodes of block k (computed once)."""
+        """The (S, block + 1, 4) values K, E, V, T at the nodes of block k (computed once; the four
+        side by side, so that one gather reads them all)."""
         if k not in self.blocks:
             b = self.grid[k * self.block:(k + 1) * self.block + 1]
             S, n = self.Z.shape
-            out = np.empty((4, S, len(b)))
+            out = np.empty((S, len(b), 4))
             rows = max(1, (1 << 20) // max(n * len(b), 1))  # (rows, nodes, n) values at a time
             chunk = max(1, (1 << 20) // max(n, 1))  # nodes at a time when one stimulus is already large
             for s0 in range(0, S, rows):
@@ -108,10 +109,10 @@ class CumulantTable:
                     d = z[:, None, :] - E[:, :, None]
                     p *= d * d
                     sl = (slice(s0, s0 + rows), slice(g0, g0 + chunk))
-                    out[0][sl] = np.log(sw) + mx[:, :, 0]
-                    out[1][sl] = E
-                    out[2][sl] = p.sum(axis=2)
-                    out[3][sl] = np.einsum("sgn,sgn->sg", p, d)
+                    out[sl + (0,)] = np.log(sw) + mx[:, :, 0]
+                    out[sl + (1,)] = E
+                    out[sl + (2,)] = p.sum(axis=2)
+                    out[sl + (3,)] = np.einsum("sgn,sgn->sg", p, d)
             self.blocks[k] = out
         return self.blocks[k]
 
@@ -129,20 +130,25 @@ class CumulantTable:
         h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
         K, E, V, D = (np.empty(b.shape) for _ in range(4))
         k_of = i // self.block
-        for k in np.unique(k_of):
-            sel = np.flatnonzero(k_of == k)
+        lo_k, hi_k = (int(k_of.min()), int(k_of.max())) if k_of.size else (0, -1)
+        for k in range(lo_k, hi_k + 1):
+            # slopes in one block (the usual case): no mask, no copies
+            sel = slice(None) if lo_k == hi_k else np.flatnonzero(k_of == k)
+            if not isinstance(sel, slice) and not len(sel):
+                continue
             F = self._block(int(k))
             ss, il = s[sel], i[sel] - k * self.block
+            lo, hi = F[ss, il], F[ss, il + 1]  # (m, 4) each: K, E, V, T at the two nodes
+            a0, a1, a2, a3 = h00[sel], h10[sel] * h, h01[sel], h11[sel] * h
 
-            def herm(f, df, sel=sel, ss=ss, il=il):
-                return (h00[sel] * F[f][ss, il] + h10[sel] * h * F[df][ss, il] + h01[sel] * F[f][ss, il + 1]
-                        + h11[sel] * h * F[df][ss, il + 1])
+            def herm(f, a0=a0, a1=a1, a2=a2, a3=a3, lo=lo, hi=hi):
+                return a0 * lo[:, f] + a1 * lo[:, f + 1] + a2 * hi[:, f] + a3 * hi[:, f + 1]
 
-            K[sel], E[sel], V[sel] = herm(0, 1), herm(1, 2), herm(2, 3)
+            K[sel], E[sel], V[sel] = herm(0), herm(1), herm(2)
             if dV:
                 tt = t[sel]
-                D[sel] = ((6 * tt * tt - 6 * tt) * (F[2][ss, il] - F[2][ss, il + 1]) / h
-                          + (3 * tt * tt - 4 * tt + 1) * F[3][ss, il] + (3 * tt * tt - 2 * tt) * F[3][ss, il + 1])
+                D[sel] = ((6 * tt * tt - 6 * tt) * (lo[:, 2] - hi[:, 2]) / h
+                          + (3 * tt * tt - 4 * tt + 1) * lo[:, 3] + (3 * tt * tt - 2 * tt) * hi[:, 3])
         out = b != bc
         if out.any():
             K = np.where(out, K + E * (b - bc), K)
