@@ -4,6 +4,8 @@
     Reading one click file and converting its coordinates to image pixels.
 ``dialects``
     The CSV dialects labs' tools write: separators, decimal commas, bad rows.
+``layouts``
+    jsPsych's data and the PsychoPy Builder data file: one row per click.
 ``files``
     Several click files (one per participant) read as one table.
 ``exclusions``

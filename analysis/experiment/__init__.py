@@ -18,7 +18,10 @@ order
 build
     Writing the experiment directory atomically.
 psychopy
-    The PsychoPy Coder export.
+    The PsychoPy export (conditions, images, the Coder script).
+psyexp, psyexp_code, psychopy_text
+    Its Builder experiment (``.psyexp``, also for Pavlovia), the Python and
+    JavaScript of its Code components, and what the two share.
 """
 
 from attneave.analysis.experiment.build import build_experiment
