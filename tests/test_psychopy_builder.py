@@ -80,6 +80,7 @@ def test_psychopy_compiles_it_to_psychojs_for_pavlovia(exported):
     for name in ("main_rows", "practice_rows", "attneave_settings", "attneave_x", "attneave_marks"):
         assert f"var {name};" in text
     assert "mouse.getPressed(true)" in text and "'conditions.csv'" in text
+    assert "{'name': 'images/a_peaks.png', 'path': 'images/a_peaks.png'}" in text  # Pavlovia downloads it
     node = shutil.which("node")
     if node:  # a syntax check of the module as a browser would load it
         mjs = out.with_suffix(".mjs")
@@ -316,3 +317,16 @@ def test_the_coder_script_takes_its_monitor_from_monitor_center(exported):
     assert unknown.saved == ["testMonitor"]  # saved once, so the next run finds it
     with pytest.raises(SystemExit, match="Monitor Center"):
         mod.monitor(_Monitors([]), "deg")
+
+
+def test_a_column_of_numbers_and_text_is_named(stimset, tmp_path, capsys):
+    import pandas as pd
+
+    bad = tmp_path / "set"
+    shutil.copytree(stimset, bad)
+    m = pd.read_csv(bad / "manifest.csv", dtype=str, keep_default_na=False)
+    m.loc[m["condition"] == "peaks", "condition"] = "1"
+    m.to_csv(bad / "manifest.csv", index=False)
+    assert main(["experiment", str(bad), "-o", str(tmp_path / "exp"), "--psychopy"]) == 0
+    err = capsys.readouterr().err
+    assert "column 'condition' holds numbers ('1') and text" in err and err.count("\n") == 1

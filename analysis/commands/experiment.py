@@ -84,6 +84,16 @@ def run(args):
     res = build_experiment(stimset, args.output, options, psychopy=args.psychopy, force=args.force)
     if res["moved_aside"] is not None:
         print(f"attneave experiment: the old {args.output} is now {res['moved_aside']}")
+    if args.psychopy:
+        import csv
+        import sys
+
+        from attneave.analysis.experiment.psychopy import mixed_columns
+
+        with open(res["out"] / "psychopy" / "conditions.csv", newline="", encoding="utf-8") as fh:
+            warning = mixed_columns(list(csv.DictReader(fh)))
+        if warning:
+            print(f"attneave experiment: warning: {warning}", file=sys.stderr)
     lists = f", {res['lists']} lists" if res["lists"] > 1 else ""
     print(f"{res['stimuli']} trials + {res['practice']} practice{lists}, background {res['background']} -> "
           f"{res['out']}/index.html" + (" and psychopy/" if args.psychopy else ""))

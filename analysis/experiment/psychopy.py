@@ -51,7 +51,7 @@ from attneave.analysis.experiment.psychopy_text import (
 from attneave.analysis.experiment.psyexp import write_psyexp
 from attneave.stimuli.io import atomic_write
 
-__all__ = ["conditions_rows", "script_text", "write_psychopy", "HEIGHT_FRACTION"]
+__all__ = ["conditions_rows", "script_text", "write_psychopy", "mixed_columns", "HEIGHT_FRACTION"]
 
 #: In 'height' units, the larger side of the largest image as a fraction of the window height.
 HEIGHT_FRACTION = 0.8
@@ -97,6 +97,38 @@ def conditions_rows(options, practice, main):
                          height_px=s.height, size_w=f"{s.width * k:.10g}", size_h=f"{s.height * k:.10g}",
                          units=units))
     return rows
+
+
+def _number(text):
+    """True when PsychoPy's importConditions would read `text` as a number (it tries float(), ',' as '.')."""
+    try:
+        float(text.replace(",", "."))
+    except ValueError:
+        return False
+    return True
+
+
+def mixed_columns(rows):
+    """A warning when a text column of conditions.csv holds both numbers and text ('' if none).
+
+    PsychoPy's ``importConditions`` converts each text cell that reads as a
+    number; under pandas 3 such a column then fails with a TypeError, so the
+    Builder experiment would not start.
+
+    Examples
+    --------
+    >>> mixed_columns([dict(stimulus_id="a", condition="1"), dict(stimulus_id="b", condition="x")])[:40]
+    "conditions.csv: column 'condition' holds"
+    """
+    for c in ("stimulus_id", "condition", "parent_id"):
+        values = [str(r.get(c, "")) for r in rows if str(r.get(c, "")).strip()]
+        numbers = [v for v in values if _number(v)]
+        if numbers and len(numbers) < len(values):
+            text = next(v for v in values if not _number(v))
+            return (f"conditions.csv: column {c!r} holds numbers ({numbers[0][:20]!r}) and text ({text[:20]!r}); "
+                    f"PsychoPy's importConditions fails on such a column under pandas 3 (TypeError), so the "
+                    f"Builder experiment may not start: give the {c} values a letter (e.g. 'c{numbers[0][:20]}')")
+    return ""
 
 
 def script_text(options, config):
