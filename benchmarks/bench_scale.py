@@ -176,7 +176,8 @@ def scale(args, header, load):
           "not included); predict = predict() of the whole set, extrapolated from its seconds per stimulus on "
           f"{BASE} distinct contours (not in analyze's time: a set is predicted once); peak RSS of the "
           "analyze child (imports and data included); anchor = bare-numpy FFT pass on the same clicks")
-    big_n(keep, load)
+    if not args.only or 36 in args.only:  # --only 36: the -n 100000 case alone
+        big_n(keep, load)
 
 
 def big_n(keep, load):
