@@ -258,8 +258,9 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
     run, skipped = plan(chosen, named, dict(
         n_stimuli=len(stimset.ids), n=n_used, n_clicks=len(clicks), grid=grid, permutations=permutations,
         n_participants=clicks["participant"].nunique(), n_predictors=len(predictors)))
-    if click_sd is None:
-        skipped.pop("blurred", None)  # nothing to skip: the blurred fit is asked for by click_sd
+    if click_sd is None:  # nothing to run or skip: the blurred fit is asked for by click_sd
+        skipped.pop("blurred", None)
+        run.discard("blurred")
     elif "blurred" not in run:
         click_sd = None  # the plain fit, as the summary records
     if "group" not in run:

@@ -173,7 +173,7 @@ def plan(models, named, sizes, flags=None, available=None):
     flags = flags or {}
     avail = available_bytes() if available is None else available
     e = estimate(**sizes)
-    skipped = {k: "not asked for (--models)" for k in OPTIONAL if k not in models}
+    skipped = {k: f"not asked for ({flags.get('models', arg('models'))})" for k in OPTIONAL if k not in models}
     run = set(models)
     core = e["predictions"] + e["clicks"] + e["correlations"] + e["choice"] + e["group"]
     gb = 2.0**30
