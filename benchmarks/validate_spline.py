@@ -81,10 +81,11 @@ TUNED = {name: "rule" for name in ("MAX_CHORD_ANGLE", "CHORD_MARGIN", "MAX_TANGE
 TUNED.update({name: "lac" for name in ("ALPHA", "TRIGGER", "SCREEN_TURN")})
 #: --cv's settings: the constants each changes from the library's values ({}: as they are)
 CV_GRID = [
-    {"BULGE_TURN": None, "MAX_EXCESS": 0.75},
-    {"BULGE_TURN": None, "MAX_EXCESS": 0.65},
-    {"BULGE_TURN": 0.8, "MAX_EXCESS": 0.5},
-    {"BULGE_TURN": 0.7, "MAX_EXCESS": 0.5},
+    {"BULGE_TURN": None, "MAX_EXCESS": 0.75, "CHORD_MARGIN": 0.1 * np.pi},
+    {"BULGE_TURN": 0.8, "MAX_EXCESS": 0.5, "CHORD_MARGIN": 0.1 * np.pi},
+    {"BULGE_TURN": 0.8, "MAX_EXCESS": 0.5, "CHORD_MARGIN": 0.15 * np.pi},
+    {"BULGE_TURN": 0.8, "MAX_EXCESS": 0.5, "CHORD_MARGIN": 0.2 * np.pi},
+    {"BULGE_TURN": None, "MAX_EXCESS": 0.6, "CHORD_MARGIN": 0.2 * np.pi},
 ]
 
 
@@ -232,15 +233,17 @@ def summary(n, found, cubic):
 
 def cv_score(sums):
     """The share of its target that the worst-used of the soft targets
-    takes (p90 ratio / 1.1, corners / limit, over N; lower is better), inf
-    where a hard target fails (a failure, cross > 1 %, turn > pi, an
-    extremum, g2 > 1e-10). `sums`: N -> :func:`summary`."""
-    worst = 0.0
+    takes (p90 ratio / 1.1, corners / limit, over N; lower is better) and,
+    for ties (a p90 is one shape's distance: settings often share it), the
+    mean share; (inf, inf) where a hard target fails (a failure,
+    cross > 1 %, turn > pi, an extremum, g2 > 1e-10). `sums`: N ->
+    :func:`summary`."""
+    used = []
     for n, s in sums.items():
         if s["fail"] or s["cross"] > 1.0 or s["turn"] or s["extrema"] or s["g2"] > 1e-10:
-            return float("inf")
-        worst = max(worst, s["ratio"] / RATIO_LIMIT, s["corners"] / CORNER_LIMIT.get(n, CORNER_LIMIT[40]))
-    return worst
+            return float("inf"), float("inf")
+        used += [s["ratio"] / RATIO_LIMIT, s["corners"] / CORNER_LIMIT.get(n, CORNER_LIMIT[40])]
+    return round(max(used), 6), float(np.mean(used))
 
 
 def _cv_line(n, label, name, s):
@@ -279,13 +282,13 @@ def cross_validate(shapes, ns, grid):
     print("settings: " + "; ".join(f"#{g} {json.dumps(s)}" for g, s in enumerate(grid)))
     for tune, test in (("even", "odd"), ("odd", "even")):
         scores = [cv_score(s) for s in sums[tune]]
-        g = int(np.argmin(scores))
-        print(f"chosen on {tune}: #{g} {json.dumps(grid[g])} (score {scores[g]:.3f}; all: "
-              + ", ".join(f"#{i} {x:.3f}" for i, x in enumerate(scores)) + f"); held out ({test}):")
+        g = min(range(len(grid)), key=lambda i: scores[i])
+        print(f"chosen on {tune}: #{g} {json.dumps(grid[g])} (score worst/mean {scores[g][0]:.3f}/{scores[g][1]:.3f}; "
+              "all: " + ", ".join(f"#{i} {x:.3f}/{y:.3f}" for i, (x, y) in enumerate(scores)) + f"); held out ({test}):")
         for n in ns:
             print(_cv_line(n, test, f"#{g}", sums[test][g][n]), "(tuned on it:",
                   f"{sums[tune][g][n]['corners']:.1f}%, {sums[tune][g][n]['ratio']:.3f})")
-        print(f"held-out score {cv_score(sums[test][g]):.3f}")
+        print("held-out score worst/mean {:.3f}/{:.3f}".format(*cv_score(sums[test][g])))
 
 
 def report(n, label, rows, simple):

@@ -319,7 +319,11 @@ def test_isolated_sharp_turn_becomes_a_g0_corner():
     # by more than 45 degrees more than at their neighbours (30 / 48 and
     # 61 / 2): sharp nodes (a corner of the outline sampled by one point);
     # the segments beside node 3 bulge (by more than SHARP_BULGE), and the
-    # rule makes it a G0 corner; node 9's bulge by less
+    # rule makes it a G0 corner; node 9's bulge by less, but the segment from
+    # node 8 turns by 0.68 rad more than its end nodes and bulges by 0.33 mean
+    # chords (step 3e; limits since issue 28: MAX_EXCESS 0.5, EXCESS_BULGE
+    # 0.25 times the polygon's mean turn per node over BULGE_TURN, 1.04 / 0.8):
+    # node 9, sharp, becomes a G0 corner too
     from attneave.stimuli.curves.qic.rule import CORNER_TURN, polygon_turns, sharp_nodes
 
     P = np.array([[464.9, 401.2], [474.9, 263.6], [555.7, 107.2], [551.3, 7.4], [402.2, 64.7],
@@ -329,6 +333,26 @@ def test_isolated_sharp_turn_becomes_a_g0_corner():
     assert turns[[3, 9]].max() < CORNER_TURN
     assert np.flatnonzero(sharp_nodes(turns)).tolist() == [0, 3, 9]
     sp = qic_spline(P)
-    assert dict(zip(sp.corners, sp.corner_kinds)) == {3: "G0"}
+    assert dict(zip(sp.corners, sp.corner_kinds)) == {3: "G0", 9: "G0"}
     # with no G0 corners allowed the same rule holds node 3 at its bisector (G1) instead
     assert "G0" not in qic_spline(P, corner_turn=np.pi).corner_kinds
+
+
+@pytest.mark.parametrize("per_node, bad", [(0.9, [0]), (1.5, [])])
+def test_bulge_limits_grow_with_the_polygons_turn_per_node(per_node, bad):
+    # issue 28: step 3e's bulge limit is EXCESS_BULGE mean chords times the
+    # polygon's mean turn per node over BULGE_TURN, never less than
+    # EXCESS_BULGE: a segment turning by MAX_EXCESS + 0.2 rad more than its
+    # end nodes and bulging by 1.2 EXCESS_BULGE is bad where the polygon turns
+    # by 0.9 BULGE_TURN per node, not where it turns by 1.5 BULGE_TURN (the
+    # points then sample the outline sparsely: its own segments bulge)
+    from attneave.stimuli.curves.qic.rule import BULGE_TURN, EXCESS_BULGE, MAX_EXCESS, bad_segments, bulge_scale
+
+    n = 8
+    turns = np.full(n, per_node * BULGE_TURN)  # all alike: no sharp node (step 3d)
+    assert bulge_scale(turns) == pytest.approx(max(1.0, per_node))
+    seg = dict(start=np.arange(n), turn=turns.copy(), chord_dev=np.zeros(n))
+    seg["turn"][0] += MAX_EXCESS + 0.2
+    bulge = np.zeros(n)
+    bulge[0] = 1.2 * EXCESS_BULGE
+    assert bad_segments(seg, None, np.zeros(n), bulge, (), turns).tolist() == bad
