@@ -214,3 +214,11 @@ def test_several_files_sum_what_was_set_aside(tmp_path):
     assert len(t) == 12 and t.attrs["set_aside"] == {
         "rows of routines outside the trials loop": 2, "practice trials": 1,
         "trial_type html-keyboard-response": 1, "trial_type survey-text": 1}
+
+
+def test_builder_data_refuses_a_second_conversion(tmp_path, stimset, capsys):
+    path = _builder_file(tmp_path / "b.csv", 0.8, 0.6, "height")
+    assert read_clicks(path).attrs["layout"] == "psychopy-builder"
+    assert main(["analyze", str(path), "--stimuli", str(stimset), "-o", str(tmp_path / "o"), "--coords", "height",
+                 "--window-size", "1920,1080"]) == 2
+    assert "leave --coords and --scale out" in capsys.readouterr().err and not (tmp_path / "o").exists()

@@ -99,10 +99,11 @@ def read_click_files(paths, columns=None, sep=None, decimal=None, trial_type=Non
                              f"would count twice: give it once")
         if digest is not None:
             contents[digest] = p
-    tables, set_aside = [], Counter()
+    tables, set_aside, layouts = [], Counter(), set()
     for p in paths:
         t = read_clicks(p, columns=columns, sep=sep, decimal=decimal, trial_type=trial_type)
         set_aside.update(t.attrs.get("set_aside", {}))
+        layouts.add(t.attrs.get("layout", ""))
         if SOURCE in t.columns:
             t = t.rename(columns={SOURCE: f"input_{SOURCE}"})
         t.insert(1, SOURCE, str(p))
@@ -114,6 +115,7 @@ def read_click_files(paths, columns=None, sep=None, decimal=None, trial_type=Non
         elif c != "line" and out[c].isna().any():
             out[c] = out[c].astype(object).where(out[c].notna(), "")
     out.attrs["set_aside"] = dict(set_aside)
+    out.attrs["layout"] = ",".join(sorted(v for v in layouts if v))
     return out
 
 

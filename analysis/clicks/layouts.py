@@ -143,7 +143,7 @@ def _objects(cell):
 
 def _clicks_column(df, mapping):
     """The column holding lists of {x, y} objects: the one mapped to x, or 'clicks', or the only such one."""
-    holding = [c for c in df.columns if df[c].astype(str).str.lstrip().str.startswith("[{").any()]
+    holding = [c for c in df.columns if df[c].astype(str).str.match(r"\s*\[\s*\{").any()]
     if mapping.get("x") and "x" in holding and mapping.get("y") in (None, mapping["x"]):
         return "x"
     if "x" in df.columns and "y" in df.columns:

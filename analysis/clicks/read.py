@@ -245,6 +245,8 @@ def read_clicks(path, columns=None, sep=None, decimal=None, trial_type=None):
     if builder:
         df = layouts.builder_to_image_px(df)
     df.attrs["set_aside"] = dict(set_aside)
+    # x, y of a Builder file are image pixels already: analyze refuses --coords/--scale on them
+    df.attrs["layout"] = "psychopy-builder" if builder else ("jspsych" if "trial_type" in df.columns else "")
     return df
 
 

@@ -106,6 +106,9 @@ def run(args):
         clicks = read_click_files(args.clicks, columns=args.columns, sep=args.sep, decimal=args.decimal,
                                   trial_type=args.trial_type)
         set_aside = dict(clicks.attrs.get("set_aside", {}))  # rows that are no click of the task (layouts.py)
+        if "psychopy-builder" in clicks.attrs.get("layout", "") and (args.coords != "image" or args.scale != 1.0):
+            raise InputError("--coords/--scale: a PsychoPy Builder data file of attneave's export is converted to "
+                             "image pixels with its conditions' sizes; leave --coords and --scale out")
         window, coords = parse_window_size(args.window_size), args.coords
         if coords in WINDOW_UNITS:  # the analysis maps pixels from the window centre
             clicks, coords = window_units_to_pixels(clicks, coords, window), "centered"
