@@ -2,6 +2,15 @@
 
 from __future__ import annotations
 
+import argparse
+
+EPILOG = """examples:
+  attneave experiment out/polygons -o out/exp --config configs/experiment.yaml
+  attneave experiment out/polygons -o out/exp_prolific --jspsych --jatos --participant-param prolific \\
+      --completion-url "https://app.prolific.com/submissions/complete?cc=C1A2B3"
+  attneave experiment out/polygons -o out/exp_lab --psychopy --monitor labMonitor --practice 2
+"""
+
 
 def _flag(p, name, **kw):
     # every setting is also a YAML key (dashes -> underscores); None means "not given"
@@ -19,6 +28,8 @@ def add_parser(sub):
             "Settings come from --config YAML (keys = the flags' names with underscores) and flags, which "
             "win. See docs/experiment.md for the page contract (URL parameters, element ids)."
         ),
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     p.add_argument("stimuli", metavar="SET", help="stimulus-set directory (manifest.csv, images/, contours/)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="experiment directory to write")
@@ -47,6 +58,21 @@ def add_parser(sub):
     _flag(p, "viewing-distance-cm", type=float, metavar="CM", help="viewing distance (default 57)")
     _flag(p, "background", metavar="auto|#rrggbb|G", help="page colour (default auto: the images' ground)")
     _flag(p, "submit-url", metavar="URL", help="POST the data as JSON {participant, rows, csv} at the end")
+    _flag(p, "participant-param", metavar="NAME",
+          help="URL parameter of the participant's id (default participant), or prolific (PROLIFIC_PID; "
+               "STUDY_ID and SESSION_ID recorded), sona (id), mturk (workerId; assignmentId and hitId recorded)")
+    _flag(p, "completion-url", metavar="URL",
+          help="send the participant here once the data are saved or submitted (Prolific's completion link); "
+               "{participant} in it is replaced by the id")
+    p.add_argument("--jspsych", action="store_true",
+                   help="also write DIR/jspsych.html: the task as a jsPsych 8 timeline of the plugin "
+                        "attneave-points (plugin-attneave-points.js); jsPsych itself is the lab's (--jspsych-path)")
+    _flag(p, "jspsych-path", metavar="DIR/|URL",
+          help="with --jspsych: folder beside the page, or URL, holding jspsych.js and jspsych.css "
+               "(default jspsych/)")
+    p.add_argument("--jatos", action="store_true",
+                   help="the pages submit through JATOS's jatos.js (no download) and DIR/attneave_<DIR>.jzip is "
+                        "written, a study archive JATOS imports")
     p.add_argument("--psychopy", action="store_true",
                    help="also write DIR/psychopy/: a PsychoPy Builder experiment (attneave_task.psyexp, which "
                         "PsychoPy compiles for Pavlovia too), a Coder script (attneave_task.py), conditions.csv "
@@ -62,7 +88,8 @@ def add_parser(sub):
 
 _SETTINGS = ("title", "instructions", "end_text", "practice", "clicks", "min_clicks", "max_clicks", "undo", "order",
              "seed", "conditions", "lists", "fixation_ms", "iti_ms", "break_every", "size_deg", "size_px",
-             "px_per_deg", "viewing_distance_cm", "background", "submit_url", "psychopy_units", "monitor")
+             "px_per_deg", "viewing_distance_cm", "background", "submit_url", "psychopy_units", "monitor",
+             "participant_param", "completion_url", "jspsych_path")
 
 
 def run(args):
@@ -80,8 +107,13 @@ def run(args):
         if not args.psychopy and getattr(args, flag) is not None:
             raise InputError(f"--{flag.replace('_', '-')}: applies only to the PsychoPy export; add --psychopy "
                              "(or leave it out)")
+    if not args.jspsych and args.jspsych_path is not None:
+        raise InputError("--jspsych-path: applies only to the jsPsych page; add --jspsych (or leave it out)")
+    if args.jatos and options.submit_url is not None:
+        raise InputError(f"{options.origin('submit_url')}: with --jatos the data go to JATOS; leave submit_url out")
     stimset = read_stimulus_set(args.stimuli)
-    res = build_experiment(stimset, args.output, options, psychopy=args.psychopy, force=args.force)
+    res = build_experiment(stimset, args.output, options, psychopy=args.psychopy, force=args.force,
+                           jspsych=args.jspsych, jatos=args.jatos)
     if res["moved_aside"] is not None:
         print(f"attneave experiment: the old {args.output} is now {res['moved_aside']}")
     if args.psychopy:
@@ -96,5 +128,6 @@ def run(args):
             print(f"attneave experiment: warning: {warning}", file=sys.stderr)
     lists = f", {res['lists']} lists" if res["lists"] > 1 else ""
     print(f"{res['stimuli']} trials + {res['practice']} practice{lists}, background {res['background']} -> "
-          f"{res['out']}/index.html" + (" and psychopy/" if args.psychopy else ""))
+          f"{res['out']}/" + " and ".join(res["pages"] + (["psychopy/"] if args.psychopy else [])
+                                         + ([res["jzip"]] if res["jzip"] else [])))
     return 0

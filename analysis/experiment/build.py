@@ -5,7 +5,11 @@ the page needs no request and runs from ``file://``), ``DIR/task.js``,
 ``DIR/task.css`` (the project's own, no CDN), ``DIR/images/<id>.<ext>`` (copies
 of the set's images), ``DIR/experiment.json`` (what was built, from what; it
 also marks the directory as one this module wrote) and, on request,
-``DIR/psychopy/``.
+``DIR/jspsych.html`` with the jsPsych plugin (:mod:`~attneave.analysis.experiment.pages`),
+``DIR/psychopy/`` (:mod:`~attneave.analysis.experiment.psychopy`) and a JATOS
+study archive ``DIR/<study>.jzip`` (:mod:`~attneave.analysis.experiment.jatos`).
+Which stimuli, and the checks of their images, are in
+:mod:`~attneave.analysis.experiment.selection`.
 
 The directory is built in a temporary directory beside it and renamed into
 place, so it appears complete or not at all. An existing ``DIR`` is replaced
@@ -16,347 +20,25 @@ other content is the user's, and is moved aside (never deleted) with
 
 from __future__ import annotations
 
-import contextlib
 import json
 import os
-import re
 import shutil
-from collections import Counter
-from dataclasses import dataclass, field
-from importlib import resources
+import sys
 from pathlib import Path
 
+from attneave.analysis.experiment import jatos as jatos_archive
 from attneave.analysis.experiment.options import ExperimentOptions
-from attneave.analysis.experiment.order import latin_square_lists
+from attneave.analysis.experiment.pages import embedded_json, fill_template, page_config, write_pages
+from attneave.analysis.experiment.selection import Stimulus, background_colour, check_image_sizes, select_stimuli
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.io import replace_directory, temporary_directory
 
-__all__ = ["Stimulus", "select_stimuli", "background_colour", "page_config", "build_experiment", "MARKER", "embedded_json", "fill_template"]
+# the names other modules and tests took from here before the split stay importable from here
+__all__ = ["Stimulus", "select_stimuli", "background_colour", "page_config", "build_experiment", "MARKER",
+           "embedded_json", "fill_template", "check_output"]
 
 #: File that marks a directory written by :func:`build_experiment`.
 MARKER = "experiment.json"
-_STATIC = ("task.js", "task.css")
-
-
-@dataclass(frozen=True)
-class Stimulus:
-    """One stimulus as the experiment uses it.
-
-    Attributes
-    ----------
-    id : str
-    source : Path
-        The set's image file.
-    src : str
-        Its copy, relative to the experiment directory (``images/<id>.png``).
-    width, height : int
-        Image size in pixels (the click coordinates' frame).
-    condition, parent_id : str
-        From the manifest ('' when absent).
-    lists : tuple of int
-        The participant lists (1-based) that see it.
-    """
-
-    id: str
-    source: Path
-    src: str
-    width: int
-    height: int
-    condition: str = ""
-    parent_id: str = ""
-    lists: tuple = field(default=(1,))
-
-
-def _column(manifest, name, i):
-    if name not in manifest.columns:
-        return ""
-    v = manifest[name].iloc[i]
-    return "" if v is None else str(v).strip()
-
-
-def select_stimuli(stimset, options):
-    """The practice and main stimuli of the experiment, with their lists.
-
-    Parameters
-    ----------
-    stimset : attneave.stimuli.stimulus_set.StimulusSet
-    options : ExperimentOptions
-
-    Returns
-    -------
-    practice, main : list of Stimulus
-        Manifest order. Practice stimuli are seen by every list.
-
-    Raises
-    ------
-    InputError
-        A stimulus without an image file, an image whose size differs from the
-        manifest's, an unknown condition or practice id, no main trials left,
-        or a set that cannot be split into `options.lists` lists.
-    """
-    manifest = stimset.manifest
-    mpath = Path(stimset.directory) / "manifest.csv"
-    rows = []
-    for i, sid in enumerate(stimset.ids):
-        rows.append(dict(id=sid, condition=_column(manifest, "condition", i),
-                         parent_id=_column(manifest, "parent_id", i), index=i))
-    if options.conditions is not None:
-        known = list(dict.fromkeys(r["condition"] for r in rows))
-        for j, c in enumerate(options.conditions):
-            if c not in known:
-                raise InputError(f"{options.origin('conditions')}[{j}]: no stimulus of {mpath} has condition {c!r}; "
-                                 f"conditions there: {', '.join(map(repr, known))}")
-        rows = [r for r in rows if r["condition"] in options.conditions]
-    if isinstance(options.practice, int):
-        if options.practice >= len(rows):
-            raise InputError(f"{options.origin('practice')}: {options.practice} practice stimuli would leave no main trials "
-                             f"({len(rows)} stimuli selected)")
-        practice_ids = [r["id"] for r in rows[: options.practice]]
-    else:
-        practice_ids = list(options.practice)
-        for j, sid in enumerate(practice_ids):
-            if sid not in stimset:
-                raise InputError(f"{options.origin('practice')}[{j}]: stimulus {sid!r} is not in {mpath}")
-    by_id = {sid: dict(id=sid, condition=_column(manifest, "condition", i), parent_id=_column(manifest, "parent_id", i),
-                       index=i) for i, sid in enumerate(stimset.ids)}
-    main_rows = [r for r in rows if r["id"] not in set(practice_ids)]
-    if not main_rows:
-        raise InputError(f"{options.origin('practice')}: every selected stimulus is a practice stimulus; no main trials are left")
-    # an item is a base shape and what derives from it: the rows sharing parent_id (or the base itself)
-    lists = latin_square_lists([r["id"] for r in main_rows],
-                               [r["parent_id"] or r["id"] for r in main_rows],
-                               [r["condition"] for r in main_rows], options.lists)
-
-    def make(r, ls):
-        return _stimulus(stimset, mpath, r, ls)
-
-    practice = [make(by_id[sid], tuple(range(1, options.lists + 1))) for sid in practice_ids]
-    main = [make(r, tuple(lists[r["id"]])) for r in main_rows]
-    return practice, main
-
-
-def _stimulus(stimset, mpath, row, lists):
-    sid = row["id"]
-    where = f"{mpath}: line {row['index'] + 2} ({sid})"
-    source = stimset.images.get(sid)
-    if source is None:
-        raise InputError(f"{where}: no image file (column 'image' must name an existing file; the experiment "
-                         f"shows the images)")
-    root = Path(stimset.directory).resolve()
-    if root not in Path(source).resolve().parents:
-        # a manifest path must not lead outside the set (docs/design.md, Files)
-        raise InputError(f"{where}: image path leads outside the stimulus set {stimset.directory}")
-    suffix = Path(source).suffix.lower()
-    if suffix not in (".png", ".jpg", ".jpeg", ".gif", ".webp", ".svg"):
-        raise InputError(f"{where}: image {Path(source).name!r} is not a format browsers show (png, jpg, gif, webp, svg)")
-    w, h = stimset.sizes[sid]
-    return Stimulus(sid, Path(source), f"images/{sid}{suffix}", w, h, row["condition"], row["parent_id"], lists)
-
-
-def _read_rgba(path):
-    """An image as 8-bit RGBA (H, W, 4), or None when cv2 cannot decode it (e.g. SVG)."""
-    import cv2
-    import numpy as np
-
-    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
-    if img is None:
-        return None
-    if img.dtype == np.uint16:
-        img = np.round(img / 257.0).astype(np.uint8)
-    elif img.dtype != np.uint8:
-        return None
-    if img.ndim == 2:
-        img = np.dstack([img, img, img, np.full_like(img, 255)])
-    elif img.shape[2] == 3:
-        img = np.dstack([img[..., ::-1], np.full(img.shape[:2], 255, np.uint8)])
-    else:
-        img = img[..., [2, 1, 0, 3]]
-    return img
-
-
-def check_image_sizes(stimuli, mpath):
-    """Raise InputError when an image cannot be shown or its pixel size differs from its manifest size.
-
-    Every raster image is decoded in full (with Pillow, which reads every
-    format browsers show but SVG): a file that is not an image, or whose
-    data are truncated or corrupt, would show participants a broken image.
-    Clicks are converted with the manifest's width and height (what
-    ``analyze`` uses) and the page with the image's natural size; the two must
-    agree.
-    """
-    for s in stimuli:
-        if s.source.suffix.lower() == ".svg":
-            continue
-        w, h = _decoded_size(s, mpath)
-        if (w, h) != (s.width, s.height):
-            raise InputError(f"{mpath}: {s.id}: image {s.source.name} is {w} x {h} px but the manifest says "
-                             f"{s.width} x {s.height}")
-
-
-def _decoded_size(s, mpath):
-    """(width, height) of a stimulus's image, decoded in full; InputError naming the file if it cannot be."""
-    import warnings
-
-    from PIL import Image, UnidentifiedImageError
-
-    where = f"{mpath}: {s.id}: image {s.source}"
-    try:
-        with warnings.catch_warnings():
-            # Pillow's DecompressionBombWarning is an error here: no stimulus image is that large
-            warnings.simplefilter("error", Image.DecompressionBombWarning)
-            with Image.open(s.source) as im:
-                im.load()  # the whole file: a truncated one raises here, not when the browser shows it
-                return im.size
-    except UnidentifiedImageError:
-        with contextlib.suppress(OSError):
-            if s.source.stat().st_size == 0:
-                raise InputError(f"{where}: empty file; participants would see a broken image") from None
-        raise InputError(f"{where}: not an image file (or a format Pillow cannot read); participants would "
-                         "see a broken image") from None
-    except (OSError, SyntaxError, ValueError, Image.DecompressionBombError, Image.DecompressionBombWarning) as exc:
-        reason = " ".join(str(exc).split())[:200] or type(exc).__name__
-        raise InputError(f"{where}: cannot be decoded ({reason}); participants would see a broken image") from None
-
-
-def background_colour(paths):
-    """The background colour of a set of images: the commonest opaque corner pixel.
-
-    Stimuli are figures on a uniform ground, so the four corner pixels of
-    every image show the ground; their mode is robust to a figure that
-    touches a corner.
-
-    Parameters
-    ----------
-    paths : sequence of Path
-        Image files (those that cannot be decoded, e.g. SVG, are skipped).
-
-    Returns
-    -------
-    str
-        ``'#rrggbb'`` (sRGB, 8 bit; 16-bit images are rounded), or
-        ``'#808080'`` when no opaque corner pixel was found (transparent
-        images show the page's colour, so any grey matches them).
-    """
-    votes = Counter()
-    for p in paths:
-        img = _read_rgba(p)
-        if img is None:
-            continue
-        for y, x in ((0, 0), (0, -1), (-1, 0), (-1, -1)):
-            r, g, b, a = (int(v) for v in img[y, x])
-            if a == 255:
-                votes[(r, g, b)] += 1
-    if not votes:
-        return "#808080"
-    r, g, b = votes.most_common(1)[0][0]
-    return f"#{r:02x}{g:02x}{b:02x}"
-
-
-def page_config(options, practice, main, background, version):
-    """The settings and trial list the page reads (embedded in index.html as JSON).
-
-    Parameters
-    ----------
-    options : ExperimentOptions
-    practice, main : list of Stimulus
-    background : str
-        ``'#rrggbb'``.
-    version : str
-
-    Returns
-    -------
-    dict
-        JSON-serialisable. ``scale.max_side`` is the larger side of the
-        largest image: it is shown at ``size_deg`` degrees (or ``size_px`` CSS
-        px) and every image at the same scale.
-    """
-    def entry(s):
-        return dict(id=s.id, src=s.src, width=s.width, height=s.height, condition=s.condition,
-                    parent_id=s.parent_id, lists=list(s.lists))
-
-    every = practice + main
-    o = options
-    return dict(
-        attneave_experiment=version,
-        title=o.title,
-        instructions=o.instructions,
-        end_text=o.end_text,
-        clicks=o.clicks,
-        min_clicks=o.clicks if o.clicks != "done" else o.min_clicks,
-        max_clicks=o.clicks if o.clicks != "done" else o.max_clicks,
-        undo=o.undo,
-        order=o.order,
-        seed=o.seed,
-        lists=o.lists,
-        fixation_ms=o.fixation_ms,
-        iti_ms=o.iti_ms,
-        break_every=o.break_every,
-        scale=dict(max_side=max(max(s.width, s.height) for s in every), size_deg=o.size_deg, size_px=o.size_px),
-        px_per_deg=o.px_per_deg,
-        viewing_distance_cm=o.viewing_distance_cm,
-        background=background,
-        submit_url=o.submit_url,
-        practice=[entry(s) for s in practice],
-        stimuli=[entry(s) for s in main],
-    )
-
-
-def _static(name):
-    return resources.files("attneave.analysis.experiment").joinpath("static", name)
-
-
-def render_index(config):
-    """index.html with `config` embedded as a JSON script block.
-
-    Every ``<``, ``>`` and ``&`` inside the JSON is written as a ``\\u`` escape
-    (still the same JSON, as Django's ``json_script`` does): inside a script
-    element the HTML tokenizer looks for ``</script`` and, after ``<!--``,
-    for ``<script`` too, so a title or an instruction holding them could
-    close or swallow the element and leave a blank page. The placeholders
-    of the template are substituted in one pass, so a placeholder's name in
-    the participant-facing text (``{{CONFIG}}`` in a title) stays text.
-
-    Examples
-    --------
-    >>> "<" in embedded_json({"title": "<!--<script>"})
-    False
-    """
-    import html
-
-    template = _static("index.html").read_text(encoding="utf-8")
-    return fill_template(template, {"{{TITLE}}": html.escape(config["title"]),
-                                    "{{BACKGROUND}}": config["background"],
-                                    "{{CONFIG}}": embedded_json(config)})
-
-
-_HTML_UNSAFE = {"<": "\\u003c", ">": "\\u003e", "&": "\\u0026", "\u2028": "\\u2028", "\u2029": "\\u2029"}
-
-
-def embedded_json(value):
-    """`value` as JSON that is safe inside an HTML ``<script>`` element.
-
-    Examples
-    --------
-    >>> embedded_json({"t": "a</script>&"})
-    '{\\n "t": "a\\\\u003c/script\\\\u003e\\\\u0026"\\n}'
-    """
-    blob = json.dumps(value, indent=1, ensure_ascii=False, allow_nan=False)
-    return re.sub("[<>&\u2028\u2029]", lambda m: _HTML_UNSAFE[m.group()], blob)
-
-
-def fill_template(template, values):
-    """`template` with each key of `values` replaced by its value, in one pass.
-
-    A value is never searched for placeholders again, so user text holding
-    a placeholder's name is kept as it is.
-
-    Examples
-    --------
-    >>> fill_template("<b>{{A}}</b>{{B}}", {"{{A}}": "{{B}}", "{{B}}": "x"})
-    '<b>{{B}}</b>x'
-    """
-    pattern = re.compile("|".join(re.escape(k) for k in sorted(values, key=len, reverse=True)))
-    return pattern.sub(lambda m: values[m.group()], template)
 
 
 def _listing(directory):
@@ -414,7 +96,7 @@ def _aside_name(out):
         i += 1
 
 
-def build_experiment(stimset, out, options=None, psychopy=False, force=False):
+def build_experiment(stimset, out, options=None, psychopy=False, force=False, jspsych=False, jatos=False):
     """Write the browser experiment for a stimulus set.
 
     Parameters
@@ -428,12 +110,22 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
     psychopy : bool
         Also write ``out/psychopy/`` (see :mod:`attneave.analysis.experiment.psychopy`).
     force : bool
+    jspsych : bool
+        Also write ``out/jspsych.html``, the task as a jsPsych 8 timeline of
+        the plugin ``attneave-points`` (``plugin-attneave-points.js``),
+        loading jsPsych from ``options.jspsych_path``.
+    jatos : bool
+        The pages submit through JATOS's ``jatos.js`` instead of offering a
+        download, and ``out/<study>.jzip`` is written, a study archive JATOS
+        imports (its component: ``jspsych.html`` with `jspsych`, else
+        ``index.html``).
 
     Returns
     -------
     dict
         ``out`` (Path), ``moved_aside`` (Path or None), ``practice`` and
-        ``stimuli`` (counts), ``lists``, ``background``, ``files``.
+        ``stimuli`` (counts), ``lists``, ``background``, ``files``, ``pages``,
+        ``jzip`` (the archive's name, or None).
 
     Raises
     ------
@@ -463,7 +155,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
     every = practice + main
     check_image_sizes(every, mpath)
     background = options.grey or background_colour([s.source for s in every])
-    config = page_config(options, practice, main, background, __version__)
+    config = page_config(options, practice, main, background, __version__, jatos=jatos)
     if psychopy:
         from attneave.analysis.experiment.psychopy import conditions_rows
 
@@ -475,13 +167,14 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
         (tmp / "images").mkdir()
         for s in every:
             shutil.copyfile(s.source, tmp / s.src)
-        for name in _STATIC:
-            (tmp / name).write_bytes(_static(name).read_bytes())
-        (tmp / "index.html").write_text(render_index(config), encoding="utf-8")
+        pages = write_pages(tmp, config, options.jspsych_path if jspsych else None)
         if psychopy:
             from attneave.analysis.experiment.psychopy import write_psychopy
 
             write_psychopy(tmp / "psychopy", options, practice, main, config)
+        jzip = None
+        if jatos:
+            jzip = _write_jzip(tmp, out, options, pages[-1])
         files = _listing(tmp)
         marker = dict(attneave_experiment=__version__, stimulus_set=str(stimset.directory),
                       practice=[s.id for s in practice], stimuli=[s.id for s in main], lists=options.lists,
@@ -495,7 +188,22 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False):
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return dict(out=out, moved_aside=moved, practice=len(practice), stimuli=len(main), lists=options.lists,
-                background=background, files=files + [MARKER])
+                background=background, files=files + [MARKER], pages=pages, jzip=jzip)
+
+
+def _write_jzip(tmp, out, options, page):
+    """Write the JATOS study archive of the files in `tmp` (the experiment being built); its name."""
+    name = jatos_archive.study_dir_name(out)
+    assets = _listing(tmp)
+    if page == "jspsych.html" and "://" not in options.jspsych_path and not (tmp / options.jspsych_path).is_dir():
+        # jsPsych is the lab's, never shipped: without it in the study's assets the page stops with a message
+        print(f"attneave experiment: the JATOS study's page loads jsPsych from {options.jspsych_path}jspsych.js: "
+              f"add that folder to the study's assets in JATOS (or give --jspsych-path an http(s) URL)",
+              file=sys.stderr)
+    props = jatos_archive.study_properties(name, options.title, page, {"completion_url": options.completion_url},
+                                           description="A point-selection experiment (attneave experiment).")
+    jatos_archive.write_jzip(tmp / f"{name}.jzip", tmp, assets, props)
+    return f"{name}.jzip"
 
 
 def _swap_into_place(tmp, out, action):

@@ -18,7 +18,7 @@ from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError,
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.validate import as_int, as_number
 
-__all__ = ["ExperimentOptions", "load_options", "DEFAULT_INSTRUCTIONS", "DEFAULT_SIZE_DEG"]
+__all__ = ["ExperimentOptions", "load_options", "DEFAULT_INSTRUCTIONS", "DEFAULT_SIZE_DEG", "RECRUITMENT"]
 
 DEFAULT_SIZE_DEG = 10.0
 #: Bounds that keep a page usable and its build small: clicks a trial may ask for, counterbalanced
@@ -40,6 +40,18 @@ DEFAULT_INSTRUCTIONS = (
 _ABSOLUTE_URL = re.compile(r"^https?://[A-Za-z0-9.\-\[\]:@%_~!$&'()*+,;=]+(?:[/?#][^\s\\]*)?$")
 _RELATIVE_URL = re.compile(r"^(?:/|\./|\.\./)[^\s]*$")
 _HEX = re.compile(r"^#(?:[0-9a-fA-F]{3}|[0-9a-fA-F]{6})$")
+#: a URL query parameter's name, as recruitment platforms spell theirs (PROLIFIC_PID, workerId, id)
+_PARAM = re.compile(r"^[A-Za-z_][A-Za-z0-9_.-]{0,63}$")
+#: jspsych_path: a folder beside the page or on another host, written into src="..." as it is
+_LIBRARY_PATH = re.compile(r"^(?:https?://[A-Za-z0-9.\-\[\]:@%_~!$&()*+,;=]+)?[A-Za-z0-9_.~%/-]*$")
+
+#: Recruitment platforms: the URL parameter of the participant's id, and the others they add to the
+#: study link, recorded in the data (Prolific's and MTurk's documented names; SONA's id).
+RECRUITMENT = {
+    "prolific": ("PROLIFIC_PID", ("STUDY_ID", "SESSION_ID")),
+    "sona": ("id", ()),
+    "mturk": ("workerId", ("assignmentId", "hitId")),
+}
 
 
 def _whole(value, name, low):
@@ -125,6 +137,19 @@ class ExperimentOptions(BaseModel):
         pixels), ``'#rrggbb'``, or a grey level in [0, 1].
     submit_url : str, optional
         POST the data here at the end (JSON ``{participant, rows, csv}``).
+    participant_param : str
+        The URL parameter that carries the participant's id (default
+        ``participant``, which the page always reads too), or a platform:
+        ``prolific`` (``PROLIFIC_PID``; ``STUDY_ID`` and ``SESSION_ID``
+        recorded), ``sona`` (``id``), ``mturk`` (``workerId``;
+        ``assignmentId`` and ``hitId`` recorded). See :attr:`recruitment`.
+    completion_url : str, optional
+        Where the participant is sent once the data are saved (Prolific's
+        completion link, SONA's credit link); ``{participant}`` in it is
+        replaced by the participant's id (URL-encoded).
+    jspsych_path : str
+        With the jsPsych page: the folder (beside the page, or a URL) that
+        holds ``jspsych.js`` and ``jspsych.css`` (default ``jspsych/``).
     psychopy_units : {'deg', 'pix', 'height'}, optional
         Units of the PsychoPy exports (default: 'deg' with `monitor`, else
         'height'; see :mod:`attneave.analysis.experiment.psyexp`).
@@ -158,6 +183,9 @@ class ExperimentOptions(BaseModel):
     viewing_distance_cm: float = Field(default=57.0, gt=0)
     background: Union[str, float] = "auto"
     submit_url: Optional[str] = None
+    participant_param: str = "participant"
+    completion_url: Optional[str] = None
+    jspsych_path: str = "jspsych/"
     psychopy_units: Optional[Literal["deg", "pix", "height"]] = None
     monitor: Optional[str] = Field(default=None, pattern=r"^[A-Za-z0-9_][A-Za-z0-9_ .-]{0,63}$")
 
@@ -242,7 +270,25 @@ class ExperimentOptions(BaseModel):
             return float(v)
         raise ValueError(f"expected 'auto', '#rrggbb' or a grey level in [0, 1], got {v!r}")
 
-    @field_validator("submit_url")
+    @field_validator("participant_param")
+    @classmethod
+    def _param(cls, v):
+        if v.strip().lower() in RECRUITMENT:
+            return v.strip().lower()
+        if not _PARAM.match(v):
+            raise ValueError(f"expected a URL parameter's name (letters, digits, _ . -; PROLIFIC_PID, workerId) "
+                             f"or one of {', '.join(RECRUITMENT)}, got {v!r}")
+        return v
+
+    @field_validator("jspsych_path")
+    @classmethod
+    def _library_path(cls, v):
+        if not v.strip() or not _LIBRARY_PATH.match(v) or "//" in v.split("://", 1)[-1]:
+            raise ValueError(f"expected a folder beside the page (jspsych/, lib/jspsych-8/) or an http(s) URL, "
+                             f"without quotes, spaces or '//', got {v!r}")
+        return v if v.endswith("/") else v + "/"
+
+    @field_validator("submit_url", "completion_url")
     @classmethod
     def _url(cls, v):
         # '//host/x' and '/\\host/x' are paths to a browser's eye only: it sends them to another origin
@@ -266,6 +312,28 @@ class ExperimentOptions(BaseModel):
         if self.size_px is None and self.size_deg is None:
             self.size_deg = DEFAULT_SIZE_DEG
         return self
+
+    @property
+    def recruitment(self):
+        """(parameter of the id, parameters recorded beside it) of `participant_param`.
+
+        Examples
+        --------
+        >>> ExperimentOptions(participant_param="prolific").recruitment
+        ('PROLIFIC_PID', ('STUDY_ID', 'SESSION_ID'))
+        >>> ExperimentOptions(participant_param="workerId").recruitment
+        ('workerId', ('assignmentId', 'hitId'))
+        >>> ExperimentOptions().recruitment
+        ('participant', ())
+        """
+        p = self.participant_param
+        if p in RECRUITMENT:
+            return RECRUITMENT[p]
+        # a platform's own parameter named directly records the platform's others too
+        for param, extra in RECRUITMENT.values():
+            if p == param:
+                return param, extra
+        return p, ()
 
     def origin(self, key):
         """Where setting `key` was given, to begin a message about its value.

@@ -4,7 +4,8 @@
  *
  * PAGE CONTRACT (stable; hosts, scripts and tests rely on it)
  *   URL parameters
- *     ?participant=ID   participant id (else PROLIFIC_PID=, else a screen asks for it); an id
+ *     ?participant=ID   participant id (or the parameter --participant-param names, e.g.
+ *                       PROLIFIC_PID, id, workerId; else PROLIFIC_PID=, else a screen asks); an id
  *                       must match PARTICIPANT_ID: 1-64 letters, digits, _ . @ -, beginning
  *                       with a letter or digit (Prolific, SONA and MTurk ids do); another is
  *                       refused with a message (the screen "error", or on the id screen)
@@ -45,6 +46,15 @@
  *     with #submit-status ok and no #download (?fresh=1 starts again). While trials are under
  *     way, leaving the page asks the browser's "leave site?" question. The same participant in
  *     two tabs: the tab that keeps a trial first goes on, the other shows the screen "error".
+ *   Recruitment: the parameters --participant-param records (Prolific's STUDY_ID and SESSION_ID,
+ *     MTurk's assignmentId and hitId) are columns after timestamp. With --completion-url the page
+ *     sends the participant there once the data are submitted (or, with neither --submit-url nor
+ *     JATOS, offers the link #complete beside #download).
+ *   JATOS (--jatos): jatos.js beside the page; the page starts in jatos.onLoad, reads the study
+ *     link's parameters from jatos.urlQueryParameters too, takes completion_url from the component's
+ *     (or study's) JSON input, submits the CSV with jatos.submitResultData (4 attempts; #submit-status)
+ *     and then calls jatos.endStudyAndRedirect(completion URL) or jatos.endStudy(); no #download
+ *     unless the submission failed.
  *   Trial order: mulberry32 seeded with FNV-1a(seed + ":" + participant), Fisher-Yates;
  *     the same code is in analysis/experiment/order.py (and the PsychoPy script).
  */
@@ -117,6 +127,16 @@
     };
   }
 
+  /** The participant id from URL parameters (get(name) -> value or null): the named one, then the defaults. */
+  function participantId(get, param) {
+    return String(get(param || 'participant') || get('participant') || get('PROLIFIC_PID') || '').trim();
+  }
+
+  /** A completion URL with {participant} replaced by the (URL-encoded) id. */
+  function completionHref(url, participant) {
+    return String(url).replace(/\{participant\}/g, encodeURIComponent(participant));
+  }
+
   /** Participant ids the page accepts (the same rule as options.PARTICIPANT_ID). */
   var PARTICIPANT_ID = /^[A-Za-z0-9][A-Za-z0-9_.@-]{0,63}$/;
   var PLAIN_NUMBER = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
@@ -156,13 +176,16 @@
   var api = {
     fnv1a32: fnv1a32, mulberry32: mulberry32, shuffle: shuffle, trialOrder: trialOrder,
     participantList: participantList, toImagePx: toImagePx, toCSV: toCSV, csvField: csvField,
-    pxPerDegree: pxPerDegree, COLUMNS: COLUMNS, PARTICIPANT_ID: PARTICIPANT_ID, neutralise: neutralise
+    pxPerDegree: pxPerDegree, COLUMNS: COLUMNS, PARTICIPANT_ID: PARTICIPANT_ID, neutralise: neutralise,
+    participantId: participantId, completionHref: completionHref, ID_RULE: ID_RULE
   };
   if (typeof module === 'object' && module.exports) {
     module.exports = api;
     return;
   }
   root.attneave = api;
+  // the jsPsych page takes the functions above and runs its own timeline, not this page
+  if (root.attneaveLibraryOnly) return;
 
   // ---------------------------------------------------------------- the page
 
@@ -176,8 +199,10 @@
 
   var session = {
     participant: null, list: null, pxPerMm: null, pxPerDeg: null,
-    distanceCm: cfg.viewing_distance_cm, order: []
+    distanceCm: cfg.viewing_distance_cm, order: [], extra: {}
   };
+  var completion = cfg.completion_url || null;  // JATOS's JSON input may replace it
+  var recorded = cfg.record_params || [];
   var data = root.attneaveData = [];
   var practiceData = root.attneavePractice = [];
   root.attneave.session = session;
@@ -488,7 +513,7 @@
   function rowsOf(t, trialNumber) {
     var scr = root.screen || {};
     return t.clicks.map(function (c, k) {
-      return {
+      var row = {
         participant: session.participant, stimulus_id: t.stim.id, x: round(c.x, 3), y: round(c.y, 3),
         click: k + 1, trial: trialNumber, rt_ms: Math.round(c.rt), condition: t.stim.condition,
         list: session.list, parent_id: t.stim.parent_id, shown_w: round(c.shown_w, 3), shown_h: round(c.shown_h, 3),
@@ -498,6 +523,8 @@
         device_pixel_ratio: root.devicePixelRatio || 1, pointer_type: c.pointer,
         user_agent: root.navigator.userAgent, timestamp: c.time
       };
+      recorded.forEach(function (k) { row[k] = session.extra[k]; });
+      return row;
     });
   }
 
@@ -537,7 +564,46 @@
 
   // ---------------------------------------------------------------- the end
 
-  function csv() { return toCSV(data, COLUMNS); }
+  function csv() { return toCSV(data, COLUMNS.concat(recorded)); }
+
+  function complete() { root.location.assign(completionHref(completion, session.participant)); }
+  function completionLink() {
+    return el('a', { id: 'complete', href: completionHref(completion, session.participant), text: 'Continue to finish the study' });
+  }
+
+  /** The data are with the experimenter: none stays in this browser, only a note that the participant is done. */
+  function markSubmitted() {
+    try {
+      root.localStorage.setItem(storeKey, JSON.stringify({
+        version: 1, list: session.list, order: session.order, done: session.order.length, finished: true,
+        submitted: true, rows: []
+      }));
+    } catch (err) { forgetProgress(); }
+  }
+
+  /** JATOS: the CSV as the component's result data, then the end of the study (and the completion URL). */
+  function submitJatos(status, text, link) {
+    var attempt = 0;
+    var delays = [1000, 2000, 4000];
+    status.setAttribute('data-state', 'pending');
+    status.textContent = 'Sending your data…';
+    function tryOnce() {
+      attempt += 1;
+      Promise.resolve().then(function () { return root.jatos.submitResultData(text); }).then(function () {
+        markSubmitted();
+        status.setAttribute('data-state', 'ok');
+        status.textContent = 'Your data were sent. Thank you.';
+        if (completion) root.jatos.endStudyAndRedirect(completionHref(completion, session.participant));
+        else root.jatos.endStudy();
+      }, function (err) {
+        if (attempt <= delays.length) { root.setTimeout(tryOnce, delays[attempt - 1]); return; }
+        status.setAttribute('data-state', 'failed');
+        status.textContent = 'Your data could not be sent (' + ((err && err.message) || err) + '). Please download the file with the link below and send it to the experimenter.';
+        status.parentNode.appendChild(el('p', {}, [link]));
+      });
+    }
+    tryOnce();
+  }
 
   function submit(status) {
     var body = JSON.stringify({ participant: session.participant, rows: data, csv: csv() });
@@ -554,20 +620,16 @@
           else {
             status.setAttribute('data-state', 'failed');
             status.textContent = 'Your data could not be sent (' + err.message + '). Please download the file with the link above and send it to the experimenter.';
+            if (completion) status.parentNode.appendChild(el('p', {}, [completionLink()]));
           }
         });
     }
     function ok() {
-      // the experimenter has the data: none of it stays in this browser, only a note that this
-      // participant is done, so that opening the page again shows the end instead of starting over
-      try {
-        root.localStorage.setItem(storeKey, JSON.stringify({
-          version: 1, list: session.list, order: session.order, done: session.order.length, finished: true,
-          submitted: true, rows: []
-        }));
-      } catch (err) { forgetProgress(); }
+      // opening the page again shows the end instead of starting over
+      markSubmitted();
       status.setAttribute('data-state', 'ok');
       status.textContent = 'Your data were sent. Thank you.';
+      if (completion) complete();  // only now: the data are saved
     }
     tryOnce();
   }
@@ -580,17 +642,21 @@
     var text = csv();
     var name = 'attneave_' + String(session.participant).replace(/[^A-Za-z0-9_.-]/g, '_') + '.csv';
     var link = el('a', { id: 'download', href: 'data:text/csv;charset=utf-8,' + encodeURIComponent(text), download: name, text: 'Download your data (' + name + ')' });
-    var nodes = paragraphs(cfg.end_text).concat([el('p', {}, [link])]);
+    var nodes = paragraphs(cfg.end_text);
+    if (!cfg.jatos) nodes.push(el('p', {}, [link]));  // in JATOS only when the submission failed
     var status = null;
-    if (cfg.submit_url) {
+    if (cfg.submit_url || cfg.jatos) {
       status = el('p', { id: 'submit-status' });
       nodes.push(status);
+    } else if (completion) {
+      nodes.push(el('p', {}, [completionLink()]));  // no way to know the file was saved: the participant goes on
     }
     showScreen(nodes, 'end');
     progress.textContent = '';
     nextBtn.hidden = true;  // the last screen: nothing to advance to
     onNext = null;
-    if (status) submit(status);
+    if (cfg.jatos) submitJatos(status, text, link);
+    else if (status) submit(status);
   }
 
   // ---------------------------------------------------------------- start
@@ -603,7 +669,7 @@
       else if (ppm !== null) { session.pxPerMm = ppm; session.pxPerDeg = pxPerDegree(ppm, session.distanceCm * 10); }
       else if (cfg.px_per_deg !== null) session.pxPerDeg = cfg.px_per_deg;
     } catch (err) { fail(err.message); return; }
-    var id = (params.get('participant') || params.get('PROLIFIC_PID') || '').trim();
+    var id = participantId(function (k) { return params.get(k); }, cfg.participant_param);
     // the id comes from the address, which anyone can write: it goes into file names, storage keys
     // and the CSV, so only ids of the documented form are taken
     if (id && !PARTICIPANT_ID.test(id)) { fail('This participant id cannot be used. ' + ID_RULE); return; }
@@ -612,6 +678,8 @@
 
   function withParticipant(id) {
     session.participant = id;
+    // anyone can write the address: the recorded parameters are kept as text, at most 200 characters
+    recorded.forEach(function (k) { session.extra[k] = String(params.get(k) || '').slice(0, 200); });
     var k = cfg.lists;
     if (params.has('list')) {
       var l = Number(params.get('list'));
@@ -682,5 +750,16 @@
       + 'with the next one. Press Next to go on.', 'resume', function () { runSequence(trials, false, finish, saved.done); });
   }
 
-  start();
+  /** JATOS: the study link's parameters (Prolific's, say) and the JSON input, once jatos.js is ready. */
+  function adoptJatos() {
+    var q = root.jatos.urlQueryParameters || {};
+    Object.keys(q).forEach(function (k) { if (!params.has(k)) params.set(k, String(q[k])); });
+    var input = Object.assign({}, root.jatos.studyJsonInput || {}, root.jatos.componentJsonInput || {});
+    if (typeof input.completion_url === 'string' && /^(https?:\/\/|\/)/.test(input.completion_url)) completion = input.completion_url;
+  }
+
+  if (!cfg.jatos) start();
+  else if (!root.jatos || typeof root.jatos.onLoad !== 'function') {
+    fail('This page runs in JATOS: jatos.js, which JATOS serves beside it, could not be loaded.');
+  } else root.jatos.onLoad(function () { adoptJatos(); start(); });
 })(typeof window !== 'undefined' ? window : this);
