@@ -40,7 +40,7 @@ import shutil
 from importlib import resources
 from pathlib import Path
 
-from attneave.analysis.experiment.build import fill_template
+from attneave.analysis.experiment.pages import fill_template
 from attneave.analysis.experiment.psychopy_text import (
     DEFAULT_MONITOR,
     TEXT_HEIGHT,
