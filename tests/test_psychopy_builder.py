@@ -120,6 +120,18 @@ def test_psychopy_reads_the_experiment_as_written(exported):
     assert got["flow"][0] == "instructions" and got["flow"][-1] == "end"
 
 
+def test_the_order_code_runs_on_psychopys_own_conditions(exported):
+    """The start-of-experiment code on what PsychoPy's importConditions really returns (numbers, pandas)."""
+    py = _need_psychopy()
+    root = ET.parse(exported / "attneave_task.psyexp").getroot()
+    probe = ("import json\nfrom psychopy import data\nexpInfo = {'participant': 'P01', 'list': ''}\n"
+             + _code(root, "setup_code", "Begin Experiment")
+             + "\nprint(json.dumps([practice_rows, main_rows, expInfo['list']]))\n")
+    res = subprocess.run([py, "-c", probe], cwd=exported, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr
+    assert json.loads(res.stdout.strip().splitlines()[-1]) == list(_begin_python(exported, "P01"))
+
+
 # ------------------------------------------------------------------ without PsychoPy
 
 class _Data:
