@@ -342,3 +342,23 @@ def test_a_column_of_numbers_and_text_is_named(stimset, tmp_path, capsys):
     assert main(["experiment", str(bad), "-o", str(tmp_path / "exp"), "--psychopy"]) == 0
     err = capsys.readouterr().err
     assert "column 'condition' holds numbers ('1') and text" in err and err.count("\n") == 1
+
+
+def test_participant_texts_reach_the_compiled_scripts_as_written(stimset, tmp_path):
+    """A leading $ (Builder's mark of code), quotes, braces and backslashes stay text in Python and PsychoJS."""
+    text = "$5 for \"quoted\" it's {x} \\n back\\\\slash"
+    out = tmp_path / "exp"
+    assert main(["experiment", str(stimset), "-o", str(out), "--psychopy", "--instructions", text,
+                 "--end-text", "Bye $1"]) == 0
+    folder = out / "psychopy"
+    for target in (".py", ".js"):
+        compiled, _ = _compile(folder, target)
+        body = compiled.read_text(encoding="utf-8-sig")
+        if target == ".py":
+            import ast
+
+            strings = [n.value for n in ast.walk(ast.parse(body)) if isinstance(n, ast.Constant)
+                       and isinstance(n.value, str)]
+            assert any(s.startswith(text + "\n\n") for s in strings) and "Bye $1\n\n(press the space bar to close)" in strings
+        else:
+            assert json.dumps(text)[1:-1].replace('\\"', '"').replace("'", "\\'") in body
