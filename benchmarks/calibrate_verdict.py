@@ -17,6 +17,12 @@ network's outlines, whose ``uncertainty`` is measured too):
    other half against the Must show of issue 10 (precision >= 0.9, no ok
    below IoU 0.5).
 
+With ``--clean`` only the outlines that no other reason of the verdict
+makes ``suspect`` (their ``reason`` is empty but for "cannot be
+verified") are candidates: a rule for them is what decides ``ok``, and
+the precision printed is that of the outlines the verdict would then mark
+``ok`` (the learned networks' rule was calibrated so).
+
 A rule that holds on the half it was not chosen on, in both directions, is
 a candidate for the verdict of that mode; otherwise its photographs stay
 ``unverifiable`` (see :mod:`attneave.stimuli.extraction.verdict`). When both
@@ -25,7 +31,7 @@ each (an outline ok by it is ok by both) is printed with its figures on
 each half: that is the rule the verdict uses for box mode.
 
 Usage: python benchmarks/calibrate_verdict.py PHOTOS.csv [--max-measures 3] [--tune-precision 0.95]
-       [--tune-min 0.6] [--min-ok 3] [--measures colour_error,box_gap] [--modes rembg,rembg-box]
+       [--tune-min 0.6] [--min-ok 3] [--measures colour_error,box_gap] [--modes rembg,rembg-box] [--clean]
 """
 
 from __future__ import annotations
@@ -81,6 +87,8 @@ def main(argv=None):
     ap.add_argument("--min-ok", type=int, default=3)
     ap.add_argument("--measures", default=None, help="comma-separated: only rules on these measures (default all)")
     ap.add_argument("--modes", default="auto,box", help="comma-separated: the modes calibrated (default auto,box)")
+    ap.add_argument("--clean", action="store_true",
+                    help="only outlines that no other reason of the verdict makes suspect are candidates")
     args = ap.parse_args(argv)
 
     import pandas as pd
@@ -98,6 +106,15 @@ def main(argv=None):
               "expected the CSV of validate_photos.py --csv", file=sys.stderr)
         return 2
     df = df[df["mode"].isin(args.modes.split(","))]
+    if args.clean:
+        # the verdict's other reasons, without the one the rule would lift ("... cannot be verified: ...")
+        other = df["reason"].fillna("").str.split("; ").map(
+            lambda parts: [r for r in parts if r and "cannot be verified" not in r])
+        n_all = df.groupby(["mode", "half"]).size()
+        df = df[other.map(len) == 0]
+        for (mode, half), n in n_all.items():
+            print(f"   {mode} half {half}: {int(((df['mode'] == mode) & (df.half == half)).sum())} of {n} outlines "
+                  "with no other reason to be suspect")
     held = True
     for mode, g in df.groupby("mode", sort=True):
         allowed = args.measures.split(",") if args.measures else list(GOOD)

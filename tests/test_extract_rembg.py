@@ -35,12 +35,12 @@ def _red_on_green(cov):
     return img
 
 
-def _tiny_network(path):
-    """1x1 convolution 'red minus green' and a sigmoid, any input size."""
+def _tiny_network(path, gain=8.0):
+    """1x1 convolution 'red minus green' and a sigmoid, any input size; a low `gain` hesitates."""
     onnx = pytest.importorskip("onnx")
     from onnx import TensorProto, helper, numpy_helper
 
-    w = numpy_helper.from_array(np.array([[[[8.0]], [[-8.0]], [[0.0]]]], np.float32), "w")
+    w = numpy_helper.from_array(np.array([[[[gain]], [[-gain]], [[0.0]]]], np.float32), "w")
     graph = helper.make_graph(
         [helper.make_node("Conv", ["input", "w"], ["z"]), helper.make_node("Sigmoid", ["z"], ["p"])],
         "tiny", [helper.make_tensor_value_info("input", TensorProto.FLOAT, [1, 3, "h", "w"])],
@@ -177,3 +177,40 @@ def test_without_rembg_installed_the_message_says_how_to_get_it(tmp_path, monkey
     assert err.count("\n") == 1 and 'pip install "attneave[rembg]"' in err
     with pytest.raises(InputError, match="needs rembg"):
         extract(_red_on_green(_disk((60, 80), 40, 30, 15)), method="rembg")
+
+
+def test_a_learned_outline_from_a_box_is_ok_only_by_the_learned_rule(tmp_path, home, monkeypatch):
+    from attneave.stimuli.extraction import verdict
+    from attneave.stimuli.extraction.verdict import judge
+
+    model = {"network": "dis_custom", "model_file": _tiny_network(tmp_path / "crisp.onnx")}
+    img = _red_on_green(_disk((120, 160), 80.3, 60.2, 35))
+    box = [(35, 15, 91, 91)]  # the disk and a margin, as a person draws a box
+    crisp = extract(img, method="rembg", model=model, boxes=box)
+    assert judge(img, crisp).status == "ok"
+    assert "cannot be verified" in judge(img, extract(img, method="rembg", model=model)).reason  # no box
+    # the same disk grazing the image's left edge (3 % of its outline, under the frame reason's 5 %):
+    # the learned rule wants no contact at all, and that is the only reason
+    grazing = _red_on_green(_disk((120, 160), 35.3, 60.2, 35))
+    v = judge(grazing, extract(grazing, method="rembg", model=model, boxes=[(0, 15, 81, 91)]))
+    assert 0 < v.measures["frame"] < 0.05
+    assert v.status == "suspect" and v.reasons == ["figure-ground of a photograph (rembg) cannot be verified: "
+                                                   "check the overlay"]
+    # no rule, no ok
+    monkeypatch.setattr(verdict, "LEARNED_RULES", {})
+    assert "cannot be verified" in judge(img, crisp).reason
+
+
+def test_uncertainty_measures_a_hesitant_network(tmp_path, home):
+    from attneave.stimuli.extraction.verdict import judge
+
+    img = _red_on_green(_disk((120, 160), 80.3, 60.2, 35))
+    box = [(35, 15, 91, 91)]
+    crisp = extract(img, method="rembg", model={"network": "dis_custom", "model_file": _tiny_network(
+        tmp_path / "crisp.onnx")}, boxes=box)
+    # a network whose probability climbs over a wide band of colours: the same outline, undecided
+    soft = extract(img, method="rembg", model={"network": "dis_custom", "model_file": _tiny_network(
+        tmp_path / "soft.onnx", gain=0.5)}, boxes=box)
+    assert soft.contour.area == pytest.approx(crisp.contour.area, rel=0.02)
+    assert soft.params["uncertainty"] > 5 * crisp.params["uncertainty"]
+    assert judge(img, soft).measures["uncertainty"] == soft.params["uncertainty"]

@@ -1,4 +1,10 @@
-"""Salient-object segmentation by a learned network the user supplies (ONNX).
+"""Salient-object segmentation by a learned network the user supplies (raw ONNX).
+
+For the networks rembg knows (U^2-Net, IS-Net, BiRefNet, ...) use
+``method='rembg'`` (:mod:`attneave.stimuli.extraction.learned`): rembg
+holds each network's input size and normalisation. ``method='model'`` is
+the path for any other ONNX network, whose input size and normalisation
+the user states (``size``, ``mean``, ``std``), with onnxruntime alone.
 
 ``method='model'`` runs an ONNX file through ``onnxruntime`` (the optional
 extra ``attneave[model]``); nothing is downloaded. Networks of the U^2-Net
