@@ -222,3 +222,13 @@ def test_builder_data_refuses_a_second_conversion(tmp_path, stimset, capsys):
     assert main(["analyze", str(path), "--stimuli", str(stimset), "-o", str(tmp_path / "o"), "--coords", "height",
                  "--window-size", "1920,1080"]) == 2
     assert "leave --coords and --scale out" in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+def test_a_clicks_cell_that_is_not_a_list_of_objects_is_a_malformed_row(tmp_path):
+    from attneave.analysis.clicks.read import malformed_rows
+
+    trials = _jspsych_trials()
+    trials[3]["clicks"] = '[{"x": 1, "y": 2}, "cut'
+    t = read_clicks(_jspsych_csv(tmp_path / "d.csv", trials))
+    assert len(t) == 6 - 1 + 1 and malformed_rows(t).tolist() == [False] * 3 + [True] + [False] * 2
+    assert "not a JSON list" in t["row_error"].iloc[3]

@@ -229,8 +229,9 @@ def jspsych_clicks(df, path, mapping, trial_type=None):
     for i, items in enumerate(lists):
         base = df.iloc[i].to_dict()
         del base[col]
-        if items is None:  # not a list of objects (cut short, say): left as written, excluded as not a number
-            out.append({**base, "x": str(df[col].iloc[i]), "y": str(df[col].iloc[i]), "list_index": -1})
+        if items is None:  # not a list of objects (cut short, say): a malformed row, excluded as such
+            why = f"column {name!r} is not a JSON list of {{x, y}} objects"
+            out.append({**base, "x": "", "y": "", "list_index": -1, "row_error": base.get("row_error") or why})
             continue
         if not items:
             out.append({**base, "x": "", "y": "", "list_index": -1})
