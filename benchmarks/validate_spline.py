@@ -29,8 +29,10 @@ With ``--cv`` it cross-validates the robust rule's tuned constants
 (:data:`CV_GRID`, or ``--cv-grid`` as JSON) is measured on both fixed
 halves at N = 12, 20, 40; on each half the setting that leaves the most
 room under the worst-used target (:func:`cv_score`: the largest of p90
-ratio / 1.1 and corners / limit over N, the hard targets met) is chosen,
-and its rows on the *other* half are the held-out figures.
+ratio / 1.1 and corners / limit over N, the hard targets met; ties broken
+by the mean of those shares) is chosen, and its rows on the *other* half
+are the held-out figures (issue 28; the outcome is in the notes of
+:mod:`attneave.stimuli.curves.qic.rule`).
 
 With ``--curved K`` it measures instead the ``attneave_curved`` acceptance
 test on K seeded Attneave polygons (6-19 points): the share of the polygons
@@ -79,7 +81,8 @@ TUNED = {name: "rule" for name in ("MAX_CHORD_ANGLE", "CHORD_MARGIN", "MAX_TANGE
                                    "ISOLATED_TURN", "ISOLATION", "SHARP_BULGE", "EXCESS_BULGE", "MAX_EXCESS",
                                    "BULGE_TURN", "FOLD_MARGIN", "MAX_RUN")}
 TUNED.update({name: "lac" for name in ("ALPHA", "TRIGGER", "SCREEN_TURN")})
-#: --cv's settings: the constants each changes from the library's values ({}: as they are)
+#: --cv's settings: the constants each sets ({}: the library's values); issue 28's grid,
+#: #0 the constants before it, #2 the library's since
 CV_GRID = [
     {"BULGE_TURN": None, "MAX_EXCESS": 0.75, "CHORD_MARGIN": 0.1 * np.pi},
     {"BULGE_TURN": 0.8, "MAX_EXCESS": 0.5, "CHORD_MARGIN": 0.1 * np.pi},
