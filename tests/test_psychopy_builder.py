@@ -14,6 +14,7 @@ import subprocess
 import textwrap
 import xml.etree.ElementTree as ET
 
+import numpy as np
 import pytest
 
 from attneave.analysis.experiment import order, psyexp
@@ -362,3 +363,42 @@ def test_participant_texts_reach_the_compiled_scripts_as_written(stimset, tmp_pa
             assert any(s.startswith(text + "\n\n") for s in strings) and "Bye $1\n\n(press the space bar to close)" in strings
         else:
             assert json.dumps(text)[1:-1].replace('\\"', '"').replace("'", "\\'") in body
+
+
+def test_a_data_file_written_by_psychopys_experimenthandler_gives_the_clicks(exported, tmp_path):
+    """The Builder data file as PsychoPy itself writes it (ExperimentHandler, TrialHandler2 over the real
+    importConditions) is read by analyze's reader with the clicks back in image pixels."""
+    from attneave.analysis.clicks.read import read_clicks
+
+    py = _need_psychopy()
+    rows = _conditions(exported)
+    clicks = [(10.25, 20.5), (150.0, 3.125), (79.5, 59.5)]  # image pixels of a 160 x 120 image
+    sw, sh = float(rows[1]["size_w"]), float(rows[1]["size_h"])
+    xs = [((x + 0.5) / 160 - 0.5) * sw for x, _ in clicks]
+    ys = [(0.5 - (y + 0.5) / 120) * sh for _, y in clicks]
+    out = tmp_path / "P01_attneave_task.csv"
+    probe = textwrap.dedent(f"""
+        from psychopy import data
+        exp = data.ExperimentHandler(name="attneave_task", extraInfo={{"participant": "P01", "list": 1}},
+                                     savePickle=False, saveWideText=False)
+        exp.addData("instructions.started", 0.1)
+        exp.nextEntry()
+        trials = data.TrialHandler2(trialList=data.importConditions("conditions.csv", selection=[0, 1, 2]),
+                                    nReps=1, method="sequential", name="trials")
+        exp.addLoop(trials)
+        for t in trials:
+            exp.addData("mouse.x", {xs!r} if trials.thisN else [0.0])
+            exp.addData("mouse.y", {ys!r} if trials.thisN else [0.0])
+            exp.addData("mouse.time", [0.5, 0.75, 1.0] if trials.thisN else [0.4])
+            exp.nextEntry()
+        exp.addData("end.started", 9.0)
+        exp.nextEntry()
+        exp.saveAsWideText({str(out)!r})
+    """)
+    res = subprocess.run([py, "-c", probe], cwd=exported, capture_output=True, text=True, timeout=600)
+    assert res.returncode == 0, res.stderr
+    t = read_clicks(out)
+    assert t["stimulus_id"].tolist() == [rows[1]["stimulus_id"]] * 3 + [rows[2]["stimulus_id"]] * 3
+    got = np.c_[t["x"].astype(float), t["y"].astype(float)]
+    assert np.abs(got - np.array(clicks * 2)).max() < 1e-6
+    assert t.attrs["set_aside"] == {"rows of routines outside the trials loop": 2, "practice trials": 1}
