@@ -8,10 +8,7 @@ without Chromium and playwright) the tests are skipped, unless
 """
 
 import json
-import os
-import shutil
 import urllib.parse
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -20,38 +17,22 @@ import pytest
 from attneave.analysis.experiment import order
 from attneave.cli import main
 
-from helpers import PX_PER_DEG, SIZE_DEG, H, W, analyze_clicks, client_xy, target_points
+from helpers import (
+    PX_PER_DEG,
+    SIZE_DEG,
+    H,
+    W,
+    analyze_clicks,
+    client_xy,
+    install_jspsych,
+    target_points,
+    write_jatos_stand_in,
+)
 
 LAB_TIMELINE = """var timeline = [{type: jsPsychInstructions, pages: ['<p id="lab-welcome">Welcome to our lab.</p>'],
       show_clickable_nav: true}].concat(attneaveJsPsych.timeline(jsPsych),
       [{type: jsPsychSurveyText, questions: [{prompt: 'Your age?', name: 'age'}]}]);"""
 GENERATED_TIMELINE = "var timeline = attneaveJsPsych.timeline(jsPsych);"
-
-
-@pytest.fixture(scope="module")
-def npm_dir():
-    d = os.environ.get("ATTNEAVE_JSPSYCH_DIR")
-    why = None
-    if not d:
-        why = "ATTNEAVE_JSPSYCH_DIR is not set (npm install --prefix DIR jspsych@8 @jspsych/plugin-instructions " \
-              "@jspsych/plugin-survey-text)"
-    elif not (Path(d) / "node_modules/jspsych/dist/index.browser.js").is_file():
-        why = f"ATTNEAVE_JSPSYCH_DIR={d} holds no node_modules/jspsych/dist/index.browser.js"
-    if why:
-        if os.environ.get("ATTNEAVE_REQUIRE_BROWSER") == "1":
-            pytest.fail(f"ATTNEAVE_REQUIRE_BROWSER=1 but {why}")
-        pytest.skip(why)
-    return Path(d) / "node_modules"
-
-
-def install_jspsych(exp, npm):
-    """The lab's copy of jsPsych beside the page, as docs/experiment.md says to make it from npm."""
-    lib = exp / "jspsych"
-    lib.mkdir(exist_ok=True)
-    shutil.copyfile(npm / "jspsych/dist/index.browser.js", lib / "jspsych.js")
-    shutil.copyfile(npm / "jspsych/css/jspsych.css", lib / "jspsych.css")
-    for plugin in ("instructions", "survey-text"):
-        shutil.copyfile(npm / f"@jspsych/plugin-{plugin}/dist/index.browser.js", lib / f"plugin-{plugin}.js")
 
 
 def lab_page(exp, timeline=LAB_TIMELINE):
@@ -112,12 +93,12 @@ def run_task(page, shapes):
 
 
 @pytest.fixture(scope="module")
-def built(tmp_path_factory, npm_dir):
+def built(tmp_path_factory, jspsych_npm):
     from helpers import make_set
 
     root = tmp_path_factory.mktemp("jspsych")
     shapes = make_set(root / "set")
-    return dict(root=root, set=root / "set", shapes=shapes, npm=npm_dir)
+    return dict(root=root, set=root / "set", shapes=shapes, npm=jspsych_npm)
 
 
 def test_lab_timeline_with_real_jspsych_gives_data_analyze_reads(browser, built, tmp_path):
@@ -222,3 +203,34 @@ def test_prolific_parameters_recorded_and_completion_after_the_data_are_sent(bro
     mapped, summary = analyze_clicks(tmp_path / "clicks.csv", built["set"], tmp_path / "results")
     assert summary["n_excluded"] == 0
     check_points(mapped, shown, pid)
+
+
+def test_jspsych_page_in_jatos_submits_the_timeline_data_then_redirects(browser, built, tmp_path):
+    exp = tmp_path / "exp"
+    assert main(["experiment", str(built["set"]), "-o", str(exp), "--jspsych", "--jatos", "--clicks", "2",
+                 "--size-px", "320", "--fixation-ms", "0", "--iti-ms", "0", "--conditions", "troughs",
+                 "--participant-param", "mturk"]) == 0
+    install_jspsych(exp, built["npm"])
+    done = "https://www.mturk.com/mturk/externalSubmit?assignmentId=A7"
+    write_jatos_stand_in(exp, {"workerId": "W123", "assignmentId": "A7", "hitId": "H9"}, {"completion_url": done})
+    page = browser.new_page(viewport={"width": 1280, "height": 800})
+    serve(page, exp)
+    page.goto("http://attneave.test/jspsych.html")
+    shown, _ = run_task(page, built["shapes"])
+    page.wait_for_selector("#submit-status[data-state=ok]", timeout=20000)
+    calls = page.evaluate("window.jatosCalls")
+    data = json.loads(page.evaluate("window.jsPsych.data.get().json()"))
+    page.close()
+
+    names = [c[0] for c in calls]
+    assert names[0] == "onLoad" and names.count("submitResultData") == 2     # one refused, one retry
+    assert [c for c in calls if c[0].startswith("endStudy")] == [["endStudyAndRedirect", done]]
+    assert names[-1] == "endStudyAndRedirect"                                 # after the data were submitted
+    submitted = json.loads(calls[-2][1])
+    assert submitted == data                                                  # the timeline's rows, as they are
+    points = [r for r in submitted if r["trial_type"] == "attneave-points"]
+    assert [r["stimulus_id"] for r in points] == [s[0] for s in shown]
+    assert {(r["participant"], r["assignmentId"], r["hitId"]) for r in points} == {("W123", "A7", "H9")}
+    (tmp_path / "jatos.json").write_text(calls[-2][1])
+    mapped, summary = analyze_clicks(tmp_path / "jatos.json", built["set"], tmp_path / "results")
+    assert summary["n_excluded"] == 0 and summary["n_clicks"] == 2 * len(shown)
