@@ -7,6 +7,7 @@ module. Plain helper functions are in ``helpers.py``.
 
 import os
 import shutil
+from pathlib import Path
 
 import pytest
 from helpers import ARGS, CHROMIUM, PX_PER_DEG, SIZE_DEG, make_set, missing, with_timeout
@@ -58,3 +59,18 @@ def stimset(tmp_path_factory):
     return d
 
 
+@pytest.fixture(scope="module")
+def jspsych_npm():
+    """node_modules of an npm prefix with jspsych@8 and two of its plugins (ATTNEAVE_JSPSYCH_DIR)."""
+    d = os.environ.get("ATTNEAVE_JSPSYCH_DIR")
+    why = None
+    if not d:
+        why = "ATTNEAVE_JSPSYCH_DIR is not set (npm install --prefix DIR jspsych@8 @jspsych/plugin-instructions " \
+              "@jspsych/plugin-survey-text)"
+    elif not (Path(d) / "node_modules/jspsych/dist/index.browser.js").is_file():
+        why = f"ATTNEAVE_JSPSYCH_DIR={d} holds no node_modules/jspsych/dist/index.browser.js"
+    if why:
+        if os.environ.get("ATTNEAVE_REQUIRE_BROWSER") == "1":
+            pytest.fail(f"ATTNEAVE_REQUIRE_BROWSER=1 but {why}")
+        pytest.skip(why)
+    return Path(d) / "node_modules"

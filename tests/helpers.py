@@ -190,3 +190,39 @@ def do_one_trial(page, shapes):
         page.mouse.click(x, y)
     page.click("#next")
     return sid
+
+
+def install_jspsych(exp, npm):
+    """The lab's copy of jsPsych beside the page, as docs/experiment.md says to make it from npm."""
+    lib = exp / "jspsych"
+    lib.mkdir(exist_ok=True)
+    shutil.copyfile(npm / "jspsych/dist/index.browser.js", lib / "jspsych.js")
+    shutil.copyfile(npm / "jspsych/css/jspsych.css", lib / "jspsych.css")
+    for plugin in ("instructions", "survey-text"):
+        shutil.copyfile(npm / f"@jspsych/plugin-{plugin}/dist/index.browser.js", lib / f"plugin-{plugin}.js")
+
+
+#: the study link's parameters reach the component page only through jatos.urlQueryParameters
+STAND_IN = """
+window.jatosCalls = [];
+window.jatos = {
+  urlQueryParameters: %(query)s,
+  studyJsonInput: {},
+  componentJsonInput: %(component_input)s,
+  onLoad: function (cb) { jatosCalls.push(['onLoad']); setTimeout(cb, 5); },
+  submitResultData: function (data) {
+    jatosCalls.push(['submitResultData', data]);
+    // the server refuses the first attempt: the page must try again
+    var n = jatosCalls.filter(function (c) { return c[0] === 'submitResultData'; }).length;
+    return n === 1 ? Promise.reject(new Error('503')) : Promise.resolve('ok');
+  },
+  endStudy: function () { jatosCalls.push(['endStudy'].concat([].slice.call(arguments))); },
+  endStudyAndRedirect: function () { jatosCalls.push(['endStudyAndRedirect'].concat([].slice.call(arguments))); }
+};
+"""
+
+
+def write_jatos_stand_in(exp, query, component_input):
+    """A stand-in jatos.js beside the page that records the calls (window.jatosCalls)."""
+    (exp / "jatos.js").write_text(STAND_IN % dict(query=json.dumps(query),
+                                                  component_input=json.dumps(component_input)))
