@@ -29,7 +29,13 @@ from pathlib import Path
 from attneave.analysis.experiment import jatos as jatos_archive
 from attneave.analysis.experiment.options import ExperimentOptions
 from attneave.analysis.experiment.pages import embedded_json, fill_template, page_config, write_pages
-from attneave.analysis.experiment.selection import Stimulus, background_colour, check_image_sizes, select_stimuli
+from attneave.analysis.experiment.selection import (
+    Stimulus,
+    background_colour,
+    check_image_sizes,
+    select_stimuli,
+    set_px_per_deg,
+)
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.io import replace_directory, temporary_directory
 
@@ -154,6 +160,7 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False, js
     practice, main = select_stimuli(stimset, options)
     every = practice + main
     check_image_sizes(every, mpath)
+    options = _set_degrees(stimset, options, every)
     background = options.grey or background_colour([s.source for s in every])
     config = page_config(options, practice, main, background, __version__, jatos=jatos)
     if psychopy:
@@ -189,6 +196,21 @@ def build_experiment(stimset, out, options=None, psychopy=False, force=False, js
         raise
     return dict(out=out, moved_aside=moved, practice=len(practice), stimuli=len(main), lists=options.lists,
                 background=background, files=files + [MARKER], pages=pages, jzip=jzip)
+
+
+def _set_degrees(stimset, options, stimuli):
+    """`options` with size_deg from the set's canvas in degrees, when no size was given.
+
+    A set made in degrees (``px_per_deg`` image px per degree) is shown at
+    those degrees: the largest image's larger side at ``max_side / px_per_deg``.
+    """
+    if options.size_given:
+        return options
+    ppd = set_px_per_deg(stimset, stimuli)
+    if ppd is None:
+        return options
+    max_side = max(max(s.width, s.height) for s in stimuli)
+    return options.model_copy(update={"size_deg": max_side / ppd})
 
 
 def _write_jzip(tmp, out, options, page):

@@ -161,6 +161,8 @@ class ExperimentOptions(BaseModel):
     model_config = ConfigDict(extra="forbid", validate_assignment=False)
     #: where each setting was given, for messages found later (``'exp.yaml: line 4: conditions'``)
     _origins: dict = PrivateAttr(default_factory=dict)
+    #: no size_deg nor size_px was given: the size is the default (or the stimulus set's degrees)
+    _size_default: bool = PrivateAttr(default=False)
 
     title: str = "Points on shapes"
     instructions: str = DEFAULT_INSTRUCTIONS
@@ -311,6 +313,7 @@ class ExperimentOptions(BaseModel):
             raise ValueError(f"max_clicks ({self.max_clicks}) is smaller than min_clicks ({self.min_clicks})")
         if self.size_px is None and self.size_deg is None:
             self.size_deg = DEFAULT_SIZE_DEG
+            self._size_default = True
         return self
 
     @property
@@ -334,6 +337,17 @@ class ExperimentOptions(BaseModel):
             if p == param:
                 return param, extra
         return p, ()
+
+    @property
+    def size_given(self):
+        """True when size_deg or size_px was given (False: the default size).
+
+        Examples
+        --------
+        >>> ExperimentOptions().size_given, ExperimentOptions(size_deg=10).size_given
+        (False, True)
+        """
+        return not self._size_default
 
     def origin(self, key):
         """Where setting `key` was given, to begin a message about its value.

@@ -14,10 +14,11 @@ from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from attneave.analysis.experiment.options import DEFAULT_SIZE_DEG
 from attneave.analysis.experiment.order import latin_square_lists
 from attneave.stimuli.errors import InputError
 
-__all__ = ["Stimulus", "select_stimuli", "check_image_sizes", "background_colour"]
+__all__ = ["Stimulus", "select_stimuli", "check_image_sizes", "background_colour", "set_px_per_deg"]
 
 
 @dataclass(frozen=True)
@@ -232,3 +233,50 @@ def background_colour(paths):
         return "#808080"
     r, g, b = votes.most_common(1)[0][0]
     return f"#{r:02x}{g:02x}{b:02x}"
+
+
+def set_px_per_deg(stimset, stimuli):
+    """The image pixels per degree the set was made at (its canvas in degrees), or None.
+
+    A batch config may give the canvas in degrees of visual angle
+    (:func:`attneave.stimuli.batch.placement.canvas_in_pixels`); the set's
+    resolved ``config.yaml`` then holds ``px_per_deg`` for the top-level
+    canvas and each condition's. The stimuli's conditions are those of the
+    manifest's column ``batch_condition``.
+
+    Returns
+    -------
+    float or None
+        The scale shared by every stimulus of `stimuli`; None when the set
+        has no degrees, or its stimuli were made at different scales (they
+        cannot be shown at one scale, each at its degrees; a line on stderr
+        says so).
+    """
+    import sys
+
+    from attneave.stimuli.batch.config_file import parse_yaml, read_text
+
+    path = Path(stimset.directory) / "config.yaml"
+    if not path.is_file() or "batch_condition" not in stimset.manifest.columns:
+        return None
+    try:
+        _, doc = parse_yaml(read_text(path), path)
+    except InputError:
+        return None  # not a resolved batch config: the set says nothing about degrees
+    if not isinstance(doc, dict):
+        return None
+    top = (doc.get("canvas") or {}).get("px_per_deg")
+    by_condition = {}
+    for c in doc.get("conditions") or []:
+        if isinstance(c, dict):
+            by_condition[str(c.get("name"))] = (c.get("canvas") or {}).get("px_per_deg", top)
+    index = {sid: i for i, sid in enumerate(stimset.ids)}
+    scales = {by_condition.get(_column(stimset.manifest, "batch_condition", index[s.id]), top) for s in stimuli}
+    if scales == {None}:
+        return None
+    if len(scales) > 1:
+        print(f"attneave experiment: {path}: the stimuli were made at different scales "
+              f"({', '.join(str(v) for v in sorted(scales, key=str))} px/deg) and are shown at one; "
+              f"the size is size_deg's (default {DEFAULT_SIZE_DEG:g} deg), not the canvas's degrees", file=sys.stderr)
+        return None
+    return float(next(iter(scales)))

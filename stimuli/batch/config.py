@@ -60,12 +60,12 @@ from pathlib import Path
 from typing import Any, Literal, Optional
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from attneave.stimuli.batch.config_file import parse_yaml, read_text, resolved_text, yaml_line
 from attneave.stimuli.batch.errors import describe, loc_str, suggest
 from attneave.stimuli.batch.params import Style
-from attneave.stimuli.batch.placement import Canvas
+from attneave.stimuli.batch.placement import Canvas, canvas_base, canvas_in_pixels
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.stimulus_set import to_jsonable
 
@@ -90,13 +90,25 @@ _STRICT = ConfigDict(extra="forbid", strict=True)
 
 
 class CanvasConfig(BaseModel):
-    """Image size and margin, in pixels."""
+    """Image size and margin in pixels, or in degrees at a scale (:func:`~attneave.stimuli.batch.placement.canvas_in_pixels`)."""
 
     model_config = _STRICT
 
     width: int = Field(512, ge=MIN_FIGURE_PX, le=16384)
     height: int = Field(512, ge=MIN_FIGURE_PX, le=16384)
     margin: float = Field(32.0, ge=0, allow_inf_nan=False)
+    width_deg: Optional[float] = Field(None, gt=0, le=180, allow_inf_nan=False)
+    height_deg: Optional[float] = Field(None, gt=0, le=180, allow_inf_nan=False)
+    margin_deg: Optional[float] = Field(None, ge=0, le=90, allow_inf_nan=False)
+    px_per_deg: Optional[float] = Field(None, gt=0, allow_inf_nan=False)
+    viewing_distance_cm: Optional[float] = Field(None, gt=0, allow_inf_nan=False)
+    screen_width_cm: Optional[float] = Field(None, gt=0, allow_inf_nan=False)
+    screen_width_px: Optional[int] = Field(None, gt=0)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _degrees(cls, values):
+        return canvas_in_pixels(values)
 
     @field_validator("margin")
     @classmethod
@@ -302,7 +314,7 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
     registry = _recipes()
 
     top_style = check(Style, cfg.style, ("style",)).model_dump(mode="json", by_alias=True)
-    top_canvas = cfg.canvas.model_dump(mode="json")
+    top_canvas = cfg.canvas.model_dump(mode="json", exclude_none=True)  # degrees only where given
 
     conditions = []
     n_jobs = 0
@@ -316,10 +328,10 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
         params_model = registry[cond.recipe][0]
 
         # canvas and style: condition values override top-level ones, key by key
-        canvas = _check_override(CanvasConfig, top_canvas, cond.canvas, loc0 + ("canvas",), ("canvas",),
-                                 fail, strict=True)
+        canvas = _check_override(CanvasConfig, canvas_base(top_canvas, cond.canvas), cond.canvas,
+                                 loc0 + ("canvas",), ("canvas",), fail, strict=True)
         style = _check_override(Style, top_style, cond.style, loc0 + ("style",), ("style",), fail)
-        canvas_model = Canvas(**canvas.model_dump())
+        canvas_model = Canvas(canvas.width, canvas.height, canvas.margin)
 
         for key in cond.grid:
             if _has_path(cond.params, key.split(".")):
@@ -360,7 +372,7 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
             ResolvedCondition(
                 index=ci, name=cond.name, recipe=cond.recipe, repeats=cond.repeats, cells=cells,
                 recorded_cells=recorded, axes=copy.deepcopy(cond.grid), params=params,
-                style=style.model_dump(mode="json", by_alias=True), canvas=canvas.model_dump(mode="json"),
+                style=style.model_dump(mode="json", by_alias=True), canvas=canvas.model_dump(mode="json", exclude_none=True),
                 path_map=path_map, models=models, style_model=style, canvas_model=canvas_model,
             )
         )
