@@ -4,8 +4,12 @@ from __future__ import annotations
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "analyze",
+        epilog=examples('attneave analyze attneave_P*.csv --stimuli out/polygons -o results', 'attneave analyze jspsych_data.json --stimuli out/polygons -o results --trial-type attneave-points', 'attneave analyze clicks.csv --stimuli out/polygons -o results --columns participant=subj,stimulus_id=stim'),
+        formatter_class=ExamplesFormatter,
         help="test clicks on contours against predicted surprisal",
         description=(
             "Map every click of CLICKS.csv (columns participant, stimulus_id, x, y; others kept) to the "

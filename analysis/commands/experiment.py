@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import argparse
-
-EPILOG = """examples:
-  attneave experiment out/polygons -o out/exp --config configs/experiment.yaml
-  attneave experiment out/polygons -o out/exp_prolific --jspsych --jatos --participant-param prolific \\
-      --completion-url "https://app.prolific.com/submissions/complete?cc=C1A2B3"
-  attneave experiment out/polygons -o out/exp_lab --psychopy --monitor labMonitor --practice 2
-"""
+EXAMPLES = (
+    "attneave experiment out/polygons -o out/exp --config configs/experiment.yaml",
+    "attneave experiment out/polygons -o out/exp_prolific --jspsych --jatos --participant-param prolific \\\n"
+    "  --completion-url 'https://app.prolific.com/submissions/complete?cc=C1A2B3'",
+    "attneave experiment out/polygons -o out/exp_lab --psychopy --monitor labMonitor --practice 2",
+)
 
 
 def _flag(p, name, **kw):
@@ -18,6 +16,8 @@ def _flag(p, name, **kw):
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "experiment",
         help="write a browser experiment (and optionally a PsychoPy script) that collects clicks",
@@ -28,8 +28,8 @@ def add_parser(sub):
             "Settings come from --config YAML (keys = the flags' names with underscores) and flags, which "
             "win. See docs/experiment.md for the page contract (URL parameters, element ids)."
         ),
-        epilog=EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=examples(*EXAMPLES),
+        formatter_class=ExamplesFormatter,
     )
     p.add_argument("stimuli", metavar="SET", help="stimulus-set directory (manifest.csv, images/, contours/)")
     p.add_argument("-o", "--output", required=True, metavar="DIR", help="experiment directory to write")

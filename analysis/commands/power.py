@@ -26,8 +26,12 @@ def _int_list(text):
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "power",
+        epilog=examples('attneave power --stimuli out/polygons --top-share 0.3 --participants 10,20,40', 'attneave power --stimuli out/polygons --beta 0.5 --clicks 5 --simulations 200 -o power.csv'),
+        formatter_class=ExamplesFormatter,
         help="power of the group test for a given effect (top share, lift or beta), by simulation",
         description=(
             "Simulate experiments with observers who follow the information model with weight beta "

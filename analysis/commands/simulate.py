@@ -64,8 +64,12 @@ def add_effect_arguments(p):
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "simulate",
+        epilog=examples('attneave simulate --stimuli out/polygons -o clicks.csv --participants 20 --clicks 5 --top-share 0.3 --seed 1', 'attneave simulate --stimuli out/polygons -o null.csv --participants 20 --clicks 5 --beta 0 --seed 2'),
+        formatter_class=ExamplesFormatter,
         help="clicks of simulated observers on a stimulus set",
         description=(
             "Each simulated participant clicks K times on every stimulus of DIR: point j of the n equally "

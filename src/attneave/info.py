@@ -74,13 +74,13 @@ def installation():
 
 
 def add_parser(sub):
-    import argparse
+    from attneave.stimuli.commands.examples import ExamplesFormatter
 
     p = sub.add_parser(
         "info", help="versions, compiled kernels (C or numpy, and why) and optional extras",
         description=__doc__.split("\n\n")[1].replace("\n", " "),
         epilog="examples:\n  attneave info\n  attneave info --json > install.json",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
+        formatter_class=ExamplesFormatter)  # the description wrapped, the examples as written
     p.add_argument("--json", action="store_true", help="print the information as JSON")
     return p
 

@@ -92,14 +92,18 @@ def _epilog():
         }[srange]
         lines.append(f"  {name:<14s}{help_}")
         lines.append(" " * 16 + " ".join(f"{flags} {rng} [--points K] -o OUT.csv".split()))
-    return "\n".join(lines)
+    from attneave.stimuli.commands.examples import examples
+
+    return "\n".join(lines) + "\n\n" + examples(
+        "attneave curve clothoid --c 0.05 --s-end 20 -o clothoid.csv",
+        "attneave curve lac --alpha 1.5 --lam 0.1 --s-end 10 --points 500 -o lac.csv")
 
 
 def add_parser(sub):
-    import argparse
     import textwrap
 
     from attneave.stimuli.commands.counts import MAX_ROWS, count
+    from attneave.stimuli.commands.examples import ExamplesFormatter
 
     p = sub.add_parser(
         "curve",
@@ -109,7 +113,7 @@ def add_parser(sub):
             + " Run 'attneave curve FAMILY --help' for the details of each family.", 79
         ),
         epilog=_epilog(),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        formatter_class=ExamplesFormatter,
     )
     fam = p.add_subparsers(dest="family", required=True, metavar="FAMILY", parser_class=type(p))
     for name, (help_, desc, options, srange) in _FAMILIES.items():

@@ -13,8 +13,12 @@ from pathlib import Path
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "extract",
+        epilog=examples('attneave extract photos/ -o out/extracted --method photo', 'attneave extract silhouettes/*.png -o out/mpeg7 --method otsu --polarity dark', 'attneave extract cat.jpg -o out/cat --method grabcut --boxes boxes.csv'),
+        formatter_class=ExamplesFormatter,
         help="contours, curvature and surprisal of objects in photos and silhouettes",
         description=(
             "Extract the sub-pixel outer contour of the object in each image (PNG, JPEG, TIFF, BMP; "

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "generate",
+        epilog=examples('attneave generate configs/attneave_polygons.yaml -o out/polygons', 'attneave generate configs/radial_frequency.yaml -o out/rf --workers 2', 'attneave generate configs/attneave_polygons.yaml -o out/polygons --resume'),
+        formatter_class=ExamplesFormatter,
         help="make a stimulus set (images, contours, manifest) from a YAML batch config",
         description=(
             "Validate CONFIG.yaml, then write the stimulus set to DIR: manifest.csv, "

@@ -8,9 +8,12 @@ METHOD_CHOICES = ("qic", "qic-g2", "cubic", "cubic-natural", "poly2", "poly3", "
 
 def add_parser(sub):
     from attneave.stimuli.commands.counts import MAX_ROWS, count
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
 
     p = sub.add_parser(
         "spline",
+        epilog=examples('attneave spline points.csv -o spline.csv', 'attneave spline points.csv -o spline.csv --method lac --summary fit.json', 'attneave spline polyline.csv -o open.csv --open --samples 400'),
+        formatter_class=ExamplesFormatter,
         help="QIC (clothoid), log-aesthetic or polynomial spline through points, with curvature",
         description=(
             "Fit a spline through the points of POINTS.csv (columns x, y in image pixels, y down; "

@@ -9,8 +9,12 @@ MAX_POINTS = 1_000_000
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "surprisal",
+        epilog=examples('attneave surprisal out/polygons/contours/attneave_000_000_polygon.csv -o surprisal.csv', 'attneave surprisal contour.csv -o surprisal.csv -n 200 --model vonmises', 'attneave surprisal contour.csv -o surprisal.csv --spacing 2 --bits'),
+        formatter_class=ExamplesFormatter,
         help="curvature and surprisal along a contour",
         description=(
             "Resample a contour (CSV with columns x, y in image pixels, y down) at n equally "

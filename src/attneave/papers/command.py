@@ -4,8 +4,12 @@ from __future__ import annotations
 
 
 def add_parser(sub):
+    from attneave.stimuli.commands.examples import ExamplesFormatter, examples
+
     p = sub.add_parser(
         "figures",
+        epilog=examples('attneave figures -o figures', 'attneave figures -o figures --quiet'),
+        formatter_class=ExamplesFormatter,
         help="the paper's Figs. 1-6 and a Fig. 10 analogue as PNG files, with a note of what each shows",
         description=(
             "Write the seed paper's Figs. 1-6 into DIR: eq. 5 with A' = 1/4, L = 100, n = 10, "
