@@ -127,7 +127,7 @@ def px_per_degree(px_per_mm, distance_mm):
 
     Examples
     --------
-    >>> round(px_per_degree(1.0, 572.958), 4)    # 57.3 cm: 1 cm (10 mm) per degree
+    >>> round(px_per_degree(1.0, 572.943), 4)    # 57.29 cm: 1 cm (10 mm) per degree
     10.0
     """
     return float(px_per_mm) * 2.0 * float(distance_mm) * math.tan(math.radians(0.5))
@@ -163,7 +163,7 @@ def canvas_in_pixels(values):
     320
     >>> round(canvas_in_pixels({"width_deg": 10, "height_deg": 10, "viewing_distance_cm": 57.3,
     ...                         "screen_width_cm": 50, "screen_width_px": 1920})["px_per_deg"], 3)
-    38.401
+    38.404
     """
     if not isinstance(values, dict):
         return values
