@@ -17,6 +17,16 @@ from attneave.cli import main
 collect_ignore = ["slow_generate.py", "helpers.py"]
 
 
+@pytest.fixture(autouse=True)
+def _no_progress_lines_by_the_clock(monkeypatch):
+    """Commands announce stages that run over 2 s on stderr; on a loaded machine any stage may, and the tests
+    that read stderr line by line would see lines that depend on the machine. The progress tests set their
+    own threshold."""
+    from attneave.stimuli import progress
+
+    monkeypatch.setattr(progress, "THRESHOLD", float("inf"))
+
+
 @pytest.fixture(scope="module")
 def browser():
     why = missing()

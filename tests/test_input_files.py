@@ -212,10 +212,12 @@ def test_item12_psychopy_and_jspsych_files_are_analysed_as_they_are(tmp_path, st
                       "--group-simulations", "19", "--permutations", "19", "--no-figures"], capsys)
     assert code == 0, err
     m = _mapped(out)
-    assert m["reason"].tolist() == ["missing_coordinate"] + [""] * 8
-    assert m["distance"].iloc[1:].max() < 1e-3
+    # the instruction trial (no click) is set aside as a row of another kind, not an excluded click
+    assert m["reason"].tolist() == [""] * 8
+    assert m["distance"].max() < 1e-3
     # 1 of 9 excluded: under the 20% threshold (one participant: the warnings of a design too small remain)
-    assert "excluded" not in err and "only 1 participant" in err
+    assert "set aside" in err and "html-keyboard-response: 1" in err and "only 1 participant" in err
+    assert "click(s) excluded" not in err and "clicks excluded" not in err
 
 
 def test_item12_many_exclusions_warn_and_none_usable_is_exit_1(tmp_path, stimset, capsys):
