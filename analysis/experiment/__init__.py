@@ -17,6 +17,14 @@ order
     identical to the page's JavaScript.
 build
     Writing the experiment directory atomically.
+selection
+    Which stimuli (practice, lists), their images checked, the background,
+    a set's degrees.
+pages
+    The pages' settings (JSON) and templates: index.html and, with
+    ``--jspsych``, the jsPsych 8 timeline page and its plugin.
+jatos
+    The JATOS study archive (``.jzip``).
 psychopy
     The PsychoPy export (conditions, images, the Coder script).
 psyexp, psyexp_code, psychopy_text
