@@ -154,7 +154,7 @@ def main(argv=None):
     print(f"{'ratio fast / cv2.findContours':58s} {t_fast / t_cv:10.2f}")
 
     # photographs: the automatic photo method against plain GrabCut (5 iterations, inset box)
-    from attneave.stimuli.extraction.grabcut import inset_box
+    from attneave.stimuli.extraction.figure_ground.grabcut import inset_box
 
     bgr = np.ascontiguousarray(img[:, :, ::-1])
 

@@ -1,7 +1,7 @@
 """How much do the photo figures owe to GrabCut's random start?
 
 GrabCut starts its colour models by k-means from OpenCV's random generator;
-attneave seeds it (:data:`attneave.stimuli.extraction.grabcut.SEED`, 0) so that a
+attneave seeds it (:data:`attneave.stimuli.extraction.figure_ground.grabcut.SEED`, 0) so that a
 photo always gives the same outline, and ``validate_photos.py`` seeds its
 anchor (plain ``cv2.grabCut`` from the same box) the same way. Another
 seed gives other answers, on some photos a very different one (a horse:

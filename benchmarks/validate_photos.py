@@ -187,11 +187,11 @@ def measure_photo(path, modes, holes=False, model=None, seed=0, rembg=None):
 
     import cv2
 
-    importlib.import_module("attneave.stimuli.extraction.grabcut").SEED = seed
+    importlib.import_module("attneave.stimuli.extraction.figure_ground.grabcut").SEED = seed
 
     from attneave.stimuli.errors import InputError
     from attneave.stimuli.extraction import extract, read_image
-    from attneave.stimuli.extraction.photo import box_around
+    from attneave.stimuli.extraction.figure_ground.photo import box_around
     from attneave.stimuli.extraction.verdict import judge
     from attneave.stimuli.render import coverage
 

@@ -64,7 +64,7 @@ def test_two_boxes_on_one_image_give_two_outlines(tmp_path, capsys):
 
 
 def test_read_boxes_keeps_every_row_of_an_image(tmp_path):
-    from attneave.stimuli.extraction.assists import read_boxes
+    from attneave.stimuli.extraction.figure_ground.assists import read_boxes
 
     img = _png(tmp_path / "two.png", _disks())
     f = tmp_path / "b.csv"

@@ -147,7 +147,7 @@ def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
     # a photo above ASSISTED_WORK_PIXELS is reduced for GrabCut; a box 1 px
     # inside the frame must still leave background on the reduced copy, and
     # the mask never leaves the box
-    from attneave.stimuli.extraction import photo
+    from attneave.stimuli.extraction.figure_ground import photo
 
     monkeypatch.setattr(photo, "ASSISTED_WORK_PIXELS", 5000)
     shape = (120, 160)
@@ -163,7 +163,7 @@ def test_box_one_pixel_inside_the_frame_of_a_reduced_photo(monkeypatch):
 def test_box_mode_keeps_more_resolution_than_the_automatic_search(monkeypatch):
     # a person's box is drawn on the full photo: box mode reduces only above
     # ASSISTED_WORK_PIXELS, the automatic search above WORK_PIXELS
-    from attneave.stimuli.extraction import photo
+    from attneave.stimuli.extraction.figure_ground import photo
 
     monkeypatch.setattr(photo, "WORK_PIXELS", 5000)
     img, truth = _photo((120, 160), seed=3, box=(40, 30, 80, 60))
@@ -216,7 +216,7 @@ def test_photo_outline_lies_on_the_colour_edge_to_a_fraction_of_a_pixel(radius, 
 
 
 def test_colour_edge_field_keeps_the_mask_where_the_edge_is_faint():
-    from attneave.stimuli.extraction.colour_edge import SHARP_CONTRAST, colour_edge_field
+    from attneave.stimuli.extraction.figure_ground.colour_edge import SHARP_CONTRAST, colour_edge_field
 
     img = np.zeros((30, 30, 3), np.uint8)
     img[:, :15] = (100, 100, 100)
@@ -230,7 +230,7 @@ def test_colour_edge_field_keeps_the_mask_where_the_edge_is_faint():
 
 
 def test_colour_edge_source_computes_only_the_crop_asked_for():
-    from attneave.stimuli.extraction.colour_edge import ColourEdgeSource, colour_edge_field
+    from attneave.stimuli.extraction.figure_ground.colour_edge import ColourEdgeSource, colour_edge_field
 
     img, truth = _photo(seed=2)
     whole = colour_edge_field(img, truth)

@@ -2,8 +2,8 @@
 
 import numpy as np
 
-from attneave.stimuli.extraction.grabcut import fill_holes, grabcut, largest_part, to_bgr8
-from attneave.stimuli.extraction.photo import box_around, mask_iou, segment_photo
+from attneave.stimuli.extraction.figure_ground.grabcut import fill_holes, grabcut, largest_part, to_bgr8
+from attneave.stimuli.extraction.figure_ground.photo import box_around, mask_iou, segment_photo
 
 
 def test_box_band_excludes_background_seen_only_inside_the_box():

@@ -1,11 +1,11 @@
-"""Box mode's hypotheses and the choice among them (attneave.stimuli.extraction.boxcut), on
+"""Box mode's hypotheses and the choice among them (attneave.stimuli.extraction.figure_ground.boxcut), on
 constructed photos whose true object is known."""
 
 import numpy as np
 
-from attneave.stimuli.extraction.boxcut import HYPOTHESES, box_hypotheses, choose_hypothesis, hypothesis_score
-from attneave.stimuli.extraction.grabcut import to_bgr8
-from attneave.stimuli.extraction.photo import box_around, mask_iou, segment_photo
+from attneave.stimuli.extraction.figure_ground.boxcut import HYPOTHESES, box_hypotheses, choose_hypothesis, hypothesis_score
+from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
+from attneave.stimuli.extraction.figure_ground.photo import box_around, mask_iou, segment_photo
 
 
 def _two_colour():
@@ -71,7 +71,7 @@ def test_without_gap_the_score_is_the_colour_error_alone():
 
 
 def test_the_automatic_search_chooses_among_the_inset_frames_hypotheses():
-    from attneave.stimuli.extraction.photo import AUTO_FIRST
+    from attneave.stimuli.extraction.figure_ground.photo import AUTO_FIRST
 
     clean, truth = _two_colour()
     noise = np.random.default_rng(5).normal(0, 10, clean.shape)

@@ -1,8 +1,8 @@
 """Contours from images: reading (:mod:`.imageio`), segmentation
 (:mod:`.segment`: Otsu, threshold, mask, alpha, GrabCut), sub-pixel tracing
-(:mod:`.trace`), figure-ground for photographs (:mod:`.photo`,
-:mod:`.grabcut`, :mod:`.boxcut`, :mod:`.model`, with the boxes and scribbles of
-:mod:`.assists`), the outline of each object (:mod:`.outlines`), its
+(:mod:`.trace`), figure-ground for photographs (:mod:`.figure_ground`:
+automatic, GrabCut, one box per object, learned networks, the boxes and
+scribbles a user draws), the outline of each object (:mod:`.outlines`), its
 verdict (:mod:`.verdict`, photo measures in :mod:`.quality`), the
 scale-space description (:mod:`.scalespace`), the overlay drawing
 (:mod:`.overlays`) and the per-image pipeline of ``attneave extract``

@@ -66,7 +66,7 @@ The pipeline
    (a staircase) is smoothed lightly along the arc (``mask_sigma`` px,
    default 1) instead. A photograph's figure-ground mask (``'photo'``,
    boxes, scribbles, ``'grabcut'``) is traced the same way on the photo's colour edge
-   (:mod:`attneave.stimuli.extraction.colour_edge`: each pixel's colour projected
+   (:mod:`attneave.stimuli.extraction.figure_ground.colour_edge`: each pixel's colour projected
    on the line from the local background colour to the local object
    colour), so that the outline lies on the edge where the edge is sharp
    (an exact-coverage disk, noise 0-10 levels: 0.005-0.07 px RMS, against 0.3 px
@@ -147,8 +147,8 @@ def extract(
         by 'alpha' and anything else by 'photo'
         (:func:`attneave.stimuli.extraction.segment.image_kind`); 'photo' is the
         automatic (or, with `boxes` / `scribbles`, assisted) figure-ground
-        of :mod:`attneave.stimuli.extraction.photo`; 'rembg' a learned network
-        through rembg (:mod:`attneave.stimuli.extraction.learned`); 'model' a
+        of :mod:`attneave.stimuli.extraction.figure_ground.photo`; 'rembg' a learned network
+        through rembg (:mod:`attneave.stimuli.extraction.figure_ground.learned`); 'model' a
         raw ONNX network rembg does not know (`model`).
     threshold : float, optional
         'threshold': the grey level of the object's edge (required), in the
@@ -201,15 +201,15 @@ def extract(
         Boxes around the object(s) (image pixels): one outline per box, in
         box order ('photo', 'model' and 'rembg' methods; several need
         ``objects='all'``). With a network the box is seen widened
-        by :data:`~attneave.stimuli.extraction.model.BOX_CONTEXT` on every side.
+        by :data:`~attneave.stimuli.extraction.figure_ground.model.BOX_CONTEXT` on every side.
     scribbles : (H, W) uint8 ndarray, optional
         0 unmarked, 1 object, 2 background
-        (:func:`attneave.stimuli.extraction.photo.read_scribbles`); 'photo' method.
+        (:func:`attneave.stimuli.extraction.figure_ground.photo.read_scribbles`); 'photo' method.
     model : dict, optional
         ``model_file`` and optionally ``size``, ``mean``, ``std`` for
-        ``method='model'`` (:func:`attneave.stimuli.extraction.model.object_probability`);
+        ``method='model'`` (:func:`attneave.stimuli.extraction.figure_ground.model.object_probability`);
         optionally ``network`` (a rembg session name) and ``model_file`` for
-        ``method='rembg'`` (:func:`attneave.stimuli.extraction.learned.network_probability`).
+        ``method='rembg'`` (:func:`attneave.stimuli.extraction.figure_ground.learned.network_probability`).
     grabcut_iterations : int, optional
         Iterations of GrabCut, a whole number from 1 to
         :data:`MAX_GRABCUT_ITERATIONS` ('grabcut', 'photo' and 'auto'

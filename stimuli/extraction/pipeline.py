@@ -172,22 +172,22 @@ def extract_images(images, output, workers=1, progress=None, stages=None, **opti
     check_options(opts, images)
     inputs = [str(i) for i in images]
     if opts["boxes"] is not None and not isinstance(opts["boxes"], dict):
-        from attneave.stimuli.extraction.assists import read_boxes
+        from attneave.stimuli.extraction.figure_ground.assists import read_boxes
 
         inputs.append(str(opts["boxes"]))
         opts["boxes"] = read_boxes(opts["boxes"], [str(i) for i in images], opts["objects"])
     if opts["scribbles"] is not None and not isinstance(opts["scribbles"], dict):
-        from attneave.stimuli.extraction.assists import scribble_files
+        from attneave.stimuli.extraction.figure_ground.assists import scribble_files
 
         opts["scribbles"] = scribble_files(opts["scribbles"], [str(i) for i in images])
     inputs += [str(f) for f in (opts["scribbles"] or {}).values()]
     if opts["method"] == "model":
-        from attneave.stimuli.extraction.model import load_model
+        from attneave.stimuli.extraction.figure_ground.model import load_model
 
         load_model(opts["model_file"])  # a file that is no usable network is refused before any image
         inputs.append(str(opts["model_file"]))
     if opts["method"] == "rembg":
-        from attneave.stimuli.extraction.learned import load_network
+        from attneave.stimuli.extraction.figure_ground.learned import load_network
 
         load_network(opts["rembg_model"], opts["model_file"])  # rembg missing, weights absent: before any image
         if opts["model_file"]:
@@ -253,7 +253,7 @@ def check_options(opts, images=()):
         ``--OPTION applies to --method A or B only, not --method M``, or the
         rectangle and the image it does not fit.
     """
-    from attneave.stimuli.extraction.grabcut import check_box
+    from attneave.stimuli.extraction.figure_ground.grabcut import check_box
     from attneave.stimuli.extraction.imageio import header_size
     from attneave.stimuli.extraction.segment import check_method_options
 
@@ -430,7 +430,7 @@ def _analyse(image, stem, opts):
     img = f.image
     scribbles = None
     if opts["scribbles"] and image in opts["scribbles"]:
-        from attneave.stimuli.extraction.photo import read_scribbles
+        from attneave.stimuli.extraction.figure_ground.photo import read_scribbles
 
         scribbles = read_scribbles(opts["scribbles"][image], img.shape[:2])
     model = None

@@ -137,7 +137,7 @@ def lab_image(image, sigma=1.0):
     """
     import cv2
 
-    from attneave.stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
 
     bgr = to_bgr8(image)
     if sigma > 0:

@@ -170,14 +170,14 @@ def _polarity_from_border(on):
 
 def _on_colour_edge(img, on, params):
     """A photo's figure-ground mask `on`, to be traced on the photo's colour edge where it is sharp."""
-    from attneave.stimuli.extraction.colour_edge import ColourEdgeSource
+    from attneave.stimuli.extraction.figure_ground.colour_edge import ColourEdgeSource
 
     return Segmentation(on, params, ColourEdgeSource(img, on), 1.0, 0.5, near_mask=True)
 
 
 def grabcut_mask(image, rect, iterations, name):
     """GrabCut from a box (default: the image inset by 5 %): (object mask, the box used)."""
-    from attneave.stimuli.extraction.grabcut import check_box, grabcut, inset_box, to_bgr8
+    from attneave.stimuli.extraction.figure_ground.grabcut import check_box, grabcut, inset_box, to_bgr8
 
     bgr = to_bgr8(image)
     rect = check_box(inset_box(bgr.shape) if rect is None else rect, bgr.shape, name)
@@ -285,10 +285,10 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
             model=None):
     """Segment an image array: a `Segmentation` (raises `NoObject` if there is nothing to separate).
 
-    `box` and `scribbles` go to :func:`attneave.stimuli.extraction.photo.segment_photo`
+    `box` and `scribbles` go to :func:`attneave.stimuli.extraction.figure_ground.photo.segment_photo`
     (and make ``auto`` a photo method); `model` is a dict of the arguments
-    of :func:`attneave.stimuli.extraction.model.object_probability` (method ``model``) or
-    :func:`attneave.stimuli.extraction.learned.network_probability` (method ``rembg``).
+    of :func:`attneave.stimuli.extraction.figure_ground.model.object_probability` (method ``model``) or
+    :func:`attneave.stimuli.extraction.figure_ground.learned.network_probability` (method ``rembg``).
     """
     import cv2
 
@@ -299,13 +299,13 @@ def segment(img, method, threshold, polarity, name, rect=None, grabcut_iteration
         method = "photo" if box is not None or scribbles is not None else image_kind(img, name)
         params["resolved"] = method
     if method == "photo":
-        from attneave.stimuli.extraction.photo import segment_photo
+        from attneave.stimuli.extraction.figure_ground.photo import segment_photo
 
         res = segment_photo(img, box=box, scribbles=scribbles, iterations=grabcut_iterations, name=name)
         params.update(polarity="photo", threshold=None, level=None, **res.params)
         return _on_colour_edge(img, res.mask, params)
     if method in ("model", "rembg"):
-        from attneave.stimuli.extraction.learned import learned_probability
+        from attneave.stimuli.extraction.figure_ground.learned import learned_probability
 
         prob, box, which = learned_probability(img, method, model, box, name)
         params.update(polarity="model", threshold=0.5, level=0.5, **which,

@@ -273,7 +273,7 @@ class Extraction:
         their object), shape, source; with ``method='auto'`` resolved (the
         method chosen); with the photo method mode, box (boxes), scale,
         iterations, agreement and competing (see
-        :func:`attneave.stimuli.extraction.photo.segment_photo`).
+        :func:`attneave.stimuli.extraction.figure_ground.photo.segment_photo`).
     """
 
     contours: list

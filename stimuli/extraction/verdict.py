@@ -24,7 +24,7 @@ the measure and its value:
     of similar size make "the object" ambiguous.
 ``agreement``
     Photo methods: the IoU of the two hypotheses the method compared (see
-    :mod:`attneave.stimuli.extraction.photo`); they disagree when the answer is
+    :mod:`attneave.stimuli.extraction.figure_ground.photo`); they disagree when the answer is
     unstable.
 ``thickness``
     Twice the object's area over its perimeter: about the width of a
@@ -90,7 +90,7 @@ Outlines found in photographs are also measured by
 ``uncertainty``
     A learned network's outline (methods ``rembg`` and ``model``): the
     pixels it gives a probability between 0.1 and 0.9 over the object's
-    (:func:`attneave.stimuli.extraction.learned.uncertainty`); reported, and
+    (:func:`attneave.stimuli.extraction.figure_ground.learned.uncertainty`); reported, and
     the measure that follows the IoU most closely (Spearman -0.71 with a
     box on the development photos), but not the one the rule below chose.
 
@@ -111,7 +111,7 @@ Outlines found in photographs are also measured by
     0.004`` passed 12 of 28 of half B at precision 1.00 (lowest IoU 0.89);
     tuned on B, ``frame <= 0`` passed 10 of 29 of half A at precision 1.00
     (lowest 0.85); the stricter of the two is the rule. On the photos
-    measured, all 95 (see :mod:`attneave.stimuli.extraction.learned` for the
+    measured, all 95 (see :mod:`attneave.stimuli.extraction.figure_ground.learned` for the
     figures), it marks 18 of 48 box outlines ``ok`` on half A and 20 of 47 on half B,
     precision 1.00 and 1.00 (IoU >= 0.8), lowest IoU 0.85 and 0.81; of the 38
     horses measured after the rule was chosen, 16 are ``ok``, all of IoU >=
@@ -257,7 +257,7 @@ def contrast_field(image, sigma=1.5):
     """
     import cv2
 
-    from attneave.stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
     from attneave.stimuli.extraction.quality import gradient_magnitude
 
     lab = cv2.cvtColor(to_bgr8(image), cv2.COLOR_BGR2Lab).astype(np.float32)
@@ -436,7 +436,7 @@ def photo_measures(image, extraction):
         ``colour_error`` (of the whole mask), ``edge_support`` (the lowest
         over the contours), ``box_contact`` and ``box_gap`` (the highest
         over the contours and their boxes; None without a box), and a learned
-        network's ``uncertainty`` (:func:`attneave.stimuli.extraction.learned.uncertainty`;
+        network's ``uncertainty`` (:func:`attneave.stimuli.extraction.figure_ground.learned.uncertainty`;
         None for other methods). Floats are rounded to 4 decimals: they are
         reported, not computed with.
     """

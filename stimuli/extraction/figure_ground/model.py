@@ -1,7 +1,7 @@
 """Salient-object segmentation by a learned network the user supplies (raw ONNX).
 
 For the networks rembg knows (U^2-Net, IS-Net, BiRefNet, ...) use
-``method='rembg'`` (:mod:`attneave.stimuli.extraction.learned`): rembg
+``method='rembg'`` (:mod:`attneave.stimuli.extraction.figure_ground.learned`): rembg
 holds each network's input size and normalisation. ``method='model'`` is
 the path for any other ONNX network, whose input size and normalisation
 the user states (``size``, ``mean``, ``std``), with onnxruntime alone.
@@ -153,7 +153,7 @@ def object_probability(image, model_file, size=None, mean=MODEL_MEAN, std=MODEL_
     """
     import cv2
 
-    from attneave.stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
 
     mean, std = np.asarray(mean, np.float32), np.asarray(std, np.float32)
     if mean.shape != (3,) or std.shape != (3,) or not np.all(std > 0):
@@ -194,7 +194,7 @@ def boxed_probability(image, box, name="image", probability=None, **model):
     probability : callable, optional
         ``probability(window, **model)`` -> the map of an image window; by
         default :func:`object_probability` (a rembg network's is
-        :func:`attneave.stimuli.extraction.learned.network_probability`).
+        :func:`attneave.stimuli.extraction.figure_ground.learned.network_probability`).
     **model
         ``model_file``, ``size``, ``mean``, ``std`` as for :func:`object_probability`
         (or the arguments of `probability`).
@@ -212,7 +212,7 @@ def boxed_probability(image, box, name="image", probability=None, **model):
     InputError
         A box outside the image, and as :func:`object_probability`.
     """
-    from attneave.stimuli.extraction.grabcut import check_box
+    from attneave.stimuli.extraction.figure_ground.grabcut import check_box
 
     box = check_box(box, np.shape(image), name, "box")
     h, w = np.shape(image)[:2]

@@ -7,8 +7,8 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
 (larger photos are reduced and the mask brought back to full size):
 
 * automatic (no box, no scribbles): GrabCut from the photo inset by 5 %
-  (:func:`~attneave.stimuli.extraction.grabcut.inset_box`) from five starts: box
-  mode's four (:mod:`attneave.stimuli.extraction.boxcut`) and CIE Lab on the
+  (:func:`~attneave.stimuli.extraction.figure_ground.grabcut.inset_box`) from five starts: box
+  mode's four (:mod:`attneave.stimuli.extraction.figure_ground.boxcut`) and CIE Lab on the
   smoothed photo (:data:`AUTO_FIRST`); the hypothesis whose outline's
   colours part best (colour error alone: the object need not reach the
   inset frame) is the answer, its agreement (IoU) with the next best a
@@ -27,8 +27,8 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   0.500 / 0.434 on objects and 0.726 / 0.739 on horses (mask level):
   not kept;
 * a box ``(x, y, width, height)``: outside is background; GrabCut runs
-  from four starts (:mod:`attneave.stimuli.extraction.boxcut`: CIE Lab with a band
-  of :data:`~attneave.stimuli.extraction.boxcut.BOX_BAND` of the box's size along
+  from four starts (:mod:`attneave.stimuli.extraction.figure_ground.boxcut`: CIE Lab with a band
+  of :data:`~attneave.stimuli.extraction.figure_ground.boxcut.BOX_BAND` of the box's size along
   its inside held as probable background; plain GrabCut on the RGB photo;
   Lab and RGB from the box's central ellipse, which keeps the background
   between a horse's legs out of the first object model) and the
@@ -113,7 +113,7 @@ automatic search and :data:`ASSISTED_WORK_PIXELS` with a box or scribbles
   colour models on these photos, not in the choice among them. A learned
   salient-object network (method ``model``, the user's file) reaches them:
   with an IS-Net network and the same boxes, 0.891 horses and 0.934
-  objects (:mod:`attneave.stimuli.extraction.model`).
+  objects (:mod:`attneave.stimuli.extraction.figure_ground.model`).
   Box and scribble modes reduce a photo only above
   :data:`ASSISTED_WORK_PIXELS` (0.5 Mpx; the automatic search keeps
   :data:`WORK_PIXELS`): GrabCut at full size, as the anchor runs it, on the
@@ -150,8 +150,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from attneave.stimuli.errors import InputError
-from attneave.stimuli.extraction.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
-from attneave.stimuli.extraction.grabcut import (
+from attneave.stimuli.extraction.figure_ground.boxcut import BOX_BAND, box_hypotheses, choose_hypothesis
+from attneave.stimuli.extraction.figure_ground.grabcut import (
     BGD,
     FGD,
     PR_BGD,

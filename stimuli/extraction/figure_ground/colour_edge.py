@@ -105,7 +105,7 @@ def colour_edge_field(image, mask, sharp=SHARP_CONTRAST, radius=LOCAL_RADIUS):
     """
     import cv2
 
-    from attneave.stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
 
     m = np.ascontiguousarray(mask, dtype=bool)
     rgb = to_bgr8(image).astype(np.float32)

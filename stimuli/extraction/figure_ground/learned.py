@@ -13,9 +13,9 @@ size, normalisation and resampling (U^2-Net [2]_, IS-Net [3]_, BiRefNet,
   would show its least unlikely pixels as an object;
 * the outline is traced on that map at probability 0.5 to sub-pixel
   accuracy, as for ``method='model'``; with boxes, each box is seen with
-  :data:`~attneave.stimuli.extraction.model.BOX_CONTEXT` of context and
+  :data:`~attneave.stimuli.extraction.figure_ground.model.BOX_CONTEXT` of context and
   nothing outside it is kept
-  (:func:`~attneave.stimuli.extraction.model.boxed_probability`).
+  (:func:`~attneave.stimuli.extraction.figure_ground.model.boxed_probability`).
 
 Weights are never downloaded from attneave. A named network's file
 (``NAME.onnx``) must already be where rembg keeps it (``U2NET_HOME``,
@@ -29,7 +29,7 @@ BEN preprocessing). Sessions that send the photo to a remote service,
 need credentials, or are not figure-ground networks (``sam`` needs
 prompts, ``u2net_cloth_seg`` gives clothing classes) are refused.
 
-``method='model'`` (:mod:`attneave.stimuli.extraction.model`) stays the
+``method='model'`` (:mod:`attneave.stimuli.extraction.figure_ground.model`) stays the
 path for a raw ONNX file that rembg does not know, with the input size
 and normalisation given by the user (``--model-size``, ``--model-mean``,
 ``--model-std``) and only onnxruntime installed.
@@ -222,7 +222,7 @@ def network_probability(image, network=None, model_file=None):
     import cv2
     from PIL import Image
 
-    from attneave.stimuli.extraction.grabcut import to_bgr8
+    from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
 
     sess = load_network(network, model_file)
     rgb = np.ascontiguousarray(to_bgr8(image)[:, :, ::-1])
@@ -283,10 +283,10 @@ def learned_probability(img, method, model, box=None, name="image"):
     img : ndarray
         The photo.
     method : {'model', 'rembg'}
-        A raw ONNX file (:mod:`attneave.stimuli.extraction.model`) or a rembg network.
+        A raw ONNX file (:mod:`attneave.stimuli.extraction.figure_ground.model`) or a rembg network.
     model : dict or None
         For 'model', the arguments of
-        :func:`~attneave.stimuli.extraction.model.object_probability` (``model_file`` required); for
+        :func:`~attneave.stimuli.extraction.figure_ground.model.object_probability` (``model_file`` required); for
         'rembg', ``network`` (a rembg session name) and ``model_file``, both optional.
     box : (x, y, width, height), optional
         The network sees the box with some context; 0 outside it.
@@ -305,9 +305,9 @@ def learned_probability(img, method, model, box=None, name="image"):
     Raises
     ------
     InputError
-        As :func:`load_network` or :func:`~attneave.stimuli.extraction.model.object_probability`.
+        As :func:`load_network` or :func:`~attneave.stimuli.extraction.figure_ground.model.object_probability`.
     """
-    from attneave.stimuli.extraction.model import boxed_probability, object_probability
+    from attneave.stimuli.extraction.figure_ground.model import boxed_probability, object_probability
 
     model = dict(model or {})
     if method == "model":

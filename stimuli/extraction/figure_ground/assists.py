@@ -10,7 +10,7 @@ give several objects (with ``--objects all``).
 Scribbles directory: for an input ``STEM.*``, the file ``STEM.png`` (RGB or
 RGBA, the photo's size) with object strokes in pure red ``(255, 0, 0)`` and
 background strokes in pure blue ``(0, 0, 255)``; other colours and
-transparent pixels are unmarked (:func:`attneave.stimuli.extraction.photo.read_scribbles`).
+transparent pixels are unmarked (:func:`attneave.stimuli.extraction.figure_ground.photo.read_scribbles`).
 
 Every mistake (an unknown image, a box outside its image, a scribble image
 of the wrong size) is refused before any image is processed, with one line
@@ -59,7 +59,7 @@ def read_boxes(path, images, objects="largest"):
         a box not inside its image, or several boxes without
         ``objects='all'``; one line naming the file and its line.
     """
-    from attneave.stimuli.extraction.grabcut import check_box
+    from attneave.stimuli.extraction.figure_ground.grabcut import check_box
     from attneave.stimuli.extraction.imageio import header_size
     from attneave.stimuli.tables import read_table
 

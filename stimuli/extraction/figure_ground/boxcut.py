@@ -7,7 +7,7 @@ its belly): which background it keeps depends on the colour space and on
 how its colour models start. So box mode runs GrabCut from
 :data:`HYPOTHESES` (CIE Lab or RGB; started from the whole box as object,
 from the box with its inner band held as probable background, or from the
-box's central ellipse, :func:`~attneave.stimuli.extraction.grabcut.core_labels`)
+box's central ellipse, :func:`~attneave.stimuli.extraction.figure_ground.grabcut.core_labels`)
 and keeps the hypothesis of the lowest :func:`hypothesis_score`: the
 colour error of its outline (:func:`~attneave.stimuli.extraction.quality.colour_error`:
 how much the colours just inside and just outside overlap) plus a penalty
@@ -19,7 +19,7 @@ never chosen.
 
 On the development photos (``benchmarks/validate_photos.py``, halves A and
 B of each group; the weights chosen on a grid, each half checked): see the
-module notes of :mod:`attneave.stimuli.extraction.photo` for the figures.
+module notes of :mod:`attneave.stimuli.extraction.figure_ground.photo` for the figures.
 
 Boxes are ``(x, y, width, height)`` in image pixels (x = column, y = row,
 y down).
@@ -37,7 +37,7 @@ import os
 
 import numpy as np
 
-from attneave.stimuli.extraction.grabcut import box_labels, core_labels, fill_holes, grabcut, largest_part
+from attneave.stimuli.extraction.figure_ground.grabcut import box_labels, core_labels, fill_holes, grabcut, largest_part
 
 __all__ = ["BOX_BAND", "CORE", "GAP_FREE", "GAP_WEIGHT", "HYPOTHESES", "box_hypotheses", "hypothesis_score",
            "choose_hypothesis"]
@@ -64,7 +64,7 @@ def box_hypotheses(bgr, box, iterations=5, extra=None, parts="largest"):
     Parameters
     ----------
     bgr : (H, W, 3) uint8 ndarray
-        The photo in BGR order (as :func:`~attneave.stimuli.extraction.grabcut.to_bgr8` gives).
+        The photo in BGR order (as :func:`~attneave.stimuli.extraction.figure_ground.grabcut.to_bgr8` gives).
     box : (x, y, width, height)
         Image pixels, inside the image.
     iterations : int
