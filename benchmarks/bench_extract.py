@@ -99,7 +99,6 @@ def main(argv=None):
     from skimage.measure import find_contours
 
     from attneave.stimuli.extraction import describe, extract
-
     from attneave.stimuli.geometry.contour import Contour
     from attneave.stimuli.render import coverage
 

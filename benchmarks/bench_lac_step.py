@@ -53,10 +53,10 @@ import numpy as np
 import shapely
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _machine import header  # noqa: E402
-
 from attneave.stimuli.curves.qic import lac as qic_lac
 from attneave.stimuli.curves.qic.spline import qic_spline  # noqa: E402
+
+from _machine import header  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 MODULES = ("lac_quadrature", "lac_arc", "lac_newton", "lac_result", "qic_lac")

@@ -19,10 +19,11 @@ Usage: python benchmarks/bench_surprisal.py [--n 1000000] [--repeats 7]
 import argparse
 
 import numpy as np
-from _machine import header, median_time
 
 from attneave.stimuli import Contour, surprisal
 from attneave.stimuli.geometry.information import surprisal_from_points
+
+from _machine import header, median_time
 
 
 def bare_numpy(p, A=0.25, b=1.0):

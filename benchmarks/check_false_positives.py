@@ -54,11 +54,11 @@ from pathlib import Path
 import numpy as np
 import scipy.stats
 
+from attneave.analysis.analyze import analyze
 from attneave.analysis.clicks.mapping import predict
 from attneave.analysis.simulate.observers import simulate
-from attneave.analysis.analyze import analyze
-from attneave.stimuli.stimulus_set import StimulusSet, read_stimulus_set
 from attneave.stimuli import Contour
+from attneave.stimuli.stimulus_set import StimulusSet, read_stimulus_set
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -25,12 +25,13 @@ import time
 import numpy as np
 import scipy.stats
 
-from _machine import header
-from attneave.analysis.models.group import mean_z_test
 from attneave.analysis.clicks.mapping import predict
+from attneave.analysis.models.group import mean_z_test
 from attneave.analysis.models.mixed import CumulantTable, fit_mixed
 from attneave.stimuli import Contour
 from attneave.stimuli.stimulus_set import StimulusSet
+
+from _machine import header
 
 
 def stimulus_z(count, n, seed):

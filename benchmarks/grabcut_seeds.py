@@ -23,8 +23,9 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from _machine import header  # noqa: E402
 from validate_photos import DEFAULT_DIR, map_tasks, measure_photo, photo_pairs  # noqa: E402
+
+from _machine import header  # noqa: E402
 
 
 def _measure(path, modes, seed):

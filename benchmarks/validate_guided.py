@@ -25,13 +25,14 @@ import time
 from pathlib import Path
 
 import numpy as np
-from _machine import header
 
 from attneave.stimuli import Contour, InputError
 from attneave.stimuli.extraction import extract
 from attneave.stimuli.geometry.information import surprisal
 from attneave.stimuli.shapes import guided
 from attneave.stimuli.shapes.selection import rank_candidates, select_separated
+
+from _machine import header
 
 DEFAULT_DIR = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "mpeg7"
 

@@ -28,11 +28,12 @@ from scipy.spatial import cKDTree
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import validate_spline as vs  # noqa: E402
-from _machine import header  # noqa: E402
 
 from attneave.stimuli.curves.lac.spline import lac_spline  # noqa: E402
 from attneave.stimuli.curves.splines import fit_spline  # noqa: E402
 from attneave.stimuli.errors import InputError  # noqa: E402
+
+from _machine import header  # noqa: E402
 
 
 def with_alpha(alpha):

@@ -10,9 +10,10 @@ import shutil
 from pathlib import Path
 
 import pytest
-from helpers import ARGS, CHROMIUM, PX_PER_DEG, SIZE_DEG, make_set, missing, with_timeout
 
 from attneave.cli import main
+
+from helpers import ARGS, CHROMIUM, PX_PER_DEG, SIZE_DEG, make_set, missing, with_timeout
 
 collect_ignore = ["slow_generate.py", "helpers.py"]
 

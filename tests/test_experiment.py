@@ -10,12 +10,13 @@ import subprocess
 import numpy as np
 import pandas as pd
 import pytest
-from helpers import W
 
 from attneave.analysis.experiment import calibration, order
 from attneave.analysis.experiment.options import ExperimentOptions, load_options
 from attneave.cli import main
 from attneave.stimuli.errors import InputError
+
+from helpers import W
 
 
 def test_57_cm_gives_one_cm_per_degree():

@@ -10,6 +10,10 @@ import urllib.parse
 
 import pandas as pd
 import pytest
+
+from attneave.analysis.experiment import calibration, order
+from attneave.cli import main
+
 from helpers import (
     PX_PER_DEG,
     SIZE_DEG,
@@ -25,9 +29,6 @@ from helpers import (
     page_url,
     target_points,
 )
-
-from attneave.analysis.experiment import calibration, order
-from attneave.cli import main
 
 
 def test_desktop_clicks_become_image_pixels_and_analyze_reads_them(browser, setup, tmp_path):

@@ -10,6 +10,10 @@ import urllib.parse
 
 import numpy as np
 import pandas as pd
+
+from attneave.analysis.experiment import order
+from attneave.cli import main
+
 from helpers import (
     analyze_clicks,
     client_xy,
@@ -20,9 +24,6 @@ from helpers import (
     page_url,
     target_points,
 )
-
-from attneave.analysis.experiment import order
-from attneave.cli import main
 
 
 def _wait_trial(page):

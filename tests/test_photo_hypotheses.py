@@ -3,7 +3,12 @@ constructed photos whose true object is known."""
 
 import numpy as np
 
-from attneave.stimuli.extraction.figure_ground.boxcut import HYPOTHESES, box_hypotheses, choose_hypothesis, hypothesis_score
+from attneave.stimuli.extraction.figure_ground.boxcut import (
+    HYPOTHESES,
+    box_hypotheses,
+    choose_hypothesis,
+    hypothesis_score,
+)
 from attneave.stimuli.extraction.figure_ground.grabcut import to_bgr8
 from attneave.stimuli.extraction.figure_ground.photo import box_around, mask_iou, segment_photo
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-
 #: Most clicks one simulated experiment may hold (participants x stimuli x clicks): twice the
 #: 1,000,000 that 'attneave analyze' is built to handle; beyond it memory runs out (~100 B a click).
 MAX_CLICKS = 2_000_000
@@ -102,14 +101,12 @@ def add_parser(sub):
 def run(args):
     import numpy as np
 
-    from attneave.analysis.models.effect import resolve_effect
     from attneave.analysis.clicks.mapping import predict
+    from attneave.analysis.models.effect import resolve_effect
     from attneave.analysis.simulate.observers import simulate
+    from attneave.stimuli.io import check_output_spares_inputs, disk_error_exit
     from attneave.stimuli.stimulus_set import read_stimulus_set
-    from attneave.stimuli.io import disk_error_exit
     from attneave.stimuli.tables import write_table
-
-    from attneave.stimuli.io import check_output_spares_inputs
 
     check_output_spares_inputs(args.output, [args.stimuli])
     stimset = read_stimulus_set(args.stimuli)

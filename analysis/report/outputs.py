@@ -184,10 +184,9 @@ def write_analysis(analysis, out, figures=True, force=False, inputs=None):
 
 def _write_r_export(analysis, tmp, version):
     """points.csv, choices.csv (when small enough) and analysis.R; returns what was written."""
+    from attneave.analysis.report.choice_table import MAX_CHOICE_ROWS, choices_table, points_table, r_script
     from attneave.stimuli.io import atomic_write
     from attneave.stimuli.tables import write_table
-
-    from attneave.analysis.report.choice_table import MAX_CHOICE_ROWS, choices_table, points_table, r_script
 
     names = list(analysis.summary.get("predictors") or ["surprisal"])
     names = names if "surprisal" in names else ["surprisal"] + names
