@@ -1,7 +1,7 @@
 """How an error message names an argument: the Python parameter, or the command's flag.
 
-The one rule lives with the validators, :func:`attneave.stimuli.validate.arg`
-and :func:`attneave.stimuli.validate.cli_names` (the library's checks name
+The one rule lives with the validators, :func:`attneave.stimuli.argnames.arg`
+and :func:`attneave.stimuli.argnames.cli_names` (the library's checks name
 arguments the same way); this module re-exports them for the analysis package.
 
 Examples
@@ -15,6 +15,6 @@ Examples
 
 from __future__ import annotations
 
-from attneave.stimuli.validate import arg, cli_names
+from attneave.stimuli.argnames import arg, cli_names
 
 __all__ = ["arg", "cli_names"]

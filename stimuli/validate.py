@@ -36,12 +36,11 @@ point file the same way (:func:`check_scale`).
 
 from __future__ import annotations
 
-import contextlib
-import contextvars
 import numbers
 
 import numpy as np
 
+from attneave.stimuli.argnames import arg, cli_names  # noqa: F401  (part of this module's face)
 from attneave.stimuli.errors import InputError
 
 __all__ = ["check_points", "as_points", "as_number", "parse_number", "as_int", "check_flag", "check_values", "check_scale",
@@ -61,38 +60,6 @@ MIN_RELATIVE_EXTENT = 1e-10
 #: (a circle encloses 1/(4 pi) = 0.08): below it, it is a line retracing itself and has
 #: no inside, so convex and concave (the sign of its curvature) are undefined.
 MIN_AREA_RATIO = 1e-12
-
-
-# ------------------------------------------------------------------ names
-_CLI = contextvars.ContextVar("attneave_cli_names", default=False)
-#: Parameters whose flag is not ``--`` + the name with dashes.
-_FLAGS = {"n": "-n"}
-
-
-def arg(name):
-    """`name` (a Python parameter), or its ``attneave`` flag inside :func:`cli_names`.
-
-    Examples
-    --------
-    >>> arg("group_simulations")
-    'group_simulations'
-    >>> with cli_names():
-    ...     arg("group_simulations"), arg("n")
-    ('--group-simulations', '-n')
-    """
-    if not _CLI.get():
-        return name
-    return _FLAGS.get(name, "--" + name.replace("_", "-"))
-
-
-@contextlib.contextmanager
-def cli_names():
-    """Within this block, :func:`arg` names flags (``--beta-sd``) instead of parameters (``beta_sd``)."""
-    token = _CLI.set(True)
-    try:
-        yield
-    finally:
-        _CLI.reset(token)
 
 
 # ------------------------------------------------------------------ points

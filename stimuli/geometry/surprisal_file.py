@@ -4,7 +4,7 @@
 refuses what the command refuses (a closed contour that crosses itself, more
 output points than the caller allows, a spacing that gives fewer than 3
 points) with messages that name the file, the CSV line or the argument (its
-flag when ``attneave`` runs it, see :func:`attneave.stimuli.validate.arg`), and
+flag when ``attneave`` runs it, see :func:`attneave.stimuli.argnames.arg`), and
 says which points the contour dropped. The geometry is
 :func:`attneave.stimuli.geometry.information.surprisal`'s.
 """
