@@ -91,11 +91,12 @@ def _complete(rec_dir, out, stem, key):
     return rec
 
 
-def _run_chunk(chunk, outdir, opts, process_one, summary_frame):
+def _run_chunk(chunk, outdir, opts):
     """Process the images of `chunk` (``(index, image, stem, earlier, key)``); write each one's record last.
 
     Returns ``[(index, status, reason, left), ...]``.
     """
+    from attneave.stimuli.extraction.pipeline import process_one, summary_frame
     from attneave.stimuli.io import atomic_write
     from attneave.stimuli.tables import write_table
 
@@ -124,8 +125,7 @@ def _chunk_opts(opts, images):
     return sub
 
 
-def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, stages=None, bar=None, *,
-               process_one, summary_frame, output_kinds):
+def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, stages=None, bar=None):
     """Process every image not already done, then write ``summary.csv`` and remove the records.
 
     Parameters
@@ -146,8 +146,6 @@ def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, sta
         Told of every finished image.
     bar : tqdm, optional
         Updated for every finished image.
-    process_one, summary_frame, output_kinds
-        Those of :mod:`attneave.stimuli.extraction.pipeline` (passed in: it imports this module).
 
     Returns
     -------
@@ -160,7 +158,7 @@ def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, sta
     rec_dir.mkdir(exist_ok=True)
     remove_stale_temporaries(rec_dir)
     result = CorpusResult(n=len(images))
-    per_object = _per_object_names(out, stems, output_kinds)
+    per_object = _per_object_names(out, stems)
     todo = []
     for i, (image, stem) in enumerate(zip(images, stems)):
         key = _fingerprint(image, opts)
@@ -179,7 +177,7 @@ def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, sta
     chunks = ((todo[k:k + size], _chunk_opts(opts, [t[1] for t in todo[k:k + size]]))
               for k in range(0, len(todo), size))
     for done in run_chunks(_run_packed, chunks, workers=min(workers, max(1, len(todo))), scheduler=scheduler,
-                           outdir=str(out.resolve()), process_one=process_one, summary_frame=summary_frame):
+                           outdir=str(out.resolve())):
         if stages is not None:
             stages.advance(len(done))
         if bar is not None:
@@ -189,11 +187,13 @@ def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, sta
     return result
 
 
-def _per_object_names(out, stems, output_kinds):
+def _per_object_names(out, stems):
     """Per stem, the names ``STEM.K.KIND`` in `out` now (one listing for the run, not one per image)."""
     import re
 
-    kinds = "|".join(re.escape(k) for k in output_kinds)
+    from attneave.stimuli.extraction.pipeline import OUTPUT_KINDS
+
+    kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS)
     pattern = re.compile(rf"(.+)\.\d+\.(?:{kinds})")
     stem_set, found = set(stems), {}
     with os.scandir(out) as it:
@@ -204,9 +204,9 @@ def _per_object_names(out, stems, output_kinds):
     return {k: sorted(v) for k, v in found.items()}
 
 
-def _run_packed(packed, outdir, process_one, summary_frame):
+def _run_packed(packed, outdir):
     chunk, opts = packed
-    return _run_chunk(chunk, outdir, opts, process_one, summary_frame)
+    return _run_chunk(chunk, outdir, opts)
 
 
 def _write_summary(out, rec_dir, stems, images, result):

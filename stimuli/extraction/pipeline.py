@@ -71,7 +71,7 @@ from attneave.stimuli.extraction.segment import OPTION_METHODS
 from attneave.stimuli.extraction.verdict import PHOTO_MEASURES
 
 __all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "OPTION_METHODS", "output_stems", "check_options", "extract_images",
-           "process_one", "summary_frame"]
+           "process_one", "read_summary", "summary_frame"]
 
 OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
 SUMMARY_COLUMNS = (
@@ -214,8 +214,7 @@ def extract_images(images, output, workers=1, progress=None, stages=None, schedu
     bar = tqdm(total=len(stems), desc="extract", unit="image", disable=None if progress is None else not progress)
     try:
         result = run_corpus([str(i) for i in images], stems, out, opts, ours, workers=workers, scheduler=scheduler,
-                            stages=stages, bar=bar, process_one=process_one, summary_frame=summary_frame,
-                            output_kinds=OUTPUT_KINDS)
+                            stages=stages, bar=bar)
     finally:
         bar.close()
     # per-object names left by an earlier run, unless an input of this run writes them
@@ -223,11 +222,17 @@ def extract_images(images, output, workers=1, progress=None, stages=None, schedu
     result.left = sorted(f for f in result.left if _prefix(f) not in stem_set)
     if not as_frame:
         return result
-    import pandas as pd
-
-    summary = summary_frame(pd.read_csv(out / "summary.csv", dtype=str, keep_default_na=False).to_dict("records"))
+    summary = read_summary(out / "summary.csv")
     summary.attrs["left"] = result.left
     return summary
+
+
+def read_summary(path):
+    """``summary.csv`` as a DataFrame typed as :func:`extract_images` returns it."""
+    import pandas as pd
+
+    df = pd.read_csv(path, dtype=str, keep_default_na=False)
+    return summary_frame(df.to_dict("records"))
 
 
 def _prefix(name):
