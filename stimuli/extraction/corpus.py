@@ -103,9 +103,9 @@ def _run_chunk(chunk, outdir, opts):
     out = Path(outdir)
     rec_dir = out / PROGRESS_DIR
     done = []
-    for index, image, stem, earlier, key, names in chunk:
+    for index, image, stem, earlier, key in chunk:
         (rec_dir / f"{stem}.done.json").unlink(missing_ok=True)
-        row = process_one(image, stem, outdir, {**opts, "_earlier": earlier, "_names": names})
+        row = process_one(image, stem, outdir, {**opts, "_earlier": earlier})
         left = row.pop("_left", [])
         files = row.pop("_files", [])
         write_table(summary_frame([row]), rec_dir / f"{stem}.row.csv")
@@ -158,12 +158,11 @@ def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, sta
     rec_dir.mkdir(exist_ok=True)
     remove_stale_temporaries(rec_dir)
     result = CorpusResult(n=len(images))
-    per_object = _per_object_names(out, stems)
     todo = []
     for i, (image, stem) in enumerate(zip(images, stems)):
         key = _fingerprint(image, opts)
         if _complete(rec_dir, out, stem, key) is None:
-            todo.append((i, image, stem, earlier.get(stem, 0), key, per_object.get(stem, [])))
+            todo.append((i, image, stem, earlier.get(stem, 0), key))
     result.resumed = len(images) - len(todo)
     if result.resumed:
         if stages is not None:
@@ -185,23 +184,6 @@ def run_corpus(images, stems, out, opts, earlier, workers=1, scheduler=None, sta
     del todo
     _write_summary(out, rec_dir, stems, images, result)
     return result
-
-
-def _per_object_names(out, stems):
-    """Per stem, the names ``STEM.K.KIND`` in `out` now (one listing for the run, not one per image)."""
-    import re
-
-    from attneave.stimuli.extraction.pipeline import OUTPUT_KINDS
-
-    kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS)
-    pattern = re.compile(rf"(.+)\.\d+\.(?:{kinds})")
-    stem_set, found = set(stems), {}
-    with os.scandir(out) as it:
-        for entry in it:
-            m = pattern.fullmatch(entry.name)
-            if m and m.group(1) in stem_set:
-                found.setdefault(m.group(1), []).append(entry.name)
-    return {k: sorted(v) for k, v in found.items()}
 
 
 def _run_packed(packed, outdir):

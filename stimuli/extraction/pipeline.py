@@ -282,24 +282,17 @@ def check_options(opts, images=()):
 
 def _check_spares_inputs(out, stems, inputs):
     """Refuse a run whose outputs in `out` would overwrite one of its inputs (one line)."""
+    import re
+
     from attneave.stimuli.io import check_output_spares_inputs
 
-    # a set, not one regular expression of every stem: that grows to megabytes over 100,000 images
-    stem_set = set(stems)
-
-    def ours(name):
-        kind = next((k for k in OUTPUT_KINDS if name.endswith("." + k)), None)
-        if kind is None:
-            return False
-        pre = name[: -len(kind) - 1]
-        base, _, k = pre.rpartition(".")
-        return pre in stem_set or (k.isdigit() and k.isascii() and base in stem_set)
-
+    kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS)
+    ours = re.compile(rf"(?:{'|'.join(re.escape(s) for s in stems)})(?:\.\d+)?\.(?:{kinds})")
     check_output_spares_inputs(out / "summary.csv", inputs)
     where = out.resolve()
     for item in inputs:
         p = Path(item)
-        if p.resolve().parent == where and ours(p.name):
+        if p.resolve().parent == where and ours.fullmatch(p.name):
             check_output_spares_inputs(out / p.name, [item])
 
 
@@ -349,7 +342,7 @@ def summary_frame(rows):
     return df
 
 
-def _remove_stale(outdir, stem, keep, earlier=0, names=None):
+def _remove_stale(outdir, stem, keep, earlier=0):
     """Remove this stem's outputs of an earlier run that this run did not write; list those left.
 
     ``STEM.KIND`` (one object per image, and ``STEM.overlay.png``) only
@@ -358,8 +351,7 @@ def _remove_stale(outdir, stem, keep, earlier=0, names=None):
     for this stem (:func:`_earlier_objects`); others may be the outputs of
     an input named ``STEM.K.png`` and are left, and returned unless
     ``STEM.K.overlay.png`` shows that they are (no per-object overlay is
-    written). `names`: the candidates ``STEM.K.*`` in `outdir` when the run
-    started (default: list `outdir`, which costs its size for every image).
+    written).
 
     Returns
     -------
@@ -376,11 +368,10 @@ def _remove_stale(outdir, stem, keep, earlier=0, names=None):
     kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS if k != "overlay.png")
     per_object = re.compile(rf"{re.escape(stem)}\.(\d+)\.(?:{kinds})")
     left = []
-    if names is None:
-        try:
-            names = sorted(f.name for f in outdir.iterdir())
-        except OSError:
-            return left
+    try:
+        names = sorted(f.name for f in outdir.iterdir())
+    except OSError:
+        return left
     for name in names:
         m = per_object.fullmatch(name)
         if not m or name in keep or not (outdir / name).is_file():
@@ -421,7 +412,7 @@ def process_one(image, stem, outdir, opts):
     if not written:  # a failed file has no outputs: not even those it wrote before failing
         for name in done:
             (outdir / name).unlink(missing_ok=True)
-    row["_left"] = _remove_stale(outdir, stem, written, earlier, opts.get("_names"))
+    row["_left"] = _remove_stale(outdir, stem, written, earlier)
     row["_files"] = sorted(written)
     # a reason is one line of a CSV cell, whatever a library put in its message
     row["reason"] = " ".join(str(row["reason"]).split())[:500]
