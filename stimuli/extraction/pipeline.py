@@ -43,11 +43,9 @@ temporary name and renamed.
 
 ``summary.csv`` is written last: a directory without it is the output of a
 run that was stopped (a signal, ``kill -9``, a power cut); running the same
-command again completes it, processing only the images without a complete
-record (:mod:`attneave.stimuli.extraction.corpus`), with files
-byte-identical to those of an uninterrupted run (the earlier summary is
-removed when a run starts, so a stopped rerun never leaves an old summary
-beside new files).
+command again completes it, with files byte-identical to those of an
+uninterrupted run (the earlier summary is removed when a run starts, so a
+stopped rerun never leaves an old summary beside new files).
 
 Option mistakes are refused before any image is processed (one line, an
 :class:`~attneave.stimuli.errors.InputError`): an option for another method
@@ -71,7 +69,7 @@ from attneave.stimuli.extraction.segment import OPTION_METHODS
 from attneave.stimuli.extraction.verdict import PHOTO_MEASURES
 
 __all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "OPTION_METHODS", "output_stems", "check_options", "extract_images",
-           "process_one", "read_summary", "summary_frame"]
+           "process_one"]
 
 OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
 SUMMARY_COLUMNS = (
@@ -125,8 +123,7 @@ def output_stems(images, objects="largest"):
     return [Path(i).stem for i in images]
 
 
-def extract_images(images, output, workers=1, progress=None, stages=None, scheduler=None, as_frame=True,
-                   **options):
+def extract_images(images, output, workers=1, progress=None, stages=None, **options):
     """Extract, describe and write the outputs of every image; write ``summary.csv``.
 
     Parameters
@@ -137,26 +134,17 @@ def extract_images(images, output, workers=1, progress=None, stages=None, schedu
         Output directory, created if needed.
     workers : int
         Processes to use (default 1); the files written do not depend on it.
-    scheduler : str or dask.distributed.Client, optional
-        Distribute the images over Dask workers (``tcp://host:8786``); they
-        must see the images and `output` at the same paths. The files are
-        byte-identical to those of ``workers=1``.
     progress : bool or None
         Show a progress bar on stderr (None: only on a terminal).
     stages : attneave.stimuli.progress.Stages, optional
         Told of every finished image (its lines reach a log as well).
-    as_frame : bool
-        Return the summary as a DataFrame (True, default; read back from
-        ``summary.csv``) or a :class:`attneave.stimuli.extraction.corpus.CorpusResult`
-        (counts and the first failures: memory does not grow with the
-        number of images).
     **options
         Any of :data:`DEFAULTS` (the parameters of
         :func:`attneave.stimuli.extraction.extract` and :func:`attneave.stimuli.extraction.describe`).
 
     Returns
     -------
-    pandas.DataFrame or CorpusResult
+    pandas.DataFrame
         The summary, one row per input in input order (as written to
         ``summary.csv``).
 
@@ -174,6 +162,8 @@ def extract_images(images, output, workers=1, progress=None, stages=None, schedu
     from tqdm import tqdm
 
     from attneave.stimuli.io import make_output_dir
+    from attneave.stimuli.tables import write_table
+
     unknown = set(options) - set(DEFAULTS)
     if unknown:
         raise InputError(f"unknown extraction option(s): {', '.join(sorted(unknown))}")
@@ -209,30 +199,36 @@ def extract_images(images, output, workers=1, progress=None, stages=None, schedu
     # so that a run stopped midway leaves a directory without one (rerun to complete it), not an
     # old summary beside new files
     (out / "summary.csv").unlink(missing_ok=True)
-    from attneave.stimuli.extraction.corpus import run_corpus
-
-    bar = tqdm(total=len(stems), desc="extract", unit="image", disable=None if progress is None else not progress)
+    tasks = [(str(img), stem, str(out), {**opts, "_earlier": ours.get(stem, 0)}) for img, stem in zip(images, stems)]
+    rows = [None] * len(tasks)
+    bar = tqdm(total=len(tasks), desc="extract", unit="image", disable=None if progress is None else not progress)
     try:
-        result = run_corpus([str(i) for i in images], stems, out, opts, ours, workers=workers, scheduler=scheduler,
-                            stages=stages, bar=bar)
+        if workers == 1 or len(tasks) == 1:
+            for i, task in enumerate(tasks):
+                rows[i] = process_one(*task)
+                bar.update()
+                if stages is not None:
+                    stages.advance()
+        else:
+            from concurrent.futures import as_completed
+
+            from attneave.stimuli.workers import orphan_safe_pool
+
+            with orphan_safe_pool(min(workers, len(tasks))) as pool:
+                futures = {pool.submit(process_one, *task): i for i, task in enumerate(tasks)}
+                for fut in as_completed(futures):
+                    rows[futures[fut]] = fut.result()
+                    bar.update()
+                    if stages is not None:
+                        stages.advance()
     finally:
         bar.close()
     # per-object names left by an earlier run, unless an input of this run writes them
-    stem_set = set(stems)
-    result.left = sorted(f for f in result.left if _prefix(f) not in stem_set)
-    if not as_frame:
-        return result
-    summary = read_summary(out / "summary.csv")
-    summary.attrs["left"] = result.left
+    left = sorted(f for r in rows for f in r.pop("_left", ()) if _prefix(f) not in stems)
+    summary = _summary_frame(rows)
+    write_table(summary, out / "summary.csv")
+    summary.attrs["left"] = left
     return summary
-
-
-def read_summary(path):
-    """``summary.csv`` as a DataFrame typed as :func:`extract_images` returns it."""
-    import pandas as pd
-
-    df = pd.read_csv(path, dtype=str, keep_default_na=False)
-    return summary_frame(df.to_dict("records"))
 
 
 def _prefix(name):
@@ -329,7 +325,7 @@ def _earlier_objects(out, stems):
     return proof
 
 
-def summary_frame(rows):
+def _summary_frame(rows):
     """Summary table with numeric columns typed (empty cells for failed files)."""
     import pandas as pd
 
@@ -413,7 +409,6 @@ def process_one(image, stem, outdir, opts):
         for name in done:
             (outdir / name).unlink(missing_ok=True)
     row["_left"] = _remove_stale(outdir, stem, written, earlier)
-    row["_files"] = sorted(written)
     # a reason is one line of a CSV cell, whatever a library put in its message
     row["reason"] = " ".join(str(row["reason"]).split())[:500]
     for k, v in row.items():
