@@ -63,6 +63,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from attneave.stimuli.batch.config_file import parse_yaml, read_text, resolved_text, yaml_line
+from attneave.stimuli.batch.degrees import DegreeError, manifest_record, to_pixels, written_loc, written_params
 from attneave.stimuli.batch.errors import describe, loc_str, suggest
 from attneave.stimuli.batch.params import Style
 from attneave.stimuli.batch.placement import Canvas, canvas_base, canvas_in_pixels
@@ -192,6 +193,10 @@ class ResolvedCondition:
     style_model : Style
     canvas_model : Canvas
         The validated style and canvas, as the recipes and drawing get them.
+    degrees : list of dict
+        Per grid cell, the lengths given in degrees, their pixels and the
+        scale (:func:`~attneave.stimuli.batch.degrees.manifest_record`); empty
+        dicts when none were.
     """
 
     index: int
@@ -208,6 +213,7 @@ class ResolvedCondition:
     models: list = field(default_factory=list)
     style_model: Any = None
     canvas_model: Any = None
+    degrees: list = field(default_factory=list)
 
     @property
     def n_jobs(self):
@@ -346,7 +352,7 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
                                    f"repeat(s), which brings the batch to {n_jobs} recipe calls; the limit is "
                                    f"{MAX_JOBS} per batch (split it into several configs)")
 
-        cells, recorded, models, path_map = [], [], [], {}
+        cells, recorded, models, path_map, degrees = [], [], [], {}, []
         for combo in itertools.product(*(range(len(cond.grid[k])) for k in keys)):
             written = copy.deepcopy(cond.params)
             origin = {}  # dotted key -> loc of the value in the YAML
@@ -355,11 +361,17 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
                 origin[key] = loc0 + ("grid", key, j)
             call, pmap = _resolve_paths(written, base_dir, lambda p: _value_loc(p, origin, loc0), fail)
             path_map.update(pmap)
+            try:  # lengths given in degrees (r0_deg) become pixels at this condition's scale
+                call, degs = to_pixels(call, params_model, canvas.px_per_deg)
+            except DegreeError as exc:
+                fail(_value_loc(exc.loc, origin, loc0), str(exc))
             try:
                 model = params_model.model_validate(call)
             except ValidationError as exc:
                 loc, msg = describe(exc, call, params_model)
-                fail(_value_loc(tuple(loc), origin, loc0), msg)
+                loc, note = written_loc(loc, degs, canvas.px_per_deg)
+                fail(_value_loc(loc, origin, loc0), msg + note)
+            degrees.append(manifest_record(degs, canvas.px_per_deg))
             dumped = to_jsonable(model.model_dump(mode="json", by_alias=True))
             models.append(model)
             cells.append(dumped)
@@ -368,12 +380,13 @@ def resolve_config(data, source="<config>", base_dir=".", yaml_root=None):
         params = copy.deepcopy(recorded[0])
         for key in keys:
             _del_path(params, key.split("."))
+        written_params(params, degs, keys)  # lengths given in degrees stay in degrees (the same in every cell)
         conditions.append(
             ResolvedCondition(
                 index=ci, name=cond.name, recipe=cond.recipe, repeats=cond.repeats, cells=cells,
                 recorded_cells=recorded, axes=copy.deepcopy(cond.grid), params=params,
                 style=style.model_dump(mode="json", by_alias=True), canvas=canvas.model_dump(mode="json", exclude_none=True),
-                path_map=path_map, models=models, style_model=style, canvas_model=canvas_model,
+                path_map=path_map, models=models, style_model=style, canvas_model=canvas_model, degrees=degrees,
             )
         )
 

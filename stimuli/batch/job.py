@@ -48,7 +48,8 @@ def plan_jobs(batch):
         Picklable job descriptions: ``key`` (the id prefix), ``condition``,
         ``index``, ``cell``, ``rep``, ``seed``, ``recipe``, ``params`` (the
         validated parameter model the recipe gets), ``style`` (a validated
-        Style), ``canvas`` (a Canvas), ``output`` and ``path_map``.
+        Style), ``canvas`` (a Canvas), ``output``, ``path_map`` and
+        ``degrees`` (the lengths given in degrees, or ``{}``).
     """
     jobs = []
     for cond in batch.conditions:
@@ -69,6 +70,7 @@ def plan_jobs(batch):
                     "canvas": cond.canvas_model,
                     "output": batch.output,
                     "path_map": cond.path_map,
+                    "degrees": cond.degrees[k] if cond.degrees else {},
                 })
     return jobs
 
@@ -164,7 +166,9 @@ def _run_job(job, out_dir):
             "generator": job["recipe"],
             "seed": str(job["seed"]),
             # what the image shows (silhouette, outline, fragments, ...): the row alone must say it
-            "params": encode_json(record_paths(to_jsonable({"draw": it.draw["mode"], **it.params}), job["path_map"])),
+            # and the lengths given in degrees, with their pixels and the scale
+            "params": encode_json(record_paths(to_jsonable({"draw": it.draw["mode"], **it.params, **(
+                {"degrees": job["degrees"]} if job.get("degrees") else {})}), job["path_map"])),
             "condition": it.condition or job["condition"],
             "parent_id": sid(it.parent_suffix) if it.parent_suffix is not None else "",
             "batch_condition": job["condition"],

@@ -29,8 +29,35 @@ from attneave.stimuli.validate import as_int, as_number
 __all__ = [
     "Style", "RecipeParams", "ShapeParams", "AttneavePolygonParams", "AttneaveCurvedParams",
     "RadialFrequencyParams", "FourierParams", "SuperformulaParams", "BlobParams", "FromCsvParams",
-    "FromImageParams", "SHAPES", "BaseShape", "DeformationParams", "LibraryNumbers",
+    "FromImageParams", "SHAPES", "BaseShape", "DeformationParams", "LibraryNumbers", "SIZE_PX", "PLACED_PX",
+    "length_fields",
 ]
+
+# The one table of which parameters are lengths is this metadata, on the fields themselves: a config
+# may give each of them in degrees as ``<name>_deg`` (:mod:`attneave.stimuli.batch.degrees`), and no
+# other parameter. Two kinds, because placement treats them differently:
+#: A length that sets the shape's size in the generator's own units (an RF pattern's ``r0``): pixels
+#: when the shape is placed ``native``; ``placement: fit`` rescales the shape to the canvas instead.
+SIZE_PX = {"unit": "px", "length": "size"}
+#: A length measured on the shape once placed on the canvas (a deformation's ``displacement``): pixels
+#: whatever the placement.
+PLACED_PX = {"unit": "px", "length": "placed"}
+
+
+def length_fields(model):
+    """The parameters of `model` that are lengths in pixels: ``{name: 'size' or 'placed'}``.
+
+    Read from the fields' metadata (:data:`SIZE_PX`, :data:`PLACED_PX`).
+
+    Examples
+    --------
+    >>> length_fields(RadialFrequencyParams)
+    {'r0': 'size'}
+    >>> length_fields(DeformationParams)
+    {'displacement': 'placed', 'width': 'placed'}
+    """
+    return {name: f.json_schema_extra["length"] for name, f in model.model_fields.items()
+            if isinstance(f.json_schema_extra, dict) and "length" in f.json_schema_extra}
 
 
 def _number_check(tp):
@@ -206,7 +233,8 @@ class AttneaveCurvedParams(AttneavePolygonParams):
 class RadialFrequencyParams(ShapeParams):
     """Radial-frequency pattern; see :func:`attneave.stimuli.shapes.generators.radial_frequency`."""
 
-    r0: float = Field(100.0, gt=0, allow_inf_nan=False, description="mean radius (px when placement is native)")
+    r0: float = Field(100.0, gt=0, allow_inf_nan=False, json_schema_extra=SIZE_PX,
+                      description="mean radius (px when placement is native)")
     frequency: Annotated[list[PosInt], _one_or_list(PosInt), Field(min_length=1)] = Field(
         default_factory=lambda: [5], description="radial frequencies (one or a list)")
     amplitude: Annotated[list[NonNeg], _one_or_list(NonNeg), Field(min_length=1)] = Field(
@@ -231,7 +259,7 @@ class FourierParams(ShapeParams):
     """Random Fourier shape; see :func:`attneave.stimuli.shapes.generators.fourier_shape`."""
 
     kind: Literal["radial", "elliptic"] = "radial"
-    r0: float = Field(100.0, gt=0, allow_inf_nan=False)
+    r0: float = Field(100.0, gt=0, allow_inf_nan=False, json_schema_extra=SIZE_PX)
     amplitude: float = Field(0.1, ge=0, allow_inf_nan=False)
     falloff: float = Field(1.5, ge=0, allow_inf_nan=False)
     harmonics: int = Field(8, ge=2, le=1000)
@@ -254,7 +282,7 @@ class SuperformulaParams(ShapeParams):
     n3: float = Field(7.0, gt=0, allow_inf_nan=False)
     a: float = Field(1.0, gt=0, allow_inf_nan=False)
     b: float = Field(1.0, gt=0, allow_inf_nan=False)
-    scale: float = Field(100.0, gt=0, allow_inf_nan=False)
+    scale: float = Field(100.0, gt=0, allow_inf_nan=False, json_schema_extra=SIZE_PX)
     n: int = Field(1024, ge=8, le=1_000_000)
 
     @model_validator(mode="after")
@@ -278,7 +306,7 @@ class SuperformulaParams(ShapeParams):
 class BlobParams(ShapeParams):
     """Smooth random blob; see :func:`attneave.stimuli.shapes.generators.blob`."""
 
-    r0: float = Field(100.0, gt=0, allow_inf_nan=False)
+    r0: float = Field(100.0, gt=0, allow_inf_nan=False, json_schema_extra=SIZE_PX)
     # the generator's bound (attneave.stimuli.shapes.generators.MAX_BLOB_SIGMA), checked when the config is read
     sigma: float = Field(0.2, ge=0, le=3.0, allow_inf_nan=False, description="RMS of the log-radius")
     width: float = Field(0.6, gt=0, allow_inf_nan=False, description="correlation width in radians")
@@ -376,9 +404,11 @@ class DeformationParams(RecipeParams):
 
     base: BaseShape = Field(default_factory=BaseShape)
     mode: Literal["edge", "vertex", "bump"] = "edge"
-    displacement: float = Field(10.0, gt=0, allow_inf_nan=False, description="px the moved point travels")
+    displacement: float = Field(10.0, gt=0, allow_inf_nan=False, json_schema_extra=PLACED_PX,
+                                description="px the moved point travels")
     position: float = Field(0.5, gt=0, lt=1, description="where on the side the new vertex goes (edge mode)")
-    width: Optional[float] = Field(None, gt=0, allow_inf_nan=False, description="bump half-width in px; null: automatic")
+    width: Optional[float] = Field(None, gt=0, allow_inf_nan=False, json_schema_extra=PLACED_PX,
+                                   description="bump half-width in px; null: automatic")
     min_turn: float = Field(0.0, ge=0, lt=180, description="minimum |turning angle| at the moved vertex (deg)")
     resample: Optional[int] = Field(None, ge=8, le=1_000_000, description="resample the placed base first (bump mode)")
     draw: Literal["silhouette", "outline"] = "silhouette"

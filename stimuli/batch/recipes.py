@@ -45,7 +45,7 @@ from typing import Callable, Literal, Optional
 from pydantic import BaseModel, Field, field_validator, model_validator
 
 from attneave.stimuli.batch.drawing import draw_item, item_svg
-from attneave.stimuli.batch.params import SHAPES, BaseShape, DeformationParams, Style, check_base_draw
+from attneave.stimuli.batch.params import PLACED_PX, SHAPES, BaseShape, DeformationParams, Style, check_base_draw
 from attneave.stimuli.batch.params import RecipeParams as _Params
 from attneave.stimuli.batch.placement import Canvas, place
 from attneave.stimuli.errors import InputError
@@ -113,10 +113,12 @@ class GuidedParams(_Params):
     prominence: Optional[float] = Field(None, ge=0, allow_inf_nan=False)
     k: Optional[int] = Field(None, ge=3, le=100_000,
                              description="points of the cat and dots (default: every surprisal peak)")
-    min_separation: Optional[float] = Field(None, ge=0, allow_inf_nan=False, description="px between cat/dot points")
+    min_separation: Optional[float] = Field(None, ge=0, allow_inf_nan=False, json_schema_extra=PLACED_PX,
+                                            description="px between cat/dot points")
     fraction: float = Field(0.3, gt=0, lt=1, description="fraction of the perimeter shown as fragments")
     n_fragments: int = Field(4, ge=1, le=100_000)
-    min_gap: float = Field(8.0, ge=0, allow_inf_nan=False, description="px between fragments of one set")
+    min_gap: float = Field(8.0, ge=0, allow_inf_nan=False, json_schema_extra=PLACED_PX,
+                           description="px between fragments of one set")
     min_contrast: float = Field(guided.MIN_CONTRAST, ge=0, lt=1,
                                 description="smallest peak prominence and peak-trough contrast (fraction of the "
                                             "surprisal range); a base shape below it is drawn again")
