@@ -7,6 +7,7 @@ of the central degree (px per mm x 2 d tan 0.5 deg), not by the package.
 import csv
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -252,3 +253,23 @@ def test_bad_lengths_in_degrees_are_refused_in_one_line(tmp_path, capsys, canvas
     assert code == 2 and err.count("\n") == 1 and "Traceback" not in err
     assert "bad.yaml:" in err and key in err and words in err
     assert not out.exists()
+
+
+def docs_section():
+    text = (Path(__file__).resolve().parents[1] / "docs" / "experiment.md").read_text()
+    return text.split("### Shape sizes in degrees", 1)[1].split("\n## ", 1)[0]
+
+
+def test_the_docs_name_every_length_and_their_example_runs(tmp_path):
+    from attneave.stimuli.batch.params import length_fields
+    from attneave.stimuli.batch.recipes import RECIPES
+
+    section = docs_section()
+    for name, (model, _) in RECIPES.items():
+        for length in length_fields(model):
+            assert f"`{length}_deg`" in section, (name, length)
+    cfg = tmp_path / "docs.yaml"
+    cfg.write_text("seed: 1\n" + section.split("```yaml\n", 1)[1].split("```", 1)[0])
+    out = tmp_path / "docs"
+    assert main(["generate", str(cfg), "-o", str(out)]) == 0
+    assert radii(out / "contours" / "rf_000_000.csv", 320).mean() == pytest.approx(80, rel=0.01)

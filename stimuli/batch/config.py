@@ -9,7 +9,7 @@ A batch config is a YAML mapping::
     conditions:
       - name: rf                 # [A-Za-z0-9][A-Za-z0-9_.-]*, unique
         recipe: radial_frequency # a key of attneave.stimuli.batch.recipes.RECIPES
-        params:                  # fixed recipe parameters, taken verbatim
+        params:                  # fixed recipe parameters (lengths in px, or r0_deg: degrees.py)
           r0: 80                 # (a list here is a list-valued parameter)
         grid:                    # grid axes: each value is a list; the cells are
           frequency: [3, 5]      # the product of the lists, first key slowest

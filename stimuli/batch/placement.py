@@ -14,7 +14,10 @@ A canvas may be given in degrees of visual angle (``width_deg``,
 ``height_deg``, ``margin_deg``) with the display's scale: ``px_per_deg``, or
 ``viewing_distance_cm`` with ``screen_width_cm`` and ``screen_width_px``
 (:func:`canvas_in_pixels`); the images are then made at that many pixels
-and ``attneave experiment`` shows them at that size in degrees.
+and ``attneave experiment`` shows them at that size in degrees. A shape's
+size given in degrees (``r0_deg``) is pixels at that scale and places the
+shape ``native``, since ``fit`` would rescale it
+(:mod:`attneave.stimuli.batch.degrees`).
 """
 
 from __future__ import annotations

@@ -33,7 +33,8 @@ Placement
 ---------
 See :mod:`attneave.stimuli.batch.placement` (``placement='fit'`` or ``'native'``).
 Deformation displacements and fragment gaps are in pixels of the placed
-shape. Points are ``(x, y)`` in image pixels, y down, pixel centres at
+shape. A batch config may give any length in degrees (``r0_deg``,
+``displacement_deg``): :mod:`attneave.stimuli.batch.degrees`. Points are ``(x, y)`` in image pixels, y down, pixel centres at
 integers.
 """
 
