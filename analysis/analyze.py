@@ -40,6 +40,7 @@ from attneave.analysis.report.tables import (
     participant_table,
     stimulus_table,
 )
+from attneave.analysis.threads import one_blas_thread
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.validate import as_int, as_number
 
@@ -267,11 +268,12 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
         group_simulations = 0
     bar = Progress(progress, quiet=quiet)
     try:
-        if predictions is None:
-            bar.stage("predictions")
-            predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit)
-        return _analyze(clicks, stimset, predictions, run, skipped, bar, coords, scale, tolerance, bandwidth,
-                        peak_tolerance, permutations, grid, seed, level, click_sd, group_simulations, predictors)
+        with one_blas_thread():  # many small matrices: see attneave.analysis.threads
+            if predictions is None:
+                bar.stage("predictions")
+                predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit)
+            return _analyze(clicks, stimset, predictions, run, skipped, bar, coords, scale, tolerance, bandwidth,
+                            peak_tolerance, permutations, grid, seed, level, click_sd, group_simulations, predictors)
     finally:
         bar.close()
 
