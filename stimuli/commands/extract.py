@@ -91,6 +91,9 @@ def add_parser(sub):
     p.add_argument("--b", type=float, default=None, help="concentration b (default 1 paper, 4 vonmises)")
     p.add_argument("--bits", action="store_true", help="surprisal in bits instead of nats")
     p.add_argument("--workers", type=int, default=1, metavar="N", help="processes to use (default 1)")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help="distribute the images over a Dask cluster (tcp://host:8786; needs attneave[dask]); its "
+                   "workers must see the images and -o at the same paths; the files are those of --workers 1")
     p.add_argument("--quiet", action="store_true",
                    help="no progress on stderr (by default a run over ~2 s writes a line there every few seconds, "
                         "terminal or log, and a bar on a terminal)")
@@ -185,7 +188,7 @@ def run(args):
     with Stages("extract", quiet=args.quiet, bar=False, total=len(args.images)) as stages:
         stages.stage(f"{len(args.images)} image(s)")
         summary = _extract(args, stages)
-    left = summary.attrs.get("left") or []
+    left = summary.left
     if left:
         shown = ", ".join(left[:6]) + (f", ... ({len(left)} files)" if len(left) > 6 else "")
         print(f"attneave extract: warning: left {shown} in {args.output}: per-object outputs of an earlier run "
@@ -193,15 +196,14 @@ def run(args):
               "remove them if they are stale", file=sys.stderr)
     # a file that failed is named on stderr, one line each (a few; all are in summary.csv), so that
     # "1 failed" does not send the user hunting through the table for which one and why
-    failed = summary[summary["status"] == "failed"]
-    for image, reason in list(zip(failed["image"], failed["reason"]))[:10]:
+    for image, reason in summary.failed[:10]:
         print(f"attneave extract: {image}: failed: {reason}", file=sys.stderr)
-    if len(failed) > 10:
-        print(f"attneave extract: ... and {len(failed) - 10} more failed", file=sys.stderr)
-    counts = summary["status"].value_counts()
-    n_ok, n_suspect, n_failed = (int(counts.get(k, 0)) for k in ("ok", "suspect", "failed"))
-    print(f"attneave extract: {len(summary)} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "
-          f"(status and reason of each in {Path(args.output) / 'summary.csv'})", file=sys.stderr)
+    n_ok, n_suspect, n_failed = (int(summary.counts.get(k, 0)) for k in ("ok", "suspect", "failed"))
+    if n_failed > 10:
+        print(f"attneave extract: ... and {n_failed - 10} more failed", file=sys.stderr)
+    resumed = f"; {summary.resumed} done by an earlier, interrupted run" if summary.resumed else ""
+    print(f"attneave extract: {summary.n} image(s): {n_ok} ok, {n_suspect} suspect, {n_failed} failed "
+          f"(status and reason of each in {Path(args.output) / 'summary.csv'}){resumed}", file=sys.stderr)
     return 1 if n_failed else 0
 
 
@@ -210,6 +212,7 @@ def _extract(args, stages):
 
     return extract_images(
         args.images, args.output, workers=args.workers, progress=False if args.quiet else None, stages=stages,
+        scheduler=args.scheduler, as_frame=False,
         method=args.method, threshold=args.threshold, polarity=args.polarity, objects=args.objects,
         min_area=args.min_area, holes=args.holes, rect=args.rect, n=args.n, spacing=args.spacing,
         sigma=args.sigma, model=args.model, A=args.A, b=args.b, bits=args.bits, boxes=args.boxes,

@@ -43,9 +43,11 @@ temporary name and renamed.
 
 ``summary.csv`` is written last: a directory without it is the output of a
 run that was stopped (a signal, ``kill -9``, a power cut); running the same
-command again completes it, with files byte-identical to those of an
-uninterrupted run (the earlier summary is removed when a run starts, so a
-stopped rerun never leaves an old summary beside new files).
+command again completes it, processing only the images without a complete
+record (:mod:`attneave.stimuli.extraction.corpus`), with files
+byte-identical to those of an uninterrupted run (the earlier summary is
+removed when a run starts, so a stopped rerun never leaves an old summary
+beside new files).
 
 Option mistakes are refused before any image is processed (one line, an
 :class:`~attneave.stimuli.errors.InputError`): an option for another method
@@ -69,7 +71,7 @@ from attneave.stimuli.extraction.segment import OPTION_METHODS
 from attneave.stimuli.extraction.verdict import PHOTO_MEASURES
 
 __all__ = ["OUTPUT_KINDS", "SUMMARY_COLUMNS", "OPTION_METHODS", "output_stems", "check_options", "extract_images",
-           "process_one"]
+           "process_one", "summary_frame"]
 
 OUTPUT_KINDS = ("contour.csv", "surprisal.csv", "holes.csv", "overlay.png", "silhouette.png")
 SUMMARY_COLUMNS = (
@@ -123,7 +125,8 @@ def output_stems(images, objects="largest"):
     return [Path(i).stem for i in images]
 
 
-def extract_images(images, output, workers=1, progress=None, stages=None, **options):
+def extract_images(images, output, workers=1, progress=None, stages=None, scheduler=None, as_frame=True,
+                   **options):
     """Extract, describe and write the outputs of every image; write ``summary.csv``.
 
     Parameters
@@ -134,17 +137,26 @@ def extract_images(images, output, workers=1, progress=None, stages=None, **opti
         Output directory, created if needed.
     workers : int
         Processes to use (default 1); the files written do not depend on it.
+    scheduler : str or dask.distributed.Client, optional
+        Distribute the images over Dask workers (``tcp://host:8786``); they
+        must see the images and `output` at the same paths. The files are
+        byte-identical to those of ``workers=1``.
     progress : bool or None
         Show a progress bar on stderr (None: only on a terminal).
     stages : attneave.stimuli.progress.Stages, optional
         Told of every finished image (its lines reach a log as well).
+    as_frame : bool
+        Return the summary as a DataFrame (True, default; read back from
+        ``summary.csv``) or a :class:`attneave.stimuli.extraction.corpus.CorpusResult`
+        (counts and the first failures: memory does not grow with the
+        number of images).
     **options
         Any of :data:`DEFAULTS` (the parameters of
         :func:`attneave.stimuli.extraction.extract` and :func:`attneave.stimuli.extraction.describe`).
 
     Returns
     -------
-    pandas.DataFrame
+    pandas.DataFrame or CorpusResult
         The summary, one row per input in input order (as written to
         ``summary.csv``).
 
@@ -162,8 +174,6 @@ def extract_images(images, output, workers=1, progress=None, stages=None, **opti
     from tqdm import tqdm
 
     from attneave.stimuli.io import make_output_dir
-    from attneave.stimuli.tables import write_table
-
     unknown = set(options) - set(DEFAULTS)
     if unknown:
         raise InputError(f"unknown extraction option(s): {', '.join(sorted(unknown))}")
@@ -199,35 +209,24 @@ def extract_images(images, output, workers=1, progress=None, stages=None, **opti
     # so that a run stopped midway leaves a directory without one (rerun to complete it), not an
     # old summary beside new files
     (out / "summary.csv").unlink(missing_ok=True)
-    tasks = [(str(img), stem, str(out), {**opts, "_earlier": ours.get(stem, 0)}) for img, stem in zip(images, stems)]
-    rows = [None] * len(tasks)
-    bar = tqdm(total=len(tasks), desc="extract", unit="image", disable=None if progress is None else not progress)
+    from attneave.stimuli.extraction.corpus import run_corpus
+
+    bar = tqdm(total=len(stems), desc="extract", unit="image", disable=None if progress is None else not progress)
     try:
-        if workers == 1 or len(tasks) == 1:
-            for i, task in enumerate(tasks):
-                rows[i] = process_one(*task)
-                bar.update()
-                if stages is not None:
-                    stages.advance()
-        else:
-            from concurrent.futures import as_completed
-
-            from attneave.stimuli.workers import orphan_safe_pool
-
-            with orphan_safe_pool(min(workers, len(tasks))) as pool:
-                futures = {pool.submit(process_one, *task): i for i, task in enumerate(tasks)}
-                for fut in as_completed(futures):
-                    rows[futures[fut]] = fut.result()
-                    bar.update()
-                    if stages is not None:
-                        stages.advance()
+        result = run_corpus([str(i) for i in images], stems, out, opts, ours, workers=workers, scheduler=scheduler,
+                            stages=stages, bar=bar, process_one=process_one, summary_frame=summary_frame,
+                            output_kinds=OUTPUT_KINDS)
     finally:
         bar.close()
     # per-object names left by an earlier run, unless an input of this run writes them
-    left = sorted(f for r in rows for f in r.pop("_left", ()) if _prefix(f) not in stems)
-    summary = _summary_frame(rows)
-    write_table(summary, out / "summary.csv")
-    summary.attrs["left"] = left
+    stem_set = set(stems)
+    result.left = sorted(f for f in result.left if _prefix(f) not in stem_set)
+    if not as_frame:
+        return result
+    import pandas as pd
+
+    summary = summary_frame(pd.read_csv(out / "summary.csv", dtype=str, keep_default_na=False).to_dict("records"))
+    summary.attrs["left"] = result.left
     return summary
 
 
@@ -278,17 +277,24 @@ def check_options(opts, images=()):
 
 def _check_spares_inputs(out, stems, inputs):
     """Refuse a run whose outputs in `out` would overwrite one of its inputs (one line)."""
-    import re
-
     from attneave.stimuli.io import check_output_spares_inputs
 
-    kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS)
-    ours = re.compile(rf"(?:{'|'.join(re.escape(s) for s in stems)})(?:\.\d+)?\.(?:{kinds})")
+    # a set, not one regular expression of every stem: that grows to megabytes over 100,000 images
+    stem_set = set(stems)
+
+    def ours(name):
+        kind = next((k for k in OUTPUT_KINDS if name.endswith("." + k)), None)
+        if kind is None:
+            return False
+        pre = name[: -len(kind) - 1]
+        base, _, k = pre.rpartition(".")
+        return pre in stem_set or (k.isdigit() and k.isascii() and base in stem_set)
+
     check_output_spares_inputs(out / "summary.csv", inputs)
     where = out.resolve()
     for item in inputs:
         p = Path(item)
-        if p.resolve().parent == where and ours.fullmatch(p.name):
+        if p.resolve().parent == where and ours(p.name):
             check_output_spares_inputs(out / p.name, [item])
 
 
@@ -325,7 +331,7 @@ def _earlier_objects(out, stems):
     return proof
 
 
-def _summary_frame(rows):
+def summary_frame(rows):
     """Summary table with numeric columns typed (empty cells for failed files)."""
     import pandas as pd
 
@@ -338,7 +344,7 @@ def _summary_frame(rows):
     return df
 
 
-def _remove_stale(outdir, stem, keep, earlier=0):
+def _remove_stale(outdir, stem, keep, earlier=0, names=None):
     """Remove this stem's outputs of an earlier run that this run did not write; list those left.
 
     ``STEM.KIND`` (one object per image, and ``STEM.overlay.png``) only
@@ -347,7 +353,8 @@ def _remove_stale(outdir, stem, keep, earlier=0):
     for this stem (:func:`_earlier_objects`); others may be the outputs of
     an input named ``STEM.K.png`` and are left, and returned unless
     ``STEM.K.overlay.png`` shows that they are (no per-object overlay is
-    written).
+    written). `names`: the candidates ``STEM.K.*`` in `outdir` when the run
+    started (default: list `outdir`, which costs its size for every image).
 
     Returns
     -------
@@ -364,10 +371,11 @@ def _remove_stale(outdir, stem, keep, earlier=0):
     kinds = "|".join(re.escape(k) for k in OUTPUT_KINDS if k != "overlay.png")
     per_object = re.compile(rf"{re.escape(stem)}\.(\d+)\.(?:{kinds})")
     left = []
-    try:
-        names = sorted(f.name for f in outdir.iterdir())
-    except OSError:
-        return left
+    if names is None:
+        try:
+            names = sorted(f.name for f in outdir.iterdir())
+        except OSError:
+            return left
     for name in names:
         m = per_object.fullmatch(name)
         if not m or name in keep or not (outdir / name).is_file():
@@ -408,7 +416,8 @@ def process_one(image, stem, outdir, opts):
     if not written:  # a failed file has no outputs: not even those it wrote before failing
         for name in done:
             (outdir / name).unlink(missing_ok=True)
-    row["_left"] = _remove_stale(outdir, stem, written, earlier)
+    row["_left"] = _remove_stale(outdir, stem, written, earlier, opts.get("_names"))
+    row["_files"] = sorted(written)
     # a reason is one line of a CSV cell, whatever a library put in its message
     row["reason"] = " ".join(str(row["reason"]).split())[:500]
     for k, v in row.items():
