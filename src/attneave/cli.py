@@ -121,6 +121,20 @@ class _Stopper:
             self.signum = signum
             raise Interrupted(signum)
 
+    def swallowed(self, unraisable):
+        """`sys.unraisablehook`: the stop landed where Python cannot raise (a weakref or GC
+        callback, a ``__del__``, such as importlib's module-lock callbacks) and was dropped
+        there with an "Exception ignored" traceback. Say nothing, and deliver it again a
+        moment later, when the main thread has left that callback."""
+        exc = unraisable.exc_value
+        if not isinstance(exc, Interrupted) or self.signum != exc.signum:
+            return _PREVIOUS_UNRAISABLEHOOK(unraisable)
+        self.signum = None
+        # a real signal to the main thread, not _thread.interrupt_main: it also breaks a blocking wait
+        timer = threading.Timer(0.01, signal.pthread_kill, args=(threading.main_thread().ident, exc.signum))
+        timer.daemon = True
+        timer.start()
+
     def after(self, signum, frame):
         # the command has returned: its output is complete. Raising now would land in an
         # interpreter shutdown hook (tqdm's, concurrent.futures') as a traceback; say it and go.
@@ -136,15 +150,25 @@ def _exit_after(command, signum):
     os._exit(128 + signum)
 
 
+_PREVIOUS_UNRAISABLEHOOK = sys.unraisablehook
+
+
 def _install(handler):
     """Set `handler` for every stop signal; return the previous handlers (None outside the main thread)."""
     if threading.current_thread() is not threading.main_thread():
         return None
-    return {s: signal.signal(s, handler) for s in STOP_SIGNALS}
+    previous = {s: signal.signal(s, handler) for s in STOP_SIGNALS}
+    stopper = getattr(handler, "__self__", None)
+    previous["unraisablehook"] = sys.unraisablehook
+    sys.unraisablehook = stopper.swallowed if isinstance(stopper, _Stopper) else _PREVIOUS_UNRAISABLEHOOK
+    return previous
 
 
 def _restore(previous):
-    for s, h in (previous or {}).items():
+    previous = dict(previous or {})
+    if "unraisablehook" in previous:
+        sys.unraisablehook = previous.pop("unraisablehook")
+    for s, h in previous.items():
         signal.signal(s, h)
 
 

@@ -205,7 +205,7 @@ def _check_visible(label, item, img, canvas):
     if max(w, h) < MIN_FIGURE_EXTENT:
         raise InputError(f"{label}the figure is {w:.2g} x {h:.2g} px on the {canvas.width}x{canvas.height} "
                          f"canvas, below {MIN_FIGURE_EXTENT:g} px: its image would be blank; make it larger "
-                         "(e.g. r0 or scale) or use placement: fit")
+                         "(e.g. r0 or scale) or, for a size given in px, use placement: fit")
     if img.min() == img.max():
         raise InputError(f"{label}the image is blank (one colour everywhere): the figure lies outside the "
                          f"{canvas.width}x{canvas.height} canvas or is drawn in the ground's colour")

@@ -115,7 +115,7 @@ def place(contours, centre, canvas, placement="fit"):
             raise InputError(
                 f"placement: native: the shape spans x {lo[0]:.1f}..{hi[0]:.1f}, y {lo[1]:.1f}..{hi[1]:.1f} px, "
                 f"outside the {canvas.width}x{canvas.height} canvas; make it smaller, the canvas larger, "
-                f"or use placement: fit")
+                f"or, for a size given in px, use placement: fit")
     return placed, dict(placement=placement, scale=scale, offset=[float(offset[0]), float(offset[1])])
 
 
