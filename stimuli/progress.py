@@ -103,6 +103,8 @@ class Stages:
         if self.threshold <= 0:
             self._line(f"{name} ({self._elapsed():.1f} s)")
             return
+        if self.threshold == float("inf"):  # never announced; a Timer of inf s overflows time_t in its thread
+            return
         self.timer = threading.Timer(self.threshold, self._running, args=(name,))
         self.timer.daemon = True
         self.timer.start()
