@@ -124,7 +124,7 @@ def _whole(name, value, minimum, maximum=None):
 def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tolerance=None, bandwidth=None,
             peak_tolerance=None, permutations=1000, grid=1024, seed=0, level=0.95, A=None, b=None,
             click_sd=None, predictions=None, group_simulations=1999, predictors=("surprisal",), length_unit=None,
-            mixed=True, progress=None, models=None, quiet=False):
+            mixed=True, progress=None, models=None, quiet=False, workers=1):
     """Analyse clicks against the information predicted along the contours.
 
     Parameters
@@ -208,6 +208,10 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
         why.
     quiet : bool
         No progress on stderr at all.
+    workers : int
+        Local processes for the predictions
+        (:func:`attneave.analysis.clicks.mapping.predict`; the same result for
+        any number). The stages after them run in this process.
 
     Returns
     -------
@@ -239,6 +243,7 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
     group_simulations = _whole("group_simulations", group_simulations, 0, MAX_REPLICATES)
     grid = _whole("grid", grid, 8, MAX_GRID)
     seed = _whole("seed", seed, 0, 2**63 - 1)
+    workers = _whole("workers", workers, 1)
     level = as_number(level, arg("level"))
     if not 0 < level < 1:
         raise InputError(f"{arg('level')} must be in (0, 1), got {level!r}")
@@ -271,7 +276,15 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
         with one_blas_thread():  # many small matrices: see attneave.analysis.threads
             if predictions is None:
                 bar.stage("predictions")
-                predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit)
+                total = max(len(stimset.ids), 1)
+                made = [0]
+
+                def advance(k):
+                    made[0] += k
+                    bar.sub(made[0] / total)
+
+                predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit,
+                                      workers=workers, progress=advance)
             return _analyze(clicks, stimset, predictions, run, skipped, bar, coords, scale, tolerance, bandwidth,
                             peak_tolerance, permutations, grid, seed, level, click_sd, group_simulations, predictors)
     finally:

@@ -7,6 +7,8 @@ Points are ``(x, y)`` floats in image pixels (x = column, y = row, y down).
 
 from __future__ import annotations
 
+import csv
+import io
 import math
 import re
 from pathlib import Path
@@ -278,23 +280,17 @@ def _read_records(path, what, empty):
     (pandas only wraps its result), so that reading a contour file costs no
     pandas import.
     """
-    import csv
-
     path = check_regular_file(path, what, max_bytes=MAX_TEXT_BYTES)
-    header, rows, lines = None, [], []
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
-            reader = csv.reader(fh, skipinitialspace=True, strict=True)
-            end = 0
-            for record in reader:
-                start, end = end + 1, reader.line_num
-                if not record:
-                    continue  # a blank line
-                if header is None:
-                    header = [c.strip() for c in record]
-                    continue
-                rows.append(_fit_record(path, record, header, start))
-                lines.append(start)
+            text = fh.read()
+        if '"' not in text:
+            # no quoted field, so one record per physical line: line numbers are positions, and the
+            # records come in one C-level pass (a contour file of 360 points in a quarter of the time)
+            records = list(csv.reader(io.StringIO(text, newline=""), skipinitialspace=True, strict=True))
+            numbered = [(i + 1, r) for i, r in enumerate(records) if r]
+        else:
+            numbered = _numbered_records(text)
     except FileNotFoundError:
         raise InputError(f"{path}: no such file") from None
     except IsADirectoryError:
@@ -305,9 +301,26 @@ def _read_records(path, what, empty):
         raise InputError(f"{path}: not a readable CSV file ({exc})") from None
     except OSError as exc:  # no permission, ...
         raise InputError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    header, rows, lines = None, [], []
+    if numbered:
+        header = [c.strip() for c in numbered[0][1]]
+        n = len(header)
+        rows = [r if len(r) == n else _fit_record(path, r, header, line) for line, r in numbered[1:]]
+        lines = [line for line, _ in numbered[1:]]
     if header is None:
         raise InputError(f"{path}: empty file ({empty})")
     return header, rows, lines
+
+
+def _numbered_records(text):
+    """``[(first line, record), ...]`` of the non-blank records of CSV `text` (a quoted field may span lines)."""
+    reader = csv.reader(io.StringIO(text, newline=""), skipinitialspace=True, strict=True)
+    out, end = [], 0
+    for record in reader:
+        start, end = end + 1, reader.line_num
+        if record:
+            out.append((start, record))
+    return out
 
 
 def _fit_record(path, record, header, line):
@@ -391,7 +404,13 @@ def read_points(path, columns=("x", "y"), with_lines=False):
     out = np.empty((len(rows), len(columns)))
     for j, name in enumerate(columns):
         c = header.index(name)
-        for i, row in enumerate(rows):
+        try:  # the common case in one C-level pass (float() as below, so the same values)
+            out[:, j] = np.fromiter(map(float, [row[c] for row in rows]), dtype=float, count=len(rows))
+            if np.isfinite(out[:, j]).all():
+                continue
+        except ValueError:
+            pass
+        for i, row in enumerate(rows):  # find the first bad value, for the message
             try:
                 v = float(row[c])
             except ValueError:

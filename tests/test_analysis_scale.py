@@ -280,3 +280,36 @@ def test_twenty_thousand_stimuli_build_no_stimuli_by_stimuli_array():
     """)
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
     assert r.returncode == 0 and r.stdout.startswith("ok"), r.stderr[-2000:]
+
+
+def test_predictions_in_worker_processes_equal_those_of_one(tmp_path):
+    from attneave.analysis.clicks.mapping import PREDICT_CHUNK, predict
+    from attneave.stimuli.stimulus_set import read_stimulus_set
+
+    count = 2 * PREDICT_CHUNK + 5  # three chunks, the last one short
+    write_stimulus_set(tmp_path / "set", _shapes(count), size=(400, 400))
+    stimset = read_stimulus_set(tmp_path / "set")
+    done = []
+    one = predict(stimset, n=40)
+    two = predict(stimset, n=40, workers=2, progress=done.append)
+    assert list(two) == list(stimset.ids) == list(one)
+    assert sorted(done) == sorted([PREDICT_CHUNK, PREDICT_CHUNK, 5])
+    for sid in one:
+        assert one[sid].predictors.keys() == two[sid].predictors.keys()
+        for key in one[sid].predictors:
+            assert np.array_equal(one[sid].predictors[key], two[sid].predictors[key]), (sid, key)
+            assert np.array_equal(one[sid].z[key], two[sid].z[key])
+        assert np.array_equal(one[sid].sign, two[sid].sign)
+    # the shapes differ, so equality above is not that of one repeated stimulus
+    assert not np.array_equal(one["rf_0"].predictors["surprisal"], one["rf_1"].predictors["surprisal"])
+
+
+def test_analyze_with_two_workers_writes_the_same_tables(small, tmp_path, capsys):
+    assert _run(small, tmp_path / "one") == 0
+    assert _run(small, tmp_path / "two", "--workers", "2") == 0
+    for name in ("clicks.csv", "per_participant.csv", "per_stimulus.csv"):
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes(), name
+    capsys.readouterr()
+    assert _run(small, tmp_path / "bad", "--workers", "0") == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--workers" in err and not (tmp_path / "bad").exists()

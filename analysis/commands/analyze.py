@@ -79,6 +79,9 @@ def add_parser(sub):
                    help="models to run: choice (always), rivals, joint, blurred (with --click-sd), mixed, group "
                         "(the Monte Carlo nulls); default all that fit in memory. summary.json (models_skipped) "
                         "and report.html say which were left out and why")
+    p.add_argument("--workers", type=int, default=1, metavar="N",
+                   help="local processes for the predictions, a few ms per stimulus (default 1; the results are "
+                        "the same for any N)")
     p.add_argument("--quiet", action="store_true",
                    help="no progress on stderr (by default every stage over ~2 s is a line there, and a bar "
                         "is drawn on a terminal)")
@@ -126,7 +129,7 @@ def run(args):
         tolerance=args.tolerance, bandwidth=args.bandwidth, peak_tolerance=args.peak_tolerance,
         permutations=args.permutations, grid=args.grid, seed=args.seed, click_sd=args.click_sd,
         group_simulations=args.group_simulations, predictors=args.predictors, length_unit=args.length_unit,
-        models=args.models, quiet=args.quiet,
+        models=args.models, quiet=args.quiet, workers=args.workers,
     )
     if res.summary["n_used"] == 0:
         why = exclusion_report(res.clicks, threshold=0.0)
