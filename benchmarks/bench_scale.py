@@ -150,10 +150,10 @@ def scale(args, header, load):
     cases = [c for c in CASES if not args.only or c[0] in args.only]
     print(f"data in {keep}; repeats {args.repeats}; n = 100, grid 1024, 1000 shifts, R = 1999, all models")
     print(f"{'case':28s} {'clicks':>10s} {'predict':>8s} {'analyze':>9s} {'peak RSS':>9s} {'anchor':>8s} "
-          f"{'ratio':>6s}  load at start / models")
+          f"{'ratio':>6s} {'command':>8s} {'its RSS':>8s}  load at start / models")
     for S, P, K, label in cases:
         sdir, cfile, t_pred = prepare(keep, S, P, K)
-        times, peaks, loads, anchors, info = [], [], [], [], {}
+        times, peaks, loads, anchors, walls, rss_cmd, info = [], [], [], [], [], [], {}
         for _ in range(args.repeats):
             loads.append(load())
             out_file = keep / "child.json"
@@ -167,15 +167,26 @@ def scale(args, header, load):
             rc, _, _ = measured([sys.executable, str(here / "bench_scale.py"), "anchor", str(sdir), str(cfile),
                                  str(out_file)])
             anchors.append(json.loads(out_file.read_text())["seconds"] if rc == 0 else float("nan"))
-        t, a = statistics.median(times), statistics.median(anchors)
+            rc, wall, rss = measured(["/bin/sh", "-c", f"{sys.executable} -m attneave.cli analyze {cfile} --stimuli "
+                                      f"{sdir} -o {keep / 'out_command'} --force --no-figures --quiet "
+                                      f"--workers {args.workers} > /dev/null"])
+            if rc != 0:
+                raise SystemExit(f"{label}: the command failed (exit {rc})")
+            walls.append(wall)
+            rss_cmd.append(rss)
+        t, a, w = statistics.median(times), statistics.median(anchors), statistics.median(walls)
         pred_txt = f"{t_pred * S:7.0f}s"
         print(f"{label:28s} {S * P * K:>10,d} {pred_txt:>8s} {t:8.1f}s {max(peaks) / 2**30:7.2f}GB {a:7.1f}s "
-              f"{t / a:5.1f}x  {', '.join(f'{v:.1f}' for v in loads)} / {','.join(info.get('models_run', []))}"
+              f"{t / a:5.1f}x {w:7.1f}s {max(rss_cmd) / 2**30:6.2f}GB  "
+              f"{', '.join(f'{v:.1f}' for v in loads)} / {','.join(info.get('models_run', []))}"
               + (f" (skipped: {info['skipped']})" if info.get("skipped") else ""), flush=True)
     print("analyze = analyze() given the cached predictions (in-memory clicks; reading CSV and writing outputs "
           "not included); predict = predict() of the whole set, extrapolated from its seconds per stimulus on "
           f"{BASE} distinct contours (not in analyze's time: a set is predicted once); peak RSS of the "
-          "analyze child (imports and data included); anchor = bare-numpy FFT pass on the same clicks")
+          "analyze child (imports and data included); anchor = bare-numpy FFT pass on the same clicks; "
+          f"command = 'attneave analyze CSV --stimuli SET -o OUT --no-figures --workers {args.workers}' end to end "
+          "(reading the CSV and the set's contour files, predictions, analysis, every table and report.html), "
+          "its peak RSS that of its largest process")
     if not args.only or 36 in args.only:  # --only 36: the -n 100000 case alone
         big_n(keep, load)
 

@@ -313,3 +313,28 @@ def test_analyze_with_two_workers_writes_the_same_tables(small, tmp_path, capsys
     assert _run(small, tmp_path / "bad", "--workers", "0") == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--workers" in err and not (tmp_path / "bad").exists()
+
+
+def test_the_report_marks_exactly_the_stimuli_whose_clicks_fell_on_one_point(tmp_path):
+    """The per-stimulus rows (one groupby, not one filter of every click per stimulus)."""
+    import pandas as pd
+
+    from attneave.analysis.analyze import analyze
+    from attneave.analysis.report.html import _stimulus_rows
+    from attneave.stimuli.stimulus_set import read_stimulus_set
+
+    shapes = _shapes(3)
+    write_stimulus_set(tmp_path / "set", shapes, size=(400, 400))
+    stimset = read_stimulus_set(tmp_path / "set")
+    rows = []
+    for p in range(4):
+        for k in range(5):
+            rows.append((f"p{p}", "rf_0", *shapes["rf_0"][0]))  # one point, every time
+            rows.append((f"p{p}", "rf_1", *shapes["rf_1"][(37 * (5 * p + k)) % 200]))  # spread
+            rows.append((f"p{p}", "rf_2", *shapes["rf_2"][(p + k) % 2 * 100]))  # two points
+    clicks = pd.DataFrame(rows, columns=["participant", "stimulus_id", "x", "y"])
+    a = analyze(clicks, stimset, n=40, permutations=9, group_simulations=9, grid=64, mixed=False, quiet=True)
+    table, single = _stimulus_rows(a, {})
+    assert single == ["rf_0"]
+    marked = [r[0] for r in table if str(r[-1]).endswith(" *")]
+    assert marked == ["rf_0"]
