@@ -70,9 +70,10 @@ def box_hypotheses(bgr, box, iterations=5, extra=None, parts="largest"):
     iterations : int
         GrabCut iterations per hypothesis.
     extra : dict, optional
-        More hypotheses, name -> (image, start): a 3-channel 8-bit image of
-        the photo's size (another colour space or a smoothed copy) and a
-        start ``'box'``, ``'band'`` or ``'core'``.
+        More hypotheses, name -> (image, start) or (image, 'core', size): a
+        3-channel 8-bit image of the photo's size (another colour space or a
+        smoothed copy) and a start ``'box'``, ``'band'`` or ``'core'`` (the
+        central ellipse of `size` times the box's size; default :data:`CORE`).
     parts : {'largest', 'all'}
         Keep each mask's largest part (its holes kept), or every part
         GrabCut found.
@@ -87,14 +88,14 @@ def box_hypotheses(bgr, box, iterations=5, extra=None, parts="largest"):
     import cv2
 
     images = {"rgb": bgr, "lab": cv2.cvtColor(bgr, cv2.COLOR_BGR2LAB)}
-    starts = {name: (images[space], start) for name, (space, start) in HYPOTHESES.items()}
-    starts.update(extra or {})
+    starts = {name: (images[space], start, CORE) for name, (space, start) in HYPOTHESES.items()}
+    starts.update({name: (*how, CORE)[:3] for name, how in (extra or {}).items()})
 
-    def run(img, start):
+    def run(img, start, core):
         if start == "box":
             raw = grabcut(img, box=box, iterations=iterations)
         else:
-            labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, CORE)
+            labels = box_labels(img.shape, box, BOX_BAND) if start == "band" else core_labels(img.shape, box, core)
             raw = grabcut(img, labels=labels, iterations=iterations)
         return largest_part(raw) if parts == "largest" else raw
 

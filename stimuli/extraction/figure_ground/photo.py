@@ -165,7 +165,7 @@ from attneave.stimuli.extraction.figure_ground.grabcut import (
     to_bgr8,
 )
 
-__all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "AUTO_FIRST", "BOX_BAND", "SCRIBBLE_OBJECT",
+__all__ = ["WORK_PIXELS", "ASSISTED_WORK_PIXELS", "AUTO_FIRST", "AUTO_CORE", "BOX_BAND", "SCRIBBLE_OBJECT",
            "SCRIBBLE_BACKGROUND", "PhotoMask", "segment_photo", "read_scribbles", "mask_iou", "box_around"]
 
 #: The automatic search runs on at most this many pixels (larger photos are reduced).
@@ -177,6 +177,10 @@ ASSISTED_WORK_PIXELS = 500_000
 #: The automatic search's own hypothesis (GrabCut in CIE Lab on the smoothed photo from the inset
 #: frame), taken when no hypothesis found a boundary.
 AUTO_FIRST = "lab_smooth"
+#: The automatic search's start for an object that fills a small part of the photo
+#: ('lab_centre'): GrabCut in CIE Lab from the central ellipse of this fraction of the inset
+#: frame's width and height (chosen by cross-validation, ``benchmarks/cv_auto.py``).
+AUTO_CORE = 0.4
 #: Scribble colours (RGB): object strokes pure red, background strokes pure blue.
 SCRIBBLE_OBJECT = (255, 0, 0)
 SCRIBBLE_BACKGROUND = (0, 0, 255)
@@ -300,12 +304,16 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
             answer, check = masks[chosen], _next_best(masks, scores, chosen)
         mode = "box"
     else:
-        # box mode's starts from the inset frame, and GrabCut in CIE Lab on the
-        # smoothed photo; the hypothesis whose outline's colours part best is
-        # the answer (the frame is no box a person drew: no gap penalty)
+        # box mode's starts from the inset frame, GrabCut in CIE Lab on the
+        # smoothed photo, and in Lab from a small central ellipse (an object
+        # that fills a small part of the photo: the other starts' first object
+        # model is then mostly background); the hypothesis whose outline's
+        # colours part best is the answer (the frame is no box a person drew:
+        # no gap penalty)
         inset = inset_box(smooth.shape)
         smooth_lab = cv2.cvtColor(smooth, cv2.COLOR_BGR2LAB)
-        raws = box_hypotheses(small, inset, iterations, extra={AUTO_FIRST: (smooth_lab, "box")}, parts="all")
+        extra = {AUTO_FIRST: (smooth_lab, "box"), "lab_centre": (cv2.cvtColor(small, cv2.COLOR_BGR2LAB), "core", AUTO_CORE)}
+        raws = box_hypotheses(small, inset, iterations, extra=extra, parts="all")
         masks = {k: largest_part(r) for k, r in raws.items()}
         chosen, scores = choose_hypothesis(small[:, :, ::-1], inset, masks, gap=False)
         chosen = chosen or AUTO_FIRST
