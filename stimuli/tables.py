@@ -87,19 +87,33 @@ def _neutralise_frame(table):
     out = table.copy(deep=False)
     for c in text:
         col = out[c]
-        hit = col.map(lambda v: isinstance(v, str) and v[:1] in FORMULA_STARTS and neutralise_cell(v) != v)
+        # only the cells that begin like a formula go through neutralise_cell (a vectorised test first:
+        # a per-cell Python call on every text cell made the tables of a large study slow to write)
+        hit = _text_test(col, lambda t: t.str[:1].isin(FORMULA_STARTS), lambda v: v[:1] in FORMULA_STARTS)
         if hit.any():
-            out[c] = col.map(neutralise_cell).astype(col.dtype)
+            fixed = col[hit].map(neutralise_cell)
+            if not fixed.equals(col[hit]):
+                out[c] = col.where(~hit, fixed).astype(col.dtype)
     out.columns = names
     return out
+
+
+def _text_test(col, vectorised, per_cell):
+    """Boolean Series: `per_cell` of each str cell of `col` (False elsewhere), by `vectorised` where pandas can."""
+    strings = col.map(type) == str if col.dtype == object else col.notna()
+    try:
+        result = vectorised(col.where(strings, ""))
+    except (AttributeError, TypeError):  # a column pandas' .str refuses
+        result = col.map(lambda v: isinstance(v, str) and per_cell(v))
+    return result.fillna(False).astype(bool) & strings
 
 
 def _has_carriage_return(frame):
     """True when a text cell of DataFrame `frame` holds a carriage return."""
     from pandas.api.types import is_object_dtype, is_string_dtype
 
-    return any(frame[c].map(lambda v: isinstance(v, str) and "\r" in v).any() for c in frame.columns
-               if is_object_dtype(frame[c].dtype) or is_string_dtype(frame[c].dtype))
+    return any(_text_test(frame[c], lambda t: t.str.contains("\r", regex=False), lambda v: "\r" in v).any()
+               for c in frame.columns if is_object_dtype(frame[c].dtype) or is_string_dtype(frame[c].dtype))
 
 
 def write_table(table, path, float_format="%.10g"):
