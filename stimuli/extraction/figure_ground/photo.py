@@ -339,7 +339,8 @@ def segment_photo(image, box=None, scribbles=None, iterations=5, name="image"):
         # no gap penalty)
         inset = inset_box(smooth.shape)
         smooth_lab = cv2.cvtColor(smooth, cv2.COLOR_BGR2LAB)
-        extra = {AUTO_FIRST: (smooth_lab, "box"), "lab_centre": (cv2.cvtColor(small, cv2.COLOR_BGR2LAB), "core", AUTO_CORE)}
+        extra = {AUTO_FIRST: (smooth_lab, "box"),
+                 "lab_centre": (cv2.cvtColor(small, cv2.COLOR_BGR2LAB), "core", AUTO_CORE)}
         raws = box_hypotheses(small, inset, iterations, extra=extra, parts="all")
         masks = {k: largest_part(r) for k, r in raws.items()}
         chosen, scores = choose_hypothesis(small[:, :, ::-1], inset, masks, gap=False)
