@@ -210,3 +210,21 @@ def test_mixed_model_recovers_crossed_slopes_and_covers_the_mean_slope():
     # (binomial probability of 4+ misses at 93% coverage: 0.012)
     assert hits >= runs - 3
     assert 0.2 < np.median(sds) < 0.7  # true sd_stimulus 0.4
+
+
+@pytest.mark.parametrize("beta", [np.full(3000, 0.7), np.linspace(-2, 2, 3000)])
+def test_block_moments_equal_the_log_sum_exp_and_moments_of_each_row(beta):
+    """With one beta for every row (computed per stimulus, then gathered) and with a beta per row."""
+    import scipy.special
+
+    from attneave.analysis.models.choice import block_moments, standardize
+
+    rng = np.random.default_rng(3)
+    Z = standardize(rng.gamma(1.0, size=(40, 60)))
+    rows = rng.integers(0, 40, len(beta))
+    lse, E, V = block_moments(beta, Z, rows)
+    x = beta[:, None] * Z[rows]
+    p = scipy.special.softmax(x, axis=1)
+    assert np.allclose(lse, scipy.special.logsumexp(x, axis=1), rtol=0, atol=1e-12)
+    assert np.allclose(E, (p * Z[rows]).sum(axis=1), rtol=0, atol=1e-12)
+    assert np.allclose(V, (p * (Z[rows] - E[:, None]) ** 2).sum(axis=1), rtol=0, atol=1e-12)
