@@ -338,3 +338,25 @@ def test_the_report_marks_exactly_the_stimuli_whose_clicks_fell_on_one_point(tmp
     assert single == ["rf_0"]
     marked = [r[0] for r in table if str(r[-1]).endswith(" *")]
     assert marked == ["rf_0"]
+
+
+def test_a_large_table_lookup_on_two_threads_equals_the_exact_moments():
+    """Above _THREADED_CELLS cells the lookup runs in two halves: the same values as one pass,
+    and within the interpolation's error of the exact log-sum-exp and moments."""
+    import scipy.special
+
+    import attneave.analysis.models.mixed as mixed
+
+    rng = np.random.default_rng(7)
+    Z = standardize(rng.gamma(1.0, size=(30, 50)))
+    tab = CumulantTable(Z)
+    m = mixed._THREADED_CELLS + 1001
+    s, b = rng.integers(0, 30, m), rng.uniform(-3, 3, m)
+    threaded = tab(s, b, dV=True)
+    single = tab._evaluate(s, b, True)
+    for a, c in zip(threaded, single):
+        assert a.shape == (m,) and np.array_equal(a, c)
+    x = b[:, None] * Z[s]
+    p = scipy.special.softmax(x, axis=1)
+    assert np.abs(threaded[0] - scipy.special.logsumexp(x, axis=1)).max() < 1e-6
+    assert np.abs(threaded[1] - (p * Z[s]).sum(axis=1)).max() < 1e-6

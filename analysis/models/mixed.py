@@ -121,6 +121,18 @@ class CumulantTable:
         (the derivative of the interpolated V, so that it is exactly consistent with it)."""
         s = np.asarray(s)
         b = np.asarray(b, dtype=float)
+        if b.size < _THREADED_CELLS or s.shape != b.shape:
+            return self._evaluate(s, b, dV)
+        # elementwise numpy without the GIL: the two halves on two threads, the same values as one pass
+        from concurrent.futures import ThreadPoolExecutor
+
+        half = b.size // 2
+        fs, fb = s.ravel(), b.ravel()
+        with ThreadPoolExecutor(2) as ex:
+            parts = list(ex.map(lambda sl: self._evaluate(fs[sl], fb[sl], dV), (slice(0, half), slice(half, None))))
+        return tuple(np.concatenate([p[q] for p in parts]).reshape(b.shape) for q in range(len(parts[0])))
+
+    def _evaluate(self, s, b, dV):
         bc = np.clip(b, -self.bound, self.bound)
         x = (bc + self.bound) / self.step
         i = np.minimum(np.floor(x).astype(np.int64), len(self.grid) - 2)
@@ -156,6 +168,10 @@ class CumulantTable:
             D = np.where(out, 0.0, D)
         return (K, E, V, D) if dV else (K, E, V)
 
+
+#: Cells from which a table lookup is split over two threads (measured: the lookups of 1,000,000
+#: cells were a quarter of the mixed model's time on one core).
+_THREADED_CELLS = 200_000
 
 #: Big-block units per dense chunk of the Schur complement (chunk x (small + 1) values at a time).
 _CHUNK = 4096
