@@ -43,7 +43,7 @@ under 60 s and 2 GB.
 Usage:
 ``python benchmarks/bench_analysis.py [--participants 100] [--stimuli 100] [--clicks 10] [--repeats 3]``
 ``python benchmarks/bench_analysis.py --million [--repeats 3]``
-``python benchmarks/bench_analysis.py --scale [--repeats 3] [--scale-dir DIR] [--only 100,20000] [--workers 2]``
+``python benchmarks/bench_analysis.py --scale [--repeats 3] [--scale-dir DIR] [--only 100,20000] [--workers 2] [--no-command]``
 (see ``bench_scale.py``: 100 to 20,000 stimuli, the 1,000,000-click headline, ``-n 100000``)
 """
 
@@ -189,6 +189,7 @@ def main(argv=None):
     ap.add_argument("--scale-dir", default=None, help="keep (and reuse) the --scale data here")
     ap.add_argument("--only", type=lambda v: [int(x) for x in v.split(",")], default=None,
                     help="--scale: only the cases of these numbers of stimuli, e.g. 100,20000")
+    ap.add_argument("--no-command", action="store_true", help="--scale: analyze() only, not the command end to end")
     ap.add_argument("--workers", type=int, default=2,
                     help="--scale: the command's --workers (its predictions), default 2 (this machine's cores)")
     args = ap.parse_args(argv)

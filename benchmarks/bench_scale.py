@@ -167,6 +167,8 @@ def scale(args, header, load):
             rc, _, _ = measured([sys.executable, str(here / "bench_scale.py"), "anchor", str(sdir), str(cfile),
                                  str(out_file)])
             anchors.append(json.loads(out_file.read_text())["seconds"] if rc == 0 else float("nan"))
+            if args.no_command:
+                continue
             rc, wall, rss = measured(["/bin/sh", "-c", f"{sys.executable} -m attneave.cli analyze {cfile} --stimuli "
                                       f"{sdir} -o {keep / 'out_command'} --force --no-figures --quiet "
                                       f"--workers {args.workers} > /dev/null"])
@@ -174,7 +176,9 @@ def scale(args, header, load):
                 raise SystemExit(f"{label}: the command failed (exit {rc})")
             walls.append(wall)
             rss_cmd.append(rss)
-        t, a, w = statistics.median(times), statistics.median(anchors), statistics.median(walls)
+        t, a = statistics.median(times), statistics.median(anchors)
+        w = statistics.median(walls) if walls else float("nan")
+        rss_cmd = rss_cmd or [float("nan")]
         pred_txt = f"{t_pred * S:7.0f}s"
         print(f"{label:28s} {S * P * K:>10,d} {pred_txt:>8s} {t:8.1f}s {max(peaks) / 2**30:7.2f}GB {a:7.1f}s "
               f"{t / a:5.1f}x {w:7.1f}s {max(rss_cmd) / 2**30:6.2f}GB  "

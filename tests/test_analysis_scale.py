@@ -360,3 +360,22 @@ def test_a_large_table_lookup_on_two_threads_equals_the_exact_moments():
     p = scipy.special.softmax(x, axis=1)
     assert np.abs(threaded[0] - scipy.special.logsumexp(x, axis=1)).max() < 1e-6
     assert np.abs(threaded[1] - (p * Z[s]).sum(axis=1)).max() < 1e-6
+
+
+def test_mapping_many_stimuli_on_two_threads_equals_mapping_each_alone(tmp_path):
+    import pandas as pd
+
+    from attneave.analysis.clicks.mapping import map_clicks, predict
+    from attneave.analysis.simulate.observers import simulate
+    from attneave.stimuli.stimulus_set import read_stimulus_set
+
+    write_stimulus_set(tmp_path / "set", _shapes(70), size=(400, 400))  # 70 >= 64: the threaded path
+    pred = predict(read_stimulus_set(tmp_path / "set"), n=40)
+    clicks, _ = simulate(pred, 3, 2, 1.0, seed=1, noise=2.0)
+    clicks.loc[0, "x"] = 5000.0  # one outside its image
+    whole = map_clicks(clicks, pred)
+    assert whole.loc[0, "reason"] == "outside_image"
+    for sid in ("rf_0", "rf_33", "rf_69"):
+        alone = map_clicks(clicks[clicks["stimulus_id"] == sid], {sid: pred[sid]})
+        part = whole[whole["stimulus_id"] == sid]
+        pd.testing.assert_frame_equal(alone.reset_index(drop=True), part.reset_index(drop=True))

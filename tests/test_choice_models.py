@@ -228,3 +228,6 @@ def test_block_moments_equal_the_log_sum_exp_and_moments_of_each_row(beta):
     assert np.allclose(lse, scipy.special.logsumexp(x, axis=1), rtol=0, atol=1e-12)
     assert np.allclose(E, (p * Z[rows]).sum(axis=1), rtol=0, atol=1e-12)
     assert np.allclose(V, (p * (Z[rows] - E[:, None]) ** 2).sum(axis=1), rtol=0, atol=1e-12)
+    # in blocks of 100 rows (30 blocks, on two threads): the same values
+    for a, b in zip(block_moments(beta, Z, rows, block=6000), (lse, E, V)):
+        assert np.array_equal(a, b)

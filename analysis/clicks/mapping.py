@@ -382,7 +382,9 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
     coords_ok = (px == "") & (py == "") & known
     ok_idx = np.flatnonzero(coords_ok)
     groups = pd.Series(ok_idx).groupby(sid[ok_idx]).indices if len(ok_idx) else {}
-    for s, rel in groups.items():
+
+    def one(item):
+        s, rel = item
         rows = ok_idx[rel]
         pr = predictions[s]
         xi, yi = to_image_coords(x[rows], y[rows], pr.width, pr.height, coords, scale)
@@ -413,6 +415,16 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
 
             r[(r == "") & (distance_to_drawn(pr.drawn, np.column_stack([xi, yi]), upto=tol) > tol)] = "off_drawn_part"
         reason[rows] = r
+
+    if len(groups) < 64:
+        for item in groups.items():
+            one(item)
+    else:
+        # stimuli write disjoint rows; numpy's projections run without the GIL: two threads
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(2) as ex:
+            list(ex.map(one, groups.items()))
     for k, v in cols.items():
         df[k] = v
     df["excluded"] = reason != ""

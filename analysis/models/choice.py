@@ -120,7 +120,8 @@ def block_moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
     # the largest beta * z of a row is beta times the row's max (beta >= 0) or min: no pass for it
     zmax, zmin = (Z.max(axis=1), Z.min(axis=1)) if Z.shape[1] else (np.zeros(len(Z)), np.zeros(len(Z)))
     step = max(1, block // max(Z.shape[1], 1))
-    for a in range(0, P, step):
+
+    def one(a):
         sl = slice(a, min(a + step, P))
         r, b = rows[sl], beta[sl]
         Zb = Z[r]
@@ -135,6 +136,18 @@ def block_moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
         lse[sl] = np.log(sw) + mx
         E[sl] = e
         V[sl] = np.maximum(w.sum(axis=1) / sw - e * e, 0.0)
+
+    starts = range(0, P, step)
+    if len(starts) < 4:
+        for a in starts:
+            one(a)
+    else:
+        # blocks are independent and numpy runs them without the GIL: two threads, disjoint slices,
+        # the same values as one (a fit of 1,000,000 pairs x 100 points evaluates 100 blocks per step)
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(2) as ex:
+            list(ex.map(one, starts))
     return lse, E, V
 
 
