@@ -51,7 +51,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from validate_photos import DEFAULT_DIR, group_of, halves, photo_pairs  # noqa: E402
+from validate_photos import DEFAULT_DIR, group_of, halves, photos_to_measure  # noqa: E402
 
 from _machine import header  # noqa: E402
 
@@ -204,13 +204,8 @@ def main(argv=None):
                     help="rules: every subset of the five starts, with or without one Lab core (191 rules)")
     args = ap.parse_args(argv)
     header("cv_auto: the automatic search's rules chosen on one half, measured on the other")
-    data = Path(args.data)
-    if not data.is_dir():
-        print(f"cv_auto: {data}: not a directory", file=sys.stderr)
-        return 2
-    photos = photo_pairs(data, report=sys.stderr)[: args.limit]
-    if not photos:
-        print(f"cv_auto: no NAME.jpg + NAME.mask.png pairs in {data}", file=sys.stderr)
+    photos = photos_to_measure("cv_auto", args.data, args.limit)
+    if photos is None:
         return 2
     df = table(photos, args.cache, args.progress)
     rules = candidate_rules(args.subsets)

@@ -130,6 +130,20 @@ def plain_grabcut(rgb, box, iterations=5, seed=0):
 PHOTO_SUFFIXES = (".jpg", ".jpeg", ".png", ".bmp", ".tif", ".tiff")
 
 
+def photos_to_measure(program, data, limit=None):
+    """:func:`photo_pairs` of directory `data` (the first `limit`), or None after one line on stderr
+    when `data` is no directory or holds no pair."""
+    data = Path(data)
+    if not data.is_dir():
+        print(f"{program}: {data}: not a directory", file=sys.stderr)
+        return None
+    photos = photo_pairs(data, report=sys.stderr)[:limit]
+    if not photos:
+        print(f"{program}: no NAME.jpg + NAME.mask.png pairs in {data}", file=sys.stderr)
+        return None
+    return photos
+
+
 def photo_pairs(data, report=None):
     """The photos of a directory that have a mask beside them (``NAME.jpg`` + ``NAME.mask.png``), by name.
 
@@ -253,15 +267,8 @@ def main(argv=None):
     import pandas as pd
 
     header("validate_photos: outlines from photographs against ground-truth masks")
-    data = Path(args.data)
-    if not data.is_dir():
-        print(f"validate_photos: {data}: not a directory", file=sys.stderr)
-        return 2
-    photos = photo_pairs(data, report=sys.stderr)
-    if args.limit:
-        photos = photos[: args.limit]
-    if not photos:
-        print(f"validate_photos: no NAME.jpg + NAME.mask.png pairs in {data}", file=sys.stderr)
+    photos = photos_to_measure("validate_photos", args.data, args.limit or None)
+    if photos is None:
         return 2
     modes = args.modes.split(",")
     model = {k: v for k, v in (("model_file", args.model_file), ("size", args.model_size),
@@ -286,7 +293,7 @@ def main(argv=None):
         if args.csv and rows:
             _write_csv(rows, args.csv)
     if not rows:
-        print(f"validate_photos: no photo in {data} could be measured", file=sys.stderr)
+        print(f"validate_photos: no photo in {args.data} could be measured", file=sys.stderr)
         return 2
     df = pd.DataFrame(rows)
     df["half"] = df.image.map(halves(df.image.unique()))
