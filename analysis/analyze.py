@@ -276,8 +276,15 @@ def analyze(clicks, stimset, n=None, model=None, coords="image", scale=1.0, tole
         with one_blas_thread():  # many small matrices: see attneave.analysis.threads
             if predictions is None:
                 bar.stage("predictions")
+                total = max(len(stimset.ids), 1)
+                made = [0]
+
+                def advance(k):
+                    made[0] += k
+                    bar.sub(made[0] / total)
+
                 predictions = predict(stimset, n=n, model=model, A=A, b=b, length_unit=length_unit,
-                                      workers=workers, progress=bar.sub)
+                                      workers=workers, progress=advance)
             return _analyze(clicks, stimset, predictions, run, skipped, bar, coords, scale, tolerance, bandwidth,
                             peak_tolerance, permutations, grid, seed, level, click_sd, group_simulations, predictors)
     finally:

@@ -1,5 +1,4 @@
-"""Threads of the analysis: one BLAS thread for its many small linear-algebra calls, and
-:func:`threaded_map` for its large elementwise numpy passes.
+"""One BLAS thread for the analysis's many small linear-algebra calls.
 
 The mixed model factorises a (small + 1)-square matrix (a few hundred rows)
 at every Newton step, and the group tests multiply thin matrices. OpenBLAS
@@ -11,12 +10,6 @@ nothing measurable on an idle machine for matrices of this size, so the
 analysis always runs with one (threadpoolctl, the tool scikit-learn uses
 for the same purpose).
 
-The large passes (the Monte Carlo chunks, the choice models' blocks, the
-mixed model's table lookups, the mapping of clicks per stimulus) run numpy
-without the GIL, so two Python threads use two cores: the Monte Carlo stage
-of 1,000,000 clicks took 12.4 s instead of 24.5 s. Each item writes its own
-slice or returns its own result, so the values are those of one thread.
-
 References
 ----------
 .. [1] threadpoolctl, https://github.com/joblib/threadpoolctl
@@ -25,13 +18,8 @@ References
 from __future__ import annotations
 
 import contextlib
-import os
 
-__all__ = ["one_blas_thread", "threaded_map", "MAX_THREADS"]
-
-#: Threads of :func:`threaded_map` (at most the cores this process may use); each item in flight
-#: holds its own arrays, which the memory plan (:mod:`attneave.analysis.budget`) counts.
-MAX_THREADS = 2
+__all__ = ["one_blas_thread"]
 
 
 @contextlib.contextmanager
@@ -49,38 +37,3 @@ def one_blas_thread():
 
     with threadpool_limits(limits=1, user_api="blas"):
         yield
-
-
-def threaded_map(fn, items, minimum=2):
-    """Yield ``fn(item)`` for each of `items`, in order, on up to :data:`MAX_THREADS` threads.
-
-    Fewer than `minimum` items, or one usable core, run in this thread. At
-    most two items per thread are submitted ahead of the one yielded, so the
-    memory in flight stays bounded; a stop (Ctrl-C, SIGTERM) raised while
-    waiting cancels the items not yet started instead of waiting for them.
-
-    Examples
-    --------
-    >>> list(threaded_map(lambda v: v * v, range(5)))
-    [0, 1, 4, 9, 16]
-    """
-    items = list(items)
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
-    threads = min(MAX_THREADS, len(items), cores)
-    if threads <= 1 or len(items) < minimum:
-        yield from map(fn, items)
-        return
-    from concurrent.futures import ThreadPoolExecutor
-
-    ahead = 2 * threads
-    ex = ThreadPoolExecutor(threads)
-    try:
-        pending = [ex.submit(fn, item) for item in items[:ahead]]
-        for i in range(len(items)):
-            result = pending[i].result()
-            pending[i] = None  # its arrays can go
-            if i + ahead < len(items):
-                pending.append(ex.submit(fn, items[i + ahead]))
-            yield result
-    finally:
-        ex.shutdown(wait=True, cancel_futures=True)

@@ -73,7 +73,6 @@ from attneave.analysis.clicks.read import (
 from attneave.analysis.models.choice import point_index, standardize
 from attneave.analysis.models.circular import midrank_percentile
 from attneave.analysis.models.predictors import RIVALS, rival_values
-from attneave.analysis.threads import threaded_map
 from attneave.stimuli.errors import InputError
 from attneave.stimuli.geometry.information import MODELS, surprisal
 
@@ -189,7 +188,7 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
         medial axis of :mod:`attneave.analysis.models.predictors`): 20,000
         take about a minute on one core.
     progress : callable, optional
-        Called with the fraction of stimuli done after each chunk of
+        Called with the number of stimuli done after each chunk of
         :data:`PREDICT_CHUNK`.
 
     Returns
@@ -244,7 +243,7 @@ def predict(stimset, n=100, model="paper", A=0.25, b=None, prominence=None, leng
     for part in done:
         made.update(part)
         if progress is not None:
-            progress(len(made) / len(ids))
+            progress(len(part))
     out = {}
     for sid in ids:  # the set's order, whatever order the chunks finished in
         c, (r, raw, sign) = stimset.contours[sid], made[sid]
@@ -417,8 +416,15 @@ def map_clicks(clicks, predictions, coords="image", scale=1.0, tolerance=None):
             r[(r == "") & (distance_to_drawn(pr.drawn, np.column_stack([xi, yi]), upto=tol) > tol)] = "off_drawn_part"
         reason[rows] = r
 
-    for _ in threaded_map(one, groups.items(), minimum=64):  # stimuli write disjoint rows
-        pass
+    if len(groups) < 64:
+        for item in groups.items():
+            one(item)
+    else:
+        # stimuli write disjoint rows; numpy's projections run without the GIL: two threads
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(2) as ex:
+            list(ex.map(one, groups.items()))
     for k, v in cols.items():
         df[k] = v
     df["excluded"] = reason != ""
