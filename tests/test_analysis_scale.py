@@ -340,26 +340,36 @@ def test_the_report_marks_exactly_the_stimuli_whose_clicks_fell_on_one_point(tmp
     assert marked == ["rf_0"]
 
 
-def test_a_large_table_lookup_on_two_threads_equals_the_exact_moments():
-    """Above _THREADED_CELLS cells the lookup runs in two halves: the same values as one pass,
-    and within the interpolation's error of the exact log-sum-exp and moments."""
+def test_a_large_table_lookup_in_runs_equals_the_exact_moments_and_each_cell_alone():
+    """A lookup of many cells runs in runs of _RUN cells over slopes that span several blocks and
+    the bound: each cell has the value it has alone, within the interpolation's error of the exact
+    log-sum-exp, mean and variance, and is linear beyond the bound."""
     import scipy.special
 
-    import attneave.analysis.models.mixed as mixed
+    from attneave.analysis.models.cumulants import _RUN
 
     rng = np.random.default_rng(7)
     Z = standardize(rng.gamma(1.0, size=(30, 50)))
     tab = CumulantTable(Z)
-    m = mixed._THREADED_CELLS + 1001
+    m = 3 * _RUN + 1001
     s, b = rng.integers(0, 30, m), rng.uniform(-3, 3, m)
-    threaded = tab(s, b, dV=True)
-    single = tab._evaluate(s, b, True)
-    for a, c in zip(threaded, single):
-        assert a.shape == (m,) and np.array_equal(a, c)
+    K, E, V, D = tab(s, b, dV=True)
+    for q in rng.choice(m, 20, replace=False):
+        alone = tab(s[q:q + 1], b[q:q + 1], dV=True)
+        assert [a[0] for a in alone] == [K[q], E[q], V[q], D[q]]
     x = b[:, None] * Z[s]
     p = scipy.special.softmax(x, axis=1)
-    assert np.abs(threaded[0] - scipy.special.logsumexp(x, axis=1)).max() < 1e-6
-    assert np.abs(threaded[1] - (p * Z[s]).sum(axis=1)).max() < 1e-6
+    mean = (p * Z[s]).sum(axis=1)
+    assert np.abs(K - scipy.special.logsumexp(x, axis=1)).max() < 1e-8
+    assert np.abs(E - mean).max() < 1e-7
+    assert np.abs(V - (p * (Z[s] - mean[:, None]) ** 2).sum(axis=1)).max() < 1e-6
+    # V' is the derivative of the interpolated V
+    e = 1e-6
+    np.testing.assert_allclose(D, (tab(s, b + e)[2] - tab(s, b - e)[2]) / (2 * e), atol=1e-5)
+    beyond = tab(s[:5], np.full(5, tab.bound + 2.0), dV=True)
+    at = tab(s[:5], np.full(5, tab.bound))
+    np.testing.assert_allclose(beyond[0], at[0] + 2.0 * at[1], rtol=1e-12)
+    assert (beyond[2] == 0).all() and (beyond[3] == 0).all()
 
 
 def test_mapping_many_stimuli_on_two_threads_equals_mapping_each_alone(tmp_path):

@@ -39,6 +39,7 @@ References
 from __future__ import annotations
 
 import os
+import threading
 
 import numpy as np
 import scipy.stats
@@ -215,8 +216,10 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
     R = int(replicates)
     nulls = {k: np.empty(R) for k in groupings}
     step = max(1, int(max_elements // max(len(sel), 1)))
-    base = (stimulus[sel] * n).astype(np.int64 if S * n >= 2**31 else np.int32)
+    # row offsets as intp: np.take converts narrower indices first (measured: 2.3 x slower)
+    base = (stimulus[sel] * n).astype(np.intp)
     flat = Z.ravel()
+    buffers = threading.local()  # each thread's index and gather arrays, reused from chunk to chunk
     spans = [(a, min(R, a + step)) for a in range(0, R, step)]
     # each chunk draws from a generator of its own, seeded from `rng`: the nulls are the same
     # whatever the number of threads that ran the chunks
@@ -225,8 +228,13 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
     def chunk(i):
         a, b = spans[i]
         draws = np.random.default_rng(int(seeds[i])).integers(0, n, size=(b - a, len(sel)), dtype=_index_dtype(n))
-        # small integers plus the row offsets: one pass, no cast copy; np.take gathers faster than [idx]
-        return stats(np.take(flat, np.add(draws, base)))
+        if getattr(buffers, "idx", None) is None or len(buffers.idx) < b - a:
+            buffers.idx = np.empty(draws.shape, np.intp)
+            buffers.z = np.empty(draws.shape)
+        idx, zc = buffers.idx[:b - a], buffers.z[:b - a]
+        # small integers plus the row offsets in one pass into a buffer that is already mapped
+        np.add(draws, base, out=idx)
+        return stats(np.take(flat, idx, out=zc, mode="clip"))  # "raise" with out= buffers the whole gather
 
     for i, result in enumerate(_threaded(chunk, len(spans))):
         a, b = spans[i]

@@ -49,132 +49,17 @@ from __future__ import annotations
 import numpy as np
 
 from attneave.analysis.models.choice import block_moments
+from attneave.analysis.models.cumulants import CumulantTable
 
 __all__ = ["CumulantTable", "fit_mixed", "laplace_loglik"]
 
 _LOG_SD_BOUNDS = (-7.0, np.log(5.0))
 
-
-class CumulantTable:
-    """``K_s(b) = log sum_i exp(b z_si)`` and its derivatives, tabulated per stimulus.
-
-    The grid is split into blocks of `block` steps, each computed for all
-    stimuli the first time a slope falls in it: a fit touches a few units of
-    slope, so memory is ``S x (a few hundred)`` values, not the whole grid.
-
-    Parameters
-    ----------
-    Z : (S, n) array_like
-        Standardised predictions.
-    bound : float
-        Slopes are tabulated on ``[-bound, bound]``; beyond it K is extended
-        linearly (slope E at the bound, V = 0), which keeps the likelihood
-        concave and bounded.
-    step : float
-        Grid step.
-    block : int
-        Grid steps per block.
-    """
-
-    def __init__(self, Z, bound=12.0, step=0.01, block=100):
-        self.Z = np.asarray(Z, dtype=float)
-        self.bound, self.step, self.block = float(bound), float(step), int(block)
-        self.grid = np.arange(-bound, bound + step / 2, step)
-        self.blocks = {}
-
-    @property
-    def nbytes(self):
-        """Memory held by the blocks computed so far."""
-        return sum(a.nbytes for a in self.blocks.values())
-
-    def _block(self, k):
-        """The (S, block + 1, 4) values K, E, V, T at the nodes of block k (computed once; the four
-        side by side, so that one gather reads them all)."""
-        if k not in self.blocks:
-            b = self.grid[k * self.block:(k + 1) * self.block + 1]
-            S, n = self.Z.shape
-            out = np.empty((S, len(b), 4))
-            rows = max(1, (1 << 20) // max(n * len(b), 1))  # (rows, nodes, n) values at a time
-            chunk = max(1, (1 << 20) // max(n, 1))  # nodes at a time when one stimulus is already large
-            for s0 in range(0, S, rows):
-                z = self.Z[s0:s0 + rows]
-                for g0 in range(0, len(b), chunk):
-                    bb = b[g0:g0 + chunk]
-                    x = bb[None, :, None] * z[:, None, :]
-                    mx = x.max(axis=2, keepdims=True)
-                    p = np.exp(x - mx)
-                    sw = p.sum(axis=2)
-                    p /= sw[:, :, None]
-                    E = np.einsum("sgn,sn->sg", p, z)
-                    d = z[:, None, :] - E[:, :, None]
-                    p *= d * d
-                    sl = (slice(s0, s0 + rows), slice(g0, g0 + chunk))
-                    out[sl + (0,)] = np.log(sw) + mx[:, :, 0]
-                    out[sl + (1,)] = E
-                    out[sl + (2,)] = p.sum(axis=2)
-                    out[sl + (3,)] = np.einsum("sgn,sgn->sg", p, d)
-            self.blocks[k] = out
-        return self.blocks[k]
-
-    def __call__(self, s, b, dV=False):
-        """K, E = K', V = K'' at slopes `b` of stimuli `s` (arrays of one shape); with `dV` also V'
-        (the derivative of the interpolated V, so that it is exactly consistent with it)."""
-        s = np.asarray(s)
-        b = np.asarray(b, dtype=float)
-        if b.size < _THREADED_CELLS or s.shape != b.shape:
-            return self._evaluate(s, b, dV)
-        # elementwise numpy without the GIL: the two halves on two threads, the same values as one pass
-        from concurrent.futures import ThreadPoolExecutor
-
-        half = b.size // 2
-        fs, fb = s.ravel(), b.ravel()
-        with ThreadPoolExecutor(2) as ex:
-            parts = list(ex.map(lambda sl: self._evaluate(fs[sl], fb[sl], dV), (slice(0, half), slice(half, None))))
-        return tuple(np.concatenate([p[q] for p in parts]).reshape(b.shape) for q in range(len(parts[0])))
-
-    def _evaluate(self, s, b, dV):
-        bc = np.clip(b, -self.bound, self.bound)
-        x = (bc + self.bound) / self.step
-        i = np.minimum(np.floor(x).astype(np.int64), len(self.grid) - 2)
-        t = x - i
-        h = self.step
-        t2, t3 = t * t, t * t * t
-        h00, h10, h01, h11 = 2 * t3 - 3 * t2 + 1, t3 - 2 * t2 + t, -2 * t3 + 3 * t2, t3 - t2
-        K, E, V, D = (np.empty(b.shape) for _ in range(4))
-        k_of = i // self.block
-        lo_k, hi_k = (int(k_of.min()), int(k_of.max())) if k_of.size else (0, -1)
-        for k in range(lo_k, hi_k + 1):
-            # slopes in one block (the usual case): no mask, no copies
-            sel = slice(None) if lo_k == hi_k else np.flatnonzero(k_of == k)
-            if not isinstance(sel, slice) and not len(sel):
-                continue
-            F = self._block(int(k))
-            ss, il = s[sel], i[sel] - k * self.block
-            lo, hi = F[ss, il], F[ss, il + 1]  # (m, 4) each: K, E, V, T at the two nodes
-            a0, a1, a2, a3 = h00[sel], h10[sel] * h, h01[sel], h11[sel] * h
-
-            def herm(f, a0=a0, a1=a1, a2=a2, a3=a3, lo=lo, hi=hi):
-                return a0 * lo[:, f] + a1 * lo[:, f + 1] + a2 * hi[:, f] + a3 * hi[:, f + 1]
-
-            K[sel], E[sel], V[sel] = herm(0), herm(1), herm(2)
-            if dV:
-                tt = t[sel]
-                D[sel] = ((6 * tt * tt - 6 * tt) * (lo[:, 2] - hi[:, 2]) / h
-                          + (3 * tt * tt - 4 * tt + 1) * lo[:, 3] + (3 * tt * tt - 2 * tt) * hi[:, 3])
-        out = b != bc
-        if out.any():
-            K = np.where(out, K + E * (b - bc), K)
-            V = np.where(out, 0.0, V)
-            D = np.where(out, 0.0, D)
-        return (K, E, V, D) if dV else (K, E, V)
-
-
-#: Cells from which a table lookup is split over two threads (measured: the lookups of 1,000,000
-#: cells were a quarter of the mixed model's time on one core).
-_THREADED_CELLS = 200_000
-
 #: Big-block units per dense chunk of the Schur complement (chunk x (small + 1) values at a time).
 _CHUNK = 4096
+
+#: Values of C (big x (small + 1)) up to which a state keeps its rows (64 MB).
+_KEEP_ROWS = 1 << 23
 
 
 class _Cells:
@@ -204,6 +89,15 @@ def _dense_rows(cells, w, b0, b1):
     return out
 
 
+def _row_chunks(cells, st):
+    """(b0, b1, rows b0:b1 of C) for the curvatures of state `st`: kept from its Schur complement
+    when C is small, rebuilt chunk by chunk otherwise."""
+    kept = st.get("rows")
+    for k, b0 in enumerate(range(0, cells.nb, _CHUNK)):
+        b1 = min(b0 + _CHUNK, cells.nb)
+        yield b0, b1, (kept[k] if kept else _dense_rows(cells, st["w"], b0, b1))
+
+
 def _mode(table, cells, lam_b, lam_s, xb, xs, beta, iters=100, tol=1e-9):
     """Joint mode of (big, small, beta) effects of the penalised log-likelihood, given the precisions.
 
@@ -231,24 +125,24 @@ def _mode(table, cells, lam_b, lam_s, xb, xs, beta, iters=100, tol=1e-9):
         hs = np.bincount(c.cs, weights=w, minlength=c.ns)
         B = np.diag(np.r_[hs + lam_s, w.sum()])
         B[:c.ns, c.ns] = B[c.ns, :c.ns] = hs
-        for b0 in range(0, c.nb, _CHUNK):
-            b1 = min(b0 + _CHUNK, c.nb)
-            Cb = _dense_rows(c, w, b0, b1)
+        # the solves and the gradient reuse the rows while they are small (rebuilt at each otherwise)
+        rows = [] if c.nb * R <= _KEEP_ROWS else None
+        for b0, b1, Cb in _row_chunks(c, dict(w=w)):
             B -= Cb.T @ (Cb / D[b0:b1, None])
-        return dict(f=f, g=c.A - c.M * E, D=D, w=w, chol=scipy.linalg.cho_factor(B))
+            if rows is not None:
+                rows.append(Cb)
+        return dict(f=f, g=c.A - c.M * E, D=D, w=w, chol=scipy.linalg.cho_factor(B), rows=rows)
 
     def solve(st, rb, rr):
         """H^-1 (rb, rr) by the Schur complement."""
         t = rb / st["D"]
         rhs = rr.copy()
-        for b0 in range(0, c.nb, _CHUNK):
-            b1 = min(b0 + _CHUNK, c.nb)
-            rhs -= _dense_rows(c, st["w"], b0, b1).T @ t[b0:b1]
+        for b0, b1, Cb in _row_chunks(c, st):
+            rhs -= Cb.T @ t[b0:b1]
         dr = scipy.linalg.cho_solve(st["chol"], rhs)
         cd = np.empty(c.nb)
-        for b0 in range(0, c.nb, _CHUNK):
-            b1 = min(b0 + _CHUNK, c.nb)
-            cd[b0:b1] = _dense_rows(c, st["w"], b0, b1) @ dr
+        for b0, b1, Cb in _row_chunks(c, st):
+            cd[b0:b1] = Cb @ dr
         return (rb - cd) / st["D"], dr
 
     st = parts(xb, xs, beta)
@@ -257,6 +151,8 @@ def _mode(table, cells, lam_b, lam_s, xb, xs, beta, iters=100, tol=1e-9):
         gb = np.bincount(c.cb, weights=g, minlength=c.nb) - lam_b * xb
         gr = np.r_[np.bincount(c.cs, weights=g, minlength=c.ns) - lam_s * xs, g.sum()]
         db, dr = solve(st, gb, gr)
+        if max(np.abs(db).max(initial=0), np.abs(dr).max()) < tol:
+            break  # at the mode: a step this small changes nothing reported, and costs an evaluation
         step = 1.0
         while step > 1e-6:
             nb_, ns_, nbeta = xb + step * db, xs + step * dr[:c.ns], beta + step * dr[c.ns]
@@ -264,10 +160,7 @@ def _mode(table, cells, lam_b, lam_s, xb, xs, beta, iters=100, tol=1e-9):
             if nst["f"] >= st["f"] - 1e-12 * abs(st["f"]):
                 break
             step /= 2
-        done = step * max(np.abs(db).max(initial=0), np.abs(dr).max()) < tol
         xb, xs, beta, st = nb_, ns_, nbeta, nst
-        if done:
-            break
     st.update(xb=xb, xs=xs, beta=beta, solve=lambda rb, rr: solve(st, rb, rr),
               logdet=np.log(st["D"]).sum() + 2 * np.log(np.diag(st["chol"][0])).sum())
     e = np.zeros(R)
@@ -291,12 +184,11 @@ def _logdet_gradient(table, cells, st, lam_b, lam_s):
     c = cells
     R = c.ns + 1
     Sig = scipy.linalg.cho_solve(st["chol"], np.eye(R))
-    D, w = st["D"], st["w"]
+    D = st["D"]
     h = np.empty(len(c.cb))
     diag_b = np.empty(c.nb)
-    for b0 in range(0, c.nb, _CHUNK):
-        b1 = min(b0 + _CHUNK, c.nb)
-        Q = _dense_rows(c, w, b0, b1) / D[b0:b1, None]
+    for b0, b1, Cb in _row_chunks(c, st):
+        Q = Cb / D[b0:b1, None]
         Y = Q @ Sig
         y2 = np.einsum("br,br->b", Y, Q)
         diag_b[b0:b1] = 1 / D[b0:b1] + y2
