@@ -372,14 +372,14 @@ def test_a_large_table_lookup_in_runs_equals_the_exact_moments_and_each_cell_alo
     assert (beyond[2] == 0).all() and (beyond[3] == 0).all()
 
 
-def test_mapping_many_stimuli_on_two_threads_equals_mapping_each_alone(tmp_path):
+def test_mapping_many_stimuli_at_once_equals_mapping_each_alone(tmp_path):
     import pandas as pd
 
     from attneave.analysis.clicks.mapping import map_clicks, predict
     from attneave.analysis.simulate.observers import simulate
     from attneave.stimuli.stimulus_set import read_stimulus_set
 
-    write_stimulus_set(tmp_path / "set", _shapes(70), size=(400, 400))  # 70 >= 64: the threaded path
+    write_stimulus_set(tmp_path / "set", _shapes(70), size=(400, 400))
     pred = predict(read_stimulus_set(tmp_path / "set"), n=40)
     clicks, _ = simulate(pred, 3, 2, 1.0, seed=1, noise=2.0)
     clicks.loc[0, "x"] = 5000.0  # one outside its image

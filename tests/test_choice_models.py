@@ -231,3 +231,26 @@ def test_block_moments_equal_the_log_sum_exp_and_moments_of_each_row(beta):
     # in blocks of 100 rows (30 blocks, on two threads): the same values
     for a, b in zip(block_moments(beta, Z, rows, block=6000), (lse, E, V)):
         assert np.array_equal(a, b)
+
+
+def test_moment_sds_recover_the_spread_of_true_slopes_beneath_their_sampling_error():
+    from attneave.analysis.models.mixed import moment_sds
+
+    rng = np.random.default_rng(11)
+    se = rng.uniform(0.1, 0.3, 20_000)
+    b = 0.5 + rng.normal(0, 0.4, 20_000) + rng.normal(0, se)  # true sd 0.4 under the noise
+    assert moment_sds(b, se) == pytest.approx(0.4, abs=0.01)
+    assert moment_sds(0.5 + rng.normal(0, 1, 100) * se[:100], se[:100]) == 0.01  # no spread: the floor
+    assert np.isnan(moment_sds([1.0, np.nan, 2.0], [0.1, 0.1, np.inf]))  # fewer than 3 usable
+
+
+def test_the_mixed_model_reaches_the_same_optimum_from_other_starting_sds():
+    rng = np.random.default_rng(12)
+    Z = standardize(rng.gamma(1.0, size=(14, 40)))
+    st, pa, j = _crossed(rng, Z, 0.5, 0.6, 0.15, 14, 6)
+    tab = CumulantTable(Z)
+    ref = fit_mixed(Z, st, pa, j, table=tab)
+    for start in [(0.6, 0.15), (0.01, 3.0), (2.0, 0.02)]:
+        f = fit_mixed(Z, st, pa, j, table=tab, start_sd=start)
+        for k in ("beta", "se", "sd_participant", "sd_stimulus", "loglik"):
+            assert f[k] == pytest.approx(ref[k], abs=1e-5), (start, k)

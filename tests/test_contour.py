@@ -175,3 +175,34 @@ def test_csv_roundtrip_and_errors(tmp_path):
     missing.write_text("x,z\n0,0\n1,1\n2,2\n")
     with pytest.raises(InputError, match="missing column"):
         Contour.from_csv(missing)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.sampled_from([60, 300, 2000]))
+def test_project_by_kd_tree_equals_every_segment_tried_and_geos_distance(seed, n):
+    """Many clicks on a long contour take the k-d tree's path: the same segment, position and
+    distance to the last bit as trying every segment, and GEOS's distance to the polyline."""
+    import shapely
+
+    import attneave.stimuli.geometry.polyline as pl
+
+    rng = np.random.default_rng(seed)
+    th = np.sort(rng.uniform(0, 2 * np.pi, n))  # uneven segments, some long
+    r = 100 * (1 + 0.3 * np.sin(rng.integers(2, 7) * th))
+    c = Contour(np.c_[256 + r * np.cos(th), 256 + r * np.sin(th)])
+    near = c.points[rng.integers(0, n, 400)] + rng.normal(0, 4, (400, 2))
+    q = np.vstack([near, c.points[:20], [[256.0, 256.0]], rng.uniform(-200, 700, (60, 2))])
+    assert len(q) * n >= pl._TREE_PAIRS
+    by_tree = c.project(q)
+    old = pl._TREE_PAIRS
+    pl._TREE_PAIRS = 10**18
+    try:
+        every = c.project(q)
+    finally:
+        pl._TREE_PAIRS = old
+    for a, b in zip(by_tree, every):
+        assert np.array_equal(a, b)
+    ring = shapely.LinearRing(c.points)
+    np.testing.assert_allclose(by_tree[2], shapely.distance(ring, shapely.points(q)), rtol=1e-9, atol=1e-9)
+    on = by_tree[0][: len(near)]
+    assert np.abs(shapely.distance(ring, shapely.points(on))).max() < 1e-9

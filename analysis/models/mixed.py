@@ -51,7 +51,7 @@ import numpy as np
 from attneave.analysis.models.choice import block_moments
 from attneave.analysis.models.cumulants import CumulantTable
 
-__all__ = ["CumulantTable", "fit_mixed", "laplace_loglik"]
+__all__ = ["CumulantTable", "fit_mixed", "laplace_loglik", "moment_sds"]
 
 _LOG_SD_BOUNDS = (-7.0, np.log(5.0))
 
@@ -279,7 +279,8 @@ def _objective(table, cells, theta, xb, xs, beta):
     return value, np.array([g_b, g_s] if cells.big_is_participant else [g_s, g_b]), st
 
 
-def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None, start=None):
+def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, table=None, start=None,
+              start_sd=None):
     """Fit the mixed conditional logit with crossed random slopes (Laplace approximation).
 
     Parameters
@@ -295,6 +296,10 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
         Reused across fits on the same stimuli.
     start : float, optional
         Starting value of beta (e.g. the pooled estimate; default 0).
+    start_sd : (float, float), optional
+        Starting values of ``sd_participant`` and ``sd_stimulus`` (e.g.
+        :func:`moment_sds` of the per-unit slopes; default 0.3 each). Only
+        the path of the optimiser depends on them, not its optimum.
 
     Returns
     -------
@@ -364,7 +369,7 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
 
     try:
         with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            res = scipy.optimize.minimize(objective, np.log([0.3, 0.3]), jac=True, method="L-BFGS-B",
+            res = scipy.optimize.minimize(objective, _log_sd_start(start_sd), jac=True, method="L-BFGS-B",
                                           bounds=[_LOG_SD_BOUNDS, _LOG_SD_BOUNDS],
                                           options=dict(maxiter=200, ftol=1e-12, gtol=1e-7))
             objective(res.x)  # the modes at the optimum
@@ -385,3 +390,46 @@ def fit_mixed(Z, stimulus, participant, j, n_participants=None, level=0.95, tabl
                sd_stimulus=float(ss) if lss > _LOG_SD_BOUNDS[0] + 1e-3 else 0.0,
                loglik=float(-res.fun), converged=bool(res.success), estimable=True)
     return out
+
+
+def _log_sd_start(start_sd):
+    """log of the starting sds, inside the bounds (0.3 each where not given or not finite)."""
+    sd = np.array([0.3, 0.3] if start_sd is None else start_sd, dtype=float)
+    sd = np.where(np.isfinite(sd) & (sd > 0), sd, 0.3)
+    return np.clip(np.log(sd), _LOG_SD_BOUNDS[0] + 1.0, _LOG_SD_BOUNDS[1] - 0.5)
+
+
+def moment_sds(beta, se):
+    """Spread of true slopes among units, from their separately fitted slopes: the method of moments.
+
+    ``var(beta_hat) - mean(se**2)``, the variance of the estimates less the
+    part their sampling error explains (DerSimonian & Laird 1986), as an sd;
+    floored at 0.01, so that it can start an optimiser in log sd.
+
+    Parameters
+    ----------
+    beta, se : (k,) array_like
+        Per-unit slopes and their standard errors; units with a NaN or an
+        infinite value are left out.
+
+    Returns
+    -------
+    float
+        NaN with fewer than 3 usable units.
+
+    References
+    ----------
+    .. [1] DerSimonian, R., & Laird, N. (1986). Meta-analysis in clinical
+           trials. Controlled Clinical Trials 7, 177-188.
+
+    Examples
+    --------
+    >>> round(moment_sds([0.0, 1.0, 2.0, 3.0], [0.5, 0.5, 0.5, 0.5]), 6)
+    1.190238
+    """
+    b, e = np.asarray(beta, dtype=float), np.asarray(se, dtype=float)
+    ok = np.isfinite(b) & np.isfinite(e)
+    if ok.sum() < 3:
+        return np.nan
+    return float(np.sqrt(max(np.var(b[ok], ddof=1) - np.mean(e[ok] ** 2), 1e-4)))
+

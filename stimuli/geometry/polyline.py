@@ -233,38 +233,79 @@ def bounds(points):
 def unchecked_nearest(q, p, d, cum, closed, chunk=2_000_000):
     """Nearest point of the polyline `p` (segment vectors `d`, cumulative lengths `cum`)
     to each of the checked points `q`: ``(nearest, t, distance)``, as
-    :meth:`~attneave.stimuli.geometry.contour.Contour.project` documents."""
+    :meth:`~attneave.stimuli.geometry.contour.Contour.project` documents.
+
+    The nearest segment of each point is the first of those at the least
+    distance, found among a few candidates from a k-d tree of the segments'
+    midpoints where that provably suffices (many points on a long polyline),
+    else by trying every segment; the values are the same either way."""
     a = p[: len(d)]
     # x and y apart: (M, N) arrays of each, rather than (M, N, 2) arrays
     # reduced over a last axis of 2, which numpy does several times slower
-    ax, ay, dx, dy = (np.ascontiguousarray(v) for v in (a[:, 0], a[:, 1], d[:, 0], d[:, 1]))
-    L2 = dx * dx + dy * dy
-    seglen = np.sqrt(L2)
-    nearest = np.empty_like(q)
-    tt = np.empty(len(q))
-    dist = np.empty(len(q))
+    seg = tuple(np.ascontiguousarray(v) for v in (a[:, 0], a[:, 1], d[:, 0], d[:, 1]))
+    L2 = seg[2] * seg[2] + seg[3] * seg[3]
+    j = np.zeros(len(q), np.intp)
+    rest = np.arange(len(q))
+    if len(d) > _CANDIDATES and len(q) * len(d) >= _TREE_PAIRS:
+        rest = _nearest_by_tree(q, a, d, seg, L2, j)
     step = max(1, chunk // max(len(d), 1))
-    for lo in range(0, len(q), step):
-        qq = q[lo : lo + step]
-        rx = qq[:, :1] - ax
-        ry = qq[:, 1:] - ay
-        u = rx * dx
-        u += ry * dy
-        u /= L2
-        np.clip(u, 0.0, 1.0, out=u)
-        rx -= u * dx
-        ry -= u * dy
-        d2 = rx * rx
-        d2 += ry * ry
-        j = np.argmin(d2, axis=1)
-        r = np.arange(len(qq))
-        uj = u[r, j]
-        nearest[lo : lo + step] = a[j] + uj[:, None] * d[j]
-        dist[lo : lo + step] = np.sqrt(d2[r, j])
-        tt[lo : lo + step] = (cum[j] + uj * seglen[j]) / cum[-1]
+    for lo in range(0, len(rest), step):
+        rows = rest[lo : lo + step]
+        j[rows] = np.argmin(_distances2(q[rows], seg, L2)[1], axis=1)
+    u, d2 = _distances2(q, tuple(v[j] for v in seg), L2[j], paired=True)
+    nearest = a[j] + u[:, None] * d[j]
+    tt = (cum[j] + u * np.sqrt(L2[j])) / cum[-1] if len(q) else np.empty(0)
     if closed:
         tt = np.mod(tt, 1.0)
-    return nearest, tt, dist
+    return nearest, tt, np.sqrt(d2)
+
+
+#: Segments tried per point on the k-d tree's path, and the points x segments from which it is taken.
+_CANDIDATES = 8
+_TREE_PAIRS = 20_000
+
+
+def _distances2(q, seg, L2, paired=False):
+    """Position u in [0, 1] along each segment of its nearest point to each of `q`, and the squared
+    distance: (M, N) arrays, or (M,) with `paired` (point i against segment i). One formula for
+    every path, so that the paths agree to the last bit."""
+    ax, ay, dx, dy = seg
+    if not paired:
+        ax, ay, dx, dy, L2 = (v[None, :] for v in (ax, ay, dx, dy, L2))
+        rx, ry = q[:, :1] - ax, q[:, 1:] - ay
+    else:
+        rx, ry = q[:, 0] - ax, q[:, 1] - ay
+    u = rx * dx
+    u += ry * dy
+    u /= L2
+    np.clip(u, 0.0, 1.0, out=u)
+    rx -= u * dx
+    ry -= u * dy
+    d2 = rx * rx
+    d2 += ry * ry
+    return u, d2
+
+
+def _nearest_by_tree(q, a, d, seg, L2, j):
+    """Set `j` (the nearest segment) of the points whose nearest segment is among the
+    :data:`_CANDIDATES` with the nearest midpoints; return the indices of the others.
+
+    A segment whose midpoint is r from a point is at least ``r - h`` from it (h the largest
+    half-length), so when the farthest candidate's midpoint is more than ``h`` beyond the best
+    candidate's distance (with a margin for rounding), no other segment can be as near."""
+    from scipy.spatial import cKDTree
+
+    r, cand = cKDTree(a + 0.5 * d).query(q, k=_CANDIDATES)
+    cand = np.sort(cand, axis=1)  # ties go to the first segment, as with every segment tried
+    m, k = cand.shape
+    _, d2 = _distances2(np.repeat(q, k, axis=0), tuple(v[cand.ravel()] for v in seg), L2[cand.ravel()], paired=True)
+    d2 = d2.reshape(m, k)
+    best = np.argmin(d2, axis=1)
+    dist = np.sqrt(d2[np.arange(m), best])
+    h = 0.5 * float(np.sqrt(L2.max()))
+    sure = r[:, -1] - h > dist + 1e-9 * (1.0 + dist + h)
+    j[sure] = cand[sure, best[sure]]
+    return np.flatnonzero(~sure)
 
 
 def unchecked_crossings(p, closed):
