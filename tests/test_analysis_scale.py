@@ -389,3 +389,31 @@ def test_mapping_many_stimuli_at_once_equals_mapping_each_alone(tmp_path):
         alone = map_clicks(clicks[clicks["stimulus_id"] == sid], {sid: pred[sid]})
         part = whole[whole["stimulus_id"] == sid]
         pd.testing.assert_frame_equal(alone.reset_index(drop=True), part.reset_index(drop=True))
+
+
+def test_ordered_map_keeps_order_and_cancels_what_has_not_started_when_the_caller_stops():
+    """The threaded passes (Monte Carlo chunks, choice-model blocks) run through ordered_map: a stop
+    (here an exception in the consumer, as KeyboardInterrupt or the SIGTERM handler raises) must not
+    wait for the remaining items."""
+    import threading
+    import time
+
+    from attneave.analysis.threads import MAX_THREADS, ordered_map
+
+    assert list(ordered_map(lambda i: i * 3, 50)) == [3 * i for i in range(50)]
+    started = []
+    lock = threading.Lock()
+
+    def slow(i):
+        with lock:
+            started.append(i)
+        time.sleep(0.05)
+        return i
+
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        for i in ordered_map(slow, 200):
+            if i == 2:
+                raise KeyboardInterrupt
+    assert time.perf_counter() - t0 < 2.0  # 200 items would take 5 s on two threads
+    assert len(started) <= 3 + 2 * MAX_THREADS

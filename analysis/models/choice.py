@@ -144,10 +144,10 @@ def block_moments(beta, Z, rows=None, block=BLOCK_ELEMENTS):
     else:
         # blocks are independent and numpy runs them without the GIL: two threads, disjoint slices,
         # the same values as one (a fit of 1,000,000 pairs x 100 points evaluates 100 blocks per step)
-        from concurrent.futures import ThreadPoolExecutor
+        from attneave.analysis.threads import ordered_map
 
-        with ThreadPoolExecutor(2) as ex:
-            list(ex.map(one, starts))
+        for _ in ordered_map(lambda i: one(starts[i]), len(starts)):
+            pass
     return lse, E, V
 
 

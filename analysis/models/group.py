@@ -38,11 +38,12 @@ References
 
 from __future__ import annotations
 
-import os
 import threading
 
 import numpy as np
 import scipy.stats
+
+from attneave.analysis.threads import ordered_map
 
 __all__ = ["group_test", "t_statistic", "mean_z_nulls", "mean_z_null", "mean_z_test",
            "monte_carlo_p"]
@@ -236,42 +237,13 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
         np.add(draws, base, out=idx)
         return stats(np.take(flat, idx, out=zc, mode="clip"))  # "raise" with out= buffers the whole gather
 
-    for i, result in enumerate(_threaded(chunk, len(spans))):
+    for i, result in enumerate(ordered_map(chunk, len(spans))):
         a, b = spans[i]
         for k, v in result.items():
             nulls[k][a:b] = v
         if progress is not None:
             progress(b / R)
     return {k: (nulls[k], observed[k], groupings[k][0]) for k in groupings}
-
-
-#: Threads for the Monte Carlo chunks: the draws, the gather and the sums run in numpy without
-#: the GIL (measured 2.2 x faster with two threads on two cores); each chunk in flight holds its
-#: own `max_elements` values.
-MAX_THREADS = 2
-
-
-def _threaded(fn, count):
-    """``fn(0), ..., fn(count - 1)`` in order, at most :data:`MAX_THREADS` running at once."""
-    threads = min(MAX_THREADS, count, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                  else os.cpu_count() or 1)
-    if threads <= 1:
-        yield from (fn(i) for i in range(count))
-        return
-    from concurrent.futures import ThreadPoolExecutor
-
-    ex = ThreadPoolExecutor(threads)
-    try:
-        pending = [ex.submit(fn, i) for i in range(min(count, 2 * threads))]
-        for i in range(count):
-            result = pending[i].result()
-            pending[i] = None  # its arrays can go
-            if i + 2 * threads < count:
-                pending.append(ex.submit(fn, i + 2 * threads))
-            yield result
-    finally:
-        # a stop (Ctrl-C, SIGTERM) must not wait for chunks that have not started
-        ex.shutdown(wait=True, cancel_futures=True)
 
 
 def monte_carlo_p(null, observed):
