@@ -134,7 +134,10 @@ def estimate(n_stimuli, n, n_clicks, n_participants, grid, permutations, n_predi
         clicks=U * 600.0,
         correlations=S * (grid * 8 + (permutations + 1)) * f8,
         choice=S * n * f8 * (4 + 3 * n_predictors) + 4 * (1 << 20) * f8 + cells * 10 * f8,
-        mixed=cells * 16 * f8 + small * small * f8 * 4 + 4096 * small * f8 * 4 + S * 8 * 101 * 4 * f8,
+        # cells; the dense system and its chunks; C's rows kept by two states (up to 64 MB each); the
+        # cumulant table over 8 units of slope (4 units, and their copy when the table grows)
+        mixed=cells * 16 * f8 + small * small * f8 * 4 + 4096 * small * f8 * 4
+        + 2 * min(max(G, S) * small, 1 << 23) * f8 + S * 8 * 101 * 4 * f8,
         group=(1 << 22) * f8 * 4 * 2 + U * 4 * f8,  # two chunks in flight (threads.MAX_THREADS)
     )
 

@@ -198,7 +198,7 @@ def _logdet_gradient(table, cells, st, lam_b, lam_s):
         h[c0:c1] = (diag_b[b0:b1][r] - 2 * Y[r, s] - 2 * Y[r, R - 1] + Sig[s, s] + 2 * Sig[s, R - 1]
                     + Sig[R - 1, R - 1])
     bv = st["beta"] + st["xb"][c.cb] + st["xs"][c.cs]
-    dV = table(c.ts, bv, dV=True)[3]
+    dV = table.dV(c.ts, bv)
     out = []
     for which in ("big", "small"):
         if which == "big":
