@@ -234,7 +234,7 @@ def test_10_huge_grids_deep_nesting_and_huge_files_are_refused_at_once(tmp_path,
 
 
 @pytest.mark.parametrize("column", ["contour", "image"])
-@pytest.mark.parametrize("how", ["dotdot", "absolute", "symlink"])
+@pytest.mark.parametrize("how", ["dotdot", "absolute", "symlink", "sibling"])
 def test_14_manifest_paths_that_leave_the_set_are_refused(tmp_path, column, how):
     th = np.linspace(0, 2 * np.pi, 32, endpoint=False)
     d = tmp_path / "set"
@@ -245,6 +245,10 @@ def test_14_manifest_paths_that_leave_the_set_are_refused(tmp_path, column, how)
         rel = "../secret.csv"
     elif how == "absolute":
         rel = str(secret)
+    elif how == "sibling":  # a directory whose name begins with the set's: not inside it
+        (tmp_path / "set2").mkdir()
+        secret.replace(tmp_path / "set2" / "secret.csv")
+        rel = "../set2/secret.csv"
     else:
         (d / "contours" / "link.csv").symlink_to(secret)
         rel = "contours/link.csv"
