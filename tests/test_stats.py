@@ -9,6 +9,8 @@ measure of a union of arcs, and the null distribution of a t-test.
 import numpy as np
 import pytest
 import scipy.stats
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from attneave.analysis.analyze import analyze
 from attneave.analysis.clicks.mapping import map_clicks, predict
@@ -405,3 +407,17 @@ def test_uniform_clicking_matches_length_shares(ten):
     expect = (sign < 0).mean(axis=1)
     assert (expect[7:] > 0).all()  # the polygons have concave parts
     np.testing.assert_allclose(share, expect, atol=4 * np.sqrt(0.25 / 4000))
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 40), st.integers(1, 60), st.sampled_from([0, 1, 3]))
+def test_average_ranks_equal_scipys_rankdata_with_ties_nan_and_constant_rows(seed, rows, m, decimals):
+    """Rounded values make ties (decimals 0: many); one row holds a NaN, one is constant."""
+    from attneave.analysis.models.circular import average_ranks
+
+    rng = np.random.default_rng(seed)
+    x = np.round(rng.standard_normal((rows, m)), decimals)
+    x[0] = 1.5
+    if rows > 1:
+        x[-1, rng.integers(0, m)] = np.nan
+    np.testing.assert_array_equal(average_ranks(x), scipy.stats.rankdata(x, axis=1))
