@@ -421,3 +421,29 @@ def test_average_ranks_equal_scipys_rankdata_with_ties_nan_and_constant_rows(see
     if rows > 1:
         x[-1, rng.integers(0, m)] = np.nan
     np.testing.assert_array_equal(average_ranks(x), scipy.stats.rankdata(x, axis=1))
+
+
+@pytest.mark.parametrize("clicks_per_cell", [1, 2])
+def test_monte_carlo_sums_of_a_complete_design_as_a_grid_equal_the_general_sums(monkeypatch, clicks_per_cell):
+    """Every participant on every stimulus: a participant's cells are one column of a grid, summed
+    in the order bincount adds them, so the nulls are the same to the last bit."""
+    rng = np.random.default_rng(8)
+    S, G, n = 30, 7, 20
+    Z = choice.standardize(rng.gamma(1.0, size=(S, n)))
+    stim = np.repeat(np.arange(S), G * clicks_per_cell)
+    part = np.tile(np.repeat(np.arange(G), clicks_per_cell), S)
+    shuffle = rng.permutation(len(stim))
+    stim, part = stim[shuffle], part[shuffle]
+    units = {"participant": (part, G), "stimulus": (stim, S)}
+    z = Z[stim, rng.integers(0, n, len(stim))]
+    grid = group.mean_z_nulls(Z, stim, units, 199, np.random.default_rng(1), observed_z=z, max_elements=2000)
+    monkeypatch.setattr(group, "_GRID", False)
+    general = group.mean_z_nulls(Z, stim, units, 199, np.random.default_rng(1), observed_z=z, max_elements=2000)
+    for k in units:
+        assert np.array_equal(grid[k][0], general[k][0]) and grid[k][1] == general[k][1]
+    # the grid path was taken: participants cycle within each stimulus's cells
+    cells = np.unique(np.c_[stim, part], axis=0)
+    assert group._cycles(cells[:, 1], G) and not group._cycles(cells[:-1, 1], G)
+    # the observed statistic from first principles: each participant's mean z, then t across them
+    means = np.array([z[part == q].mean() for q in range(G)])
+    assert grid["participant"][1] == pytest.approx(means.mean() * np.sqrt(G) / means.std(ddof=1), rel=1e-12)

@@ -123,6 +123,17 @@ def t_statistic(v, axis=0):
     return np.where(spread, t, np.where(m > 0, np.inf, np.where(m < 0, -np.inf, 0.0)))
 
 
+#: Sum the cells of a complete design as a grid (off only to test that it changes nothing).
+_GRID = True
+
+
+def _cycles(cell_row, k):
+    """Whether the cells cycle through all k units in turn (each participant once on each stimulus:
+    a complete design), so that a unit's cells are one column of a (blocks, k) grid."""
+    return bool(k and len(cell_row) % k == 0
+                and np.array_equal(cell_row.reshape(-1, k), np.broadcast_to(np.arange(k), (len(cell_row) // k, k))))
+
+
 def _index_dtype(n):
     # numpy draws bounded 16-bit integers from buffered random bits, faster than 32- or 64-bit ones
     return np.uint16 if n <= 65536 else np.int64
@@ -147,10 +158,13 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
     replicate is one :func:`numpy.add.reduceat` (skipped when every cell
     holds one click, as in a design where each participant clicks once per
     stimulus). A grouping whose units follow that order (stimuli, the first
-    key) sums its cells with one more ``reduceat``; another adds them with
+    key) sums its cells with one more ``reduceat``; one whose units cycle
+    within each stimulus (a complete design: every participant once on every
+    stimulus) sums them as the columns of a grid; another adds them with
     :func:`numpy.bincount` per replicate (measured on 1,000,000 clicks:
     2-4 x faster than the sparse product it replaced, which copied each
-    chunk into the other memory order).
+    chunk into the other memory order; the grid's sums, in the same order,
+    3 x faster again).
 
     Parameters
     ----------
@@ -197,12 +211,15 @@ def mean_z_nulls(Z, stimulus, units, replicates=1999, rng=None, observed_z=None,
         # cells are one run (its start is where cell_row changes)
         runs = (np.flatnonzero(np.r_[True, cell_row[1:] != cell_row[:-1]])
                 if len(cell_row) and np.all(cell_row[1:] >= cell_row[:-1]) else None)
-        groupings[name] = (informative, counts, cell_row, runs)
+        grid = _GRID and runs is None and _cycles(cell_row, len(counts))
+        groupings[name] = (informative, counts, cell_row, runs, grid)
     singletons = len(starts) == len(sel)
 
-    def unit_means(cells, counts, cell_row, runs):  # (replicates, cells) -> (replicates, units)
+    def unit_means(cells, counts, cell_row, runs, grid):  # (replicates, cells) -> (replicates, units)
         if runs is not None:
             return np.add.reduceat(cells, runs, axis=1) / counts
+        if grid:  # the same sums in the same order as bincount's, 3 x faster
+            return cells.reshape(len(cells), -1, len(counts)).sum(axis=1) / counts
         return np.stack([np.bincount(cell_row, weights=r, minlength=len(counts)) for r in cells]) / counts
 
     def stats(zc):  # zc (replicates, clicks) -> {name: t of each replicate}
