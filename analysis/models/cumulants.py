@@ -99,13 +99,13 @@ class CumulantTable:
         side by side share their end node, kept once."""
         if self._k0 <= lo_k and hi_k < self._k1:
             return
-        if self._k1 == self._k0:
+        if self._k1 == self._k0:  # nothing yet: the new blocks alone
             self._k0 = self._k1 = lo_k
-            self._nodes = self._block(lo_k)[:, :1]  # the first node; each block adds its others
         k0, k1 = min(lo_k, self._k0), max(hi_k + 1, self._k1)
-        parts = ([self._block(k)[:, :-1] for k in range(k0, self._k0)] + [self._nodes]
-                 + [self._block(k)[:, 1:] for k in range(self._k1, k1)])
-        self._nodes = np.concatenate(parts, axis=1)
+        pieces = ([self._block(k) for k in range(k0, self._k0)] + ([self._nodes] if self._k1 > self._k0 else [])
+                  + [self._block(k) for k in range(self._k1, k1)])
+        # each piece after the first begins with the last node of the one before
+        self._nodes = np.concatenate(pieces[:1] + [q[:, 1:] for q in pieces[1:]], axis=1)
         self._k0, self._k1 = k0, k1
 
     def _locate(self, b):
